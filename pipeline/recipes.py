@@ -1,0 +1,428 @@
+"""Recipes: YAML files validated into targets.
+
+A recipe names the stages of a target and their parameters::
+
+    description: A two-room blockout.
+    extends: blockout-indoor          # a preset in recipes/presets/, or a path ending in .yaml
+    seeds: [0, 1, 2]                  # three targets: <id>-s0, <id>-s1, <id>-s2  (or count: N)
+    stages:
+      blockout: {size: [10, 6, 3]}
+      decimate: null                  # null removes a stage inherited from a preset
+    links:
+      scene: ["apartment-*"]          # take artifact 'scene' from other targets
+
+Every problem in every file is collected and reported at once, with file, line and key path.
+"""
+
+from __future__ import annotations
+
+import copy
+import fnmatch
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Annotated, Any
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+
+from pipeline.errors import RecipeError, RecipeIssue, TargetError
+from pipeline.hashing import hash_value
+from pipeline.params import Params
+from pipeline.stage import StageSpec, registered_stages
+from pipeline.workspace import Workspace
+from pipeline.yaml_source import KeyPath, Located, YamlSyntaxError, load_located
+
+TARGET_ID_PATTERN = r"^[a-z0-9][a-z0-9._-]*$"
+
+
+class RecipeModel(BaseModel):
+    """Top level of a recipe file (after ``extends`` is resolved)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    id: Annotated[str, Field(pattern=TARGET_ID_PATTERN)] | None = None
+    description: str = ""
+    seed: Annotated[int, Field(ge=0)] = 0
+    seeds: list[Annotated[int, Field(ge=0)]] | None = None
+    count: Annotated[int, Field(ge=1, le=100_000)] | None = None
+    stages: dict[str, dict[str, Any]]
+    links: dict[str, list[str]] = {}
+
+    @field_validator("stages", mode="before")
+    @classmethod
+    def _stages_are_mappings(cls, value: Any) -> Any:
+        if isinstance(value, dict):
+            for name, section in value.items():
+                if section is None:
+                    continue
+                if not isinstance(section, dict):
+                    raise ValueError(f"stage {name!r} must map parameter names to values")
+        return value
+
+    @model_validator(mode="after")
+    def _one_expansion(self) -> RecipeModel:
+        if self.seeds is not None and self.count is not None:
+            raise ValueError("give either 'seeds' or 'count', not both")
+        if self.seeds is not None and (not self.seeds or len(set(self.seeds)) != len(self.seeds)):
+            raise ValueError("'seeds' must be a non-empty list of distinct integers")
+        if not self.stages:
+            raise ValueError("a recipe needs at least one stage under 'stages'")
+        return self
+
+
+@dataclass(frozen=True)
+class StageCall:
+    """One stage of a target, with its validated parameters."""
+
+    spec: StageSpec
+    params: Params
+
+
+@dataclass(frozen=True)
+class Target:
+    """A buildable unit expanded from a recipe.
+
+    Attributes
+    ----------
+    id : str
+        Unique target id (e.g. ``apartment-s1``).
+    recipe : str
+        Recipe path relative to the recipes folder (POSIX form).
+    recipe_hash : str
+        Hash of the recipe after ``extends`` and expansion.
+    seed : int
+        The recipe seed of this target (stage seeds derive from it).
+    stages : tuple of StageCall
+        The target's stages, sorted by name (order of execution comes from the graph).
+    links : dict
+        ``{artifact: target-id patterns}`` for artifacts taken from other targets.
+    description : str
+        The recipe's description.
+    """
+
+    id: str
+    recipe: str
+    recipe_hash: str
+    seed: int
+    stages: tuple[StageCall, ...]
+    links: dict[str, tuple[str, ...]]
+    description: str = ""
+
+
+def _merge(base: Located, over: Located) -> Located:
+    """Deep-merge ``over`` onto ``base``: mappings merge, other values replace, ``null`` deletes."""
+    data = copy.deepcopy(base.data) if isinstance(base.data, dict) else {}
+    marks = dict(base.marks)
+
+    def drop_marks(prefix: KeyPath) -> None:
+        for key in [k for k in marks if k[: len(prefix)] == prefix and len(k) > len(prefix)]:
+            del marks[key]
+
+    def merge_into(target: dict[str, Any], source: dict[str, Any], prefix: KeyPath) -> None:
+        for key, value in source.items():
+            path = (*prefix, key)
+            if value is None and prefix:  # 'key: null' below the top level removes an inherited entry
+                target.pop(key, None)
+                drop_marks(path)
+                marks.pop(path, None)
+                continue
+            if isinstance(value, dict) and isinstance(target.get(key), dict):
+                merge_into(target[key], value, path)
+                marks[path] = over.marks.get(path, marks.get(path, ("<unknown>", 0)))
+            else:
+                target[key] = copy.deepcopy(value)
+                drop_marks(path)
+                for mark_path, mark in over.marks.items():
+                    if mark_path[: len(path)] == path:
+                        marks[mark_path] = mark
+
+    if isinstance(over.data, dict):
+        merge_into(data, over.data, ())
+    marks[()] = over.marks.get((), ("<unknown>", 0))
+    return Located(data, marks)
+
+
+class RecipeLoader:
+    """Loads recipe files of a workspace into targets, collecting every problem found.
+
+    Parameters
+    ----------
+    workspace : Workspace
+        Where recipes and presets are.
+    stages : dict, optional
+        Stage registry to validate against (default: every registered stage).
+    """
+
+    def __init__(self, workspace: Workspace, *, stages: dict[str, StageSpec] | None = None) -> None:
+        self.workspace = workspace
+        self.stages = registered_stages() if stages is None else stages
+        self.issues: list[RecipeIssue] = []
+
+    # -- discovery ---------------------------------------------------------------------------
+    def recipe_files(self) -> list[Path]:
+        """Every recipe file of the workspace (presets excluded), sorted."""
+        root = self.workspace.recipes_dir
+        presets = self.workspace.presets_dir
+        return sorted(p for p in root.rglob("*.yaml") if not p.is_relative_to(presets))
+
+    def _relative(self, path: Path) -> str:
+        try:
+            return path.resolve().relative_to(self.workspace.recipes_dir.resolve()).as_posix()
+        except ValueError:
+            return str(path)
+
+    def _issue(self, file: str, line: int | None, key: KeyPath | str, message: str) -> None:
+        key_path = key if isinstance(key, str) else ".".join(str(k) for k in key)
+        self.issues.append(RecipeIssue(file=file, line=line, key_path=key_path, message=message))
+
+    # -- one file ------------------------------------------------------------------------------
+    def _resolve_extends(self, name: str, origin: Path) -> Path:
+        if name.endswith((".yaml", ".yml")):
+            return (origin.parent / name).resolve()
+        return (self.workspace.presets_dir / f"{name}.yaml").resolve()
+
+    def _load_with_extends(self, path: Path, chain: tuple[Path, ...] = ()) -> Located | None:
+        path = path.resolve()
+        display = self._relative(path)
+        if path in chain:
+            names = " -> ".join(self._relative(p) for p in (*chain, path))
+            self._issue(display, None, "extends", f"'extends' forms a cycle: {names}")
+            return None
+        try:
+            own = load_located(path)
+        except FileNotFoundError:
+            self._issue(display, None, "", "file not found")
+            return None
+        except YamlSyntaxError as exc:
+            self._issue(self._relative(Path(exc.file)), exc.line, "", str(exc))
+            return None
+        own = Located(own.data, {k: (display, line) for k, (_, line) in own.marks.items()})
+        if not isinstance(own.data, dict):
+            self._issue(display, 1, "", "a recipe must be a mapping of keys to values")
+            return None
+        parents = own.data.pop("extends", None)
+        if parents is None:
+            return own
+        if isinstance(parents, str):
+            parents = [parents]
+        if not isinstance(parents, list) or not all(isinstance(p, str) for p in parents):
+            self._issue(display, own.where(("extends",))[1], "extends", "'extends' takes a name or a list")
+            return None
+        merged = Located({}, {})
+        for index, name in enumerate(parents):
+            parent_path = self._resolve_extends(name, path)
+            if not parent_path.is_file():
+                line = own.where(("extends", index) if len(parents) > 1 else ("extends",))[1]
+                known = sorted(p.stem for p in self.workspace.presets_dir.glob("*.yaml"))
+                self._issue(
+                    display,
+                    line,
+                    "extends",
+                    f"cannot extend {name!r}: {parent_path} does not exist (presets: {', '.join(known)})",
+                )
+                return None
+            parent = self._load_with_extends(parent_path, (*chain, path))
+            if parent is None:
+                return None
+            merged = _merge(merged, parent)
+        return _merge(merged, own)
+
+    def _validate_params(
+        self, located: Located, display: str, recipe_dir: Path, stages: dict[str, Any]
+    ) -> list[StageCall]:
+        calls: list[StageCall] = []
+        for name in sorted(stages):
+            section = stages[name] or {}
+            spec = self.stages.get(name)
+            if spec is None:
+                known = ", ".join(sorted(self.stages)) or "none registered"
+                self._issue(
+                    display, located.where(("stages", name))[1], ("stages", name),
+                    f"unknown stage {name!r} (known stages: {known})",
+                )
+                continue
+            try:
+                params = spec.params_model.model_validate(section, context={"recipe_dir": recipe_dir})
+            except ValidationError as exc:
+                self._report(exc, located, ("stages", name), section, spec.params_model)
+                continue
+            calls.append(StageCall(spec=spec, params=params))
+        return calls
+
+    def _report(
+        self,
+        exc: ValidationError,
+        located: Located,
+        prefix: KeyPath,
+        data: Any,
+        model: type[BaseModel] | None,
+    ) -> None:
+        for error in exc.errors():
+            loc = _existing_prefix(data, error["loc"], error["type"])
+            path = (*prefix, *loc)
+            file, line = located.where(path)
+            message = error["msg"]
+            if error["type"] == "extra_forbidden":
+                known = _known_keys(model, loc[:-1])
+                message = f"unknown key {loc[-1]!r}" + (f" (known keys: {', '.join(known)})" if known else "")
+            elif error["type"] == "missing":
+                message = "required key is missing"
+            elif "input" in error and error["type"] not in ("model_type", "dict_type"):
+                message = f"{message} (got {error['input']!r})"
+            self._issue(file, line, path, message)
+
+    def load_file(self, path: Path) -> list[Target]:
+        """Validate one recipe file and expand it into targets; problems go to :attr:`issues`."""
+        display = self._relative(path)
+        located = self._load_with_extends(path)
+        if located is None:
+            return []
+        data = located.data
+        stages_raw = data.get("stages")
+        top = {k: v for k, v in data.items() if k != "stages"}
+        top["stages"] = stages_raw if isinstance(stages_raw, dict) else stages_raw
+        try:
+            model = RecipeModel.model_validate(top)
+        except ValidationError as exc:
+            self._report(exc, located, (), top, RecipeModel)
+            # still check stage params so that every problem is reported at once
+            if isinstance(stages_raw, dict):
+                stages_ok = {k: v for k, v in stages_raw.items() if v is None or isinstance(v, dict)}
+                self._validate_params(located, display, path.parent, stages_ok)
+            return []
+        calls = self._validate_params(located, display, path.parent, model.stages)
+        if len(calls) != len(model.stages):
+            return []
+        base_id = model.id or path.stem
+        if not _matches_id(base_id):
+            self._issue(display, 1, "id", f"target id {base_id!r} must match {TARGET_ID_PATTERN}; set 'id'")
+            return []
+        links = {artifact: tuple(patterns) for artifact, patterns in sorted(model.links.items())}
+        expansions: list[tuple[str, int]]
+        if model.seeds is not None:
+            expansions = [(f"{base_id}-s{seed}", seed) for seed in model.seeds]
+        elif model.count is not None:
+            width = max(2, len(str(model.count - 1)))
+            expansions = [(f"{base_id}-{i:0{width}d}", model.seed + i) for i in range(model.count)]
+        else:
+            expansions = [(base_id, model.seed)]
+        targets = []
+        for target_id, seed in expansions:
+            recipe_hash = hash_value({"recipe": display, "data": data, "target": target_id, "seed": seed})
+            targets.append(
+                Target(
+                    id=target_id,
+                    recipe=display,
+                    recipe_hash=recipe_hash,
+                    seed=seed,
+                    stages=tuple(calls),
+                    links=links,
+                    description=model.description,
+                )
+            )
+        return targets
+
+    def load(self, files: Iterable[Path] | None = None) -> list[Target]:
+        """Load ``files`` (default: every recipe) and raise one :class:`RecipeError` for all problems."""
+        self.issues = []
+        targets: list[Target] = []
+        seen: dict[str, str] = {}
+        for path in self.recipe_files() if files is None else files:
+            for target in self.load_file(Path(path)):
+                if target.id in seen:
+                    self._issue(
+                        target.recipe, None, "id",
+                        f"target id {target.id!r} is also made by {seen[target.id]}; give one an 'id'",
+                    )
+                    continue
+                seen[target.id] = target.recipe
+                targets.append(target)
+        if self.issues:
+            raise RecipeError(self.issues)
+        return targets
+
+
+def _matches_id(value: str) -> bool:
+    import re
+
+    return re.fullmatch(TARGET_ID_PATTERN, value) is not None
+
+
+def _existing_prefix(data: Any, loc: Sequence[str | int], error_type: str) -> tuple[str | int, ...]:
+    """The part of a pydantic error location that names real keys (drops union/type tags)."""
+    kept: list[str | int] = []
+    node = data
+    for index, part in enumerate(loc):
+        if isinstance(node, dict) and part in node:
+            kept.append(part)
+            node = node[part]
+        elif isinstance(node, list) and isinstance(part, int) and 0 <= part < len(node):
+            kept.append(part)
+            node = node[part]
+        elif index == len(loc) - 1 and error_type in ("missing", "extra_forbidden"):
+            kept.append(part)
+        else:
+            if error_type in ("missing", "extra_forbidden") and isinstance(part, str):
+                continue
+            break
+    return tuple(kept)
+
+
+def _known_keys(model: type[BaseModel] | None, loc: Sequence[str | int]) -> list[str]:
+    """Field names of the (nested) model at ``loc``, when it can be found."""
+    current: Any = model
+    for part in loc:
+        if isinstance(part, int):
+            continue
+        if not (isinstance(current, type) and issubclass(current, BaseModel)):
+            return []
+        field = current.model_fields.get(str(part))
+        if field is None:
+            return []
+        current = _model_in(field.annotation)
+    if isinstance(current, type) and issubclass(current, BaseModel):
+        return sorted(current.model_fields)
+    return []
+
+
+def _model_in(annotation: Any) -> Any:
+    """The first BaseModel class inside a (possibly generic) annotation."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in getattr(annotation, "__args__", ()) or ():
+        found = _model_in(arg)
+        if found is not None:
+            return found
+    return None
+
+
+def select_targets(targets: Sequence[Target], selectors: Sequence[str]) -> list[Target]:
+    """Targets matching any selector: a target id (glob allowed) or a recipe path prefix.
+
+    ``scenes`` selects every recipe under ``recipes/scenes``; ``scenes/indoor/office.yaml`` one file;
+    ``office-*`` the targets whose id matches. No selector selects everything.
+
+    Raises
+    ------
+    TargetError
+        If a selector matches nothing.
+    """
+    if not selectors:
+        return list(targets)
+    chosen: dict[str, Target] = {}
+    for selector in selectors:
+        key = selector.strip().removeprefix("recipes/").rstrip("/")
+        stem = key.removesuffix(".yaml")
+        matched = [
+            t
+            for t in targets
+            if fnmatch.fnmatchcase(t.id, key)
+            or t.recipe == f"{stem}.yaml"
+            or t.recipe.startswith(f"{stem}/")
+        ]
+        if not matched:
+            some = ", ".join(sorted(t.id for t in targets)[:12])
+            raise TargetError(f"no target or recipe matches {selector!r} (targets include: {some})")
+        for target in matched:
+            chosen[target.id] = target
+    return [chosen[k] for k in sorted(chosen)]

@@ -1,0 +1,54 @@
+"""Fixtures: a throw-away workspace with recipes for the example stages."""
+
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+import pytest
+
+import tests.pipeline.example_stages  # noqa: F401  (registers the example stages)
+from pipeline.stage import registered_stages
+from pipeline.workspace import Workspace
+
+EXAMPLE_STAGES = ("ex_numbers", "ex_sum", "ex_gather", "ex_slow", "ex_read_file")
+
+
+def write(path: Path, text: str) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(textwrap.dedent(text).lstrip())
+    return path
+
+
+@pytest.fixture
+def stages():
+    registry = registered_stages()
+    return {name: registry[name] for name in EXAMPLE_STAGES}
+
+
+@pytest.fixture
+def workspace(tmp_path: Path) -> Workspace:
+    ws = Workspace(tmp_path)
+    write(ws.presets_dir / "base.yaml", """
+        stages:
+          ex_numbers: {count: 4}
+          ex_sum: {offset: 1.0}
+    """)
+    write(ws.recipes_dir / "group" / "alpha.yaml", """
+        description: two seeds of numbers and their sums
+        extends: base
+        seeds: [0, 1]
+    """)
+    write(ws.recipes_dir / "group" / "beta.yaml", """
+        extends: base
+        seed: 7
+        stages:
+          ex_sum: {offset: 2.5}
+    """)
+    write(ws.recipes_dir / "all.yaml", """
+        stages:
+          ex_gather: {}
+        links:
+          total: ["alpha-*", "beta"]
+    """)
+    return ws
