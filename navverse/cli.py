@@ -15,6 +15,9 @@ from navverse.errors import NavverseError, SceneError
 from pipeline.errors import PipelineError
 
 STAGES_PACKAGE = "stages"
+SCENE_ARTIFACTS = ("scene", "geometry")
+"""Artifacts that are scene directories, most complete first: a scene with its navmesh, or the
+geometry a scene stage produced before the navmesh is built."""
 
 
 def _workspace():
@@ -124,7 +127,9 @@ def cmd_show_scene(args: argparse.Namespace, console: Console) -> int:
     from pipeline.store import ArtifactStore
 
     workspace = _workspace()
-    scene_dir = ArtifactStore(workspace.built_dir).target_output(args.scene_id, "scene")
+    store = ArtifactStore(workspace.built_dir)
+    found = (store.target_output(args.scene_id, artifact) for artifact in SCENE_ARTIFACTS)
+    scene_dir = next((path for path in found if path is not None), None)
     if scene_dir is None:
         raise SceneError(
             f"scene {args.scene_id!r} is not built: run 'navverse build {args.scene_id}' "
@@ -185,7 +190,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args.func(args, console))
     except (NavverseError, PipelineError) as exc:
-        Console(stderr=True).print(f"error: {exc}", style="red", highlight=False, markup=False)
+        Console(stderr=True).print(f"error: {exc}", style="red", highlight=False, markup=False, soft_wrap=True)
         return 1
     except KeyboardInterrupt:
         Console(stderr=True).print("interrupted")

@@ -163,6 +163,7 @@ class ArtifactStore:
 
 
 def _alive(pid: int) -> bool:
+    """True if process ``pid`` exists and is not a zombie (a killed worker not yet reaped)."""
     if pid == os.getpid():
         return True
     try:
@@ -171,7 +172,11 @@ def _alive(pid: int) -> bool:
         return False
     except PermissionError:
         return True
-    return True
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return True
+    return stat.rpartition(")")[2].split()[0] not in ("Z", "X")
 
 
 def _fsync_dir(path: Path) -> None:

@@ -1,0 +1,431 @@
+"""Bird's-eye-view pictures of a scene: a ray-cast top-down raster with annotations drawn on top.
+
+:func:`raster_bev` casts one vertical ray per pixel through the scene's world mesh (Open3D
+``RaycastingScene``) and records, per pixel, the hit terrain class, object instance, height and a
+shaded colour. :func:`render_bev` draws that raster in meters with matplotlib, adds objects,
+storefronts, indoor regions, exits, the indoor anchor and optional overlays, and writes a PNG.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import open3d as o3d
+from matplotlib.artist import Artist
+from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import LineCollection
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+from matplotlib.patches import Polygon as PolygonPatch
+from numpy.typing import ArrayLike
+
+from navverse.errors import SceneError
+from navverse.scene.annotations import SceneAnnotations
+from navverse.scene.colors import default_color, lighten
+from navverse.scene.geometry import Scene
+
+__all__ = [
+    "BACKGROUND",
+    "BevInfo",
+    "BevOverlay",
+    "BevRaster",
+    "auto_meters_per_pixel",
+    "raster_bev",
+    "render_bev",
+]
+
+TARGET_PIXELS = 1600
+MAX_PIXELS = 4000
+MIN_METERS_PER_PIXEL = 0.01
+BACKGROUND = (255, 255, 255)
+OBJECT_LIGHTEN = 0.35
+MAX_LEGEND_CATEGORIES = 25
+BACKGROUND_CLASS = -2
+OBJECT_CLASS = -1
+
+_LIGHT = np.array([-1.0, 1.0, 1.5]) / np.linalg.norm([-1.0, 1.0, 1.5])  # from the north-west, ~47 deg up
+_STEP_M = 0.05  # height jumps above this are outlined
+_EDGE_SHADE = 0.72
+_DPI = 100
+_MARGIN_LEFT, _MARGIN_TOP, _MARGIN_BOTTOM, _LEGEND_WIDTH = 80, 50, 60, 330
+_LEGEND_ROW_PX = 20
+
+
+@dataclass(frozen=True, eq=False)
+class BevOverlay:
+    """Extra line segments drawn on a BEV picture, e.g. navmesh outlines or a path.
+
+    Parameters
+    ----------
+    label : str
+        Legend entry.
+    segments : ndarray, shape (K, 2, 2)
+        Segments ``[[x0, y0], [x1, y1]]`` in world meters.
+    color : str or tuple of float
+        Any matplotlib colour.
+    linewidth : float
+        Line width in points.
+    """
+
+    label: str
+    segments: np.ndarray
+    color: str | tuple[float, ...] = "tab:blue"
+    linewidth: float = 1.0
+
+    def __post_init__(self) -> None:
+        segments = np.asarray(self.segments, dtype=np.float64)
+        if segments.size == 0:
+            segments = segments.reshape(0, 2, 2)
+        if segments.ndim != 3 or segments.shape[1:] != (2, 2):
+            raise ValueError(f"overlay segments must have shape (K, 2, 2), got {segments.shape}")
+        object.__setattr__(self, "segments", segments)
+
+
+@dataclass(frozen=True)
+class BevInfo:
+    """Where the ray-cast raster sits in the world and in the written PNG.
+
+    Parameters
+    ----------
+    origin : tuple of float
+        World ``(x, y)`` of the raster's top-left corner (minimum x, maximum y).
+    meters_per_pixel : float
+        Raster resolution.
+    raster_shape : tuple of int
+        ``(rows, cols)`` of the raster.
+    raster_offset : tuple of int
+        ``(row, col)`` of the raster's top-left pixel in the PNG (one raster pixel is one PNG pixel).
+    image_shape : tuple of int
+        ``(rows, cols)`` of the PNG.
+    """
+
+    origin: tuple[float, float]
+    meters_per_pixel: float
+    raster_shape: tuple[int, int]
+    raster_offset: tuple[int, int] = (0, 0)
+    image_shape: tuple[int, int] = (0, 0)
+
+    def world_to_raster(self, xy: ArrayLike) -> np.ndarray:
+        """Map world ``(x, y)`` points, shape (..., 2), to integer raster ``(row, col)``."""
+        xy = np.asarray(xy, dtype=np.float64)
+        col = np.floor((xy[..., 0] - self.origin[0]) / self.meters_per_pixel)
+        row = np.floor((self.origin[1] - xy[..., 1]) / self.meters_per_pixel)
+        return np.stack([row, col], axis=-1).astype(np.int64)
+
+    def world_to_pixel(self, xy: ArrayLike) -> np.ndarray:
+        """Map world ``(x, y)`` points, shape (..., 2), to integer PNG ``(row, col)``."""
+        return self.world_to_raster(xy) + np.asarray(self.raster_offset, dtype=np.int64)
+
+
+@dataclass(frozen=True, eq=False)
+class BevRaster:
+    """A top-down ray-cast raster of a scene (row 0 is the maximum y).
+
+    Parameters
+    ----------
+    info : BevInfo
+        Placement of the raster in the world.
+    rgb : ndarray of uint8, shape (H, W, 3)
+        Shaded colours; background is white.
+    class_index : ndarray of int16, shape (H, W)
+        Index into `class_names`, ``-1`` for objects, ``-2`` where no ray hit.
+    instance_id : ndarray of int32, shape (H, W)
+        Object instance id, 0 elsewhere.
+    height : ndarray of float64, shape (H, W)
+        Hit height z in meters, NaN where no ray hit.
+    class_names : tuple of str
+        Terrain class names.
+    """
+
+    info: BevInfo
+    rgb: np.ndarray
+    class_index: np.ndarray
+    instance_id: np.ndarray
+    height: np.ndarray
+    class_names: tuple[str, ...]
+
+
+def auto_meters_per_pixel(extent_m: float) -> float:
+    """Return the resolution that gives the longer image side ~1600 pixels (at least 0.01 m/px).
+
+    Parameters
+    ----------
+    extent_m : float
+        The longer horizontal side of the scene in meters.
+    """
+    return max(extent_m / TARGET_PIXELS, MIN_METERS_PER_PIXEL)
+
+
+def raster_bev(scene: Scene, *, meters_per_pixel: float | None = None) -> BevRaster:
+    """Ray-cast the scene from above into a labelled, shaded raster.
+
+    One vertical ray per pixel is cast downwards from above the scene's bounds through every
+    surface of a class with ``show_in_bev`` and every object. A pixel takes the colour of the
+    terrain class it hits (objects: their category colour, lightened), scaled by a hillshade from
+    the hit normal. Pixels next to a height jump of more than 5 cm that the surface slope does not
+    explain are darkened, so walls and steps read.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene to draw; its ``annotations.bounds`` give the raster's extent.
+    meters_per_pixel : float, optional
+        Resolution; by default :func:`auto_meters_per_pixel` of the longer side.
+
+    Returns
+    -------
+    BevRaster
+        The raster and its placement (``raster_offset`` and ``image_shape`` are zero).
+
+    Raises
+    ------
+    SceneError
+        If `meters_per_pixel` is not positive or would make a side longer than 4000 pixels.
+    """
+    bounds = scene.annotations.bounds
+    x_min, y_min, _ = bounds.min
+    x_max, y_max, _ = bounds.max
+    longer = max(x_max - x_min, y_max - y_min)
+    if meters_per_pixel is None:
+        mpp = auto_meters_per_pixel(longer)
+    else:
+        mpp = float(meters_per_pixel)
+        if not math.isfinite(mpp) or mpp <= 0:
+            raise SceneError(f"meters_per_pixel must be a positive number, got {meters_per_pixel!r}")
+        if longer / mpp > MAX_PIXELS:
+            raise SceneError(
+                f"meters_per_pixel={mpp:g} would make a {math.ceil(longer / mpp)}-pixel image side; "
+                f"the limit is {MAX_PIXELS}: use at least {longer / MAX_PIXELS:.4g}"
+            )
+    cols = max(1, math.ceil((x_max - x_min) / mpp - 1e-9))
+    rows = max(1, math.ceil((y_max - y_min) / mpp - 1e-9))
+    info = BevInfo(origin=(float(x_min), float(y_max)), meters_per_pixel=mpp, raster_shape=(rows, cols))
+
+    hidden = [name for name, tc in scene.annotations.terrain_classes.items() if not tc.show_in_bev]
+    labeled = scene.world_mesh(include_objects=True, exclude_classes=hidden)
+    class_names = labeled.class_names
+    rgb = np.empty((rows, cols, 3), dtype=np.uint8)
+    rgb[...] = BACKGROUND
+    class_index = np.full((rows, cols), BACKGROUND_CLASS, dtype=np.int16)
+    instance_id = np.zeros((rows, cols), dtype=np.int32)
+    height = np.full((rows, cols), np.nan)
+    mesh = labeled.mesh
+    if mesh.num_faces == 0:
+        return BevRaster(info, rgb, class_index, instance_id, height, class_names)
+
+    # Cast in a local frame so float32 keeps centimetre precision far from the world origin.
+    local = np.array([x_min, y_min, 0.0])
+    top = max(bounds.max[2], float(mesh.vertices[:, 2].max())) + 1.0
+    raycaster = o3d.t.geometry.RaycastingScene()
+    raycaster.add_triangles(
+        o3d.core.Tensor((mesh.vertices - local).astype(np.float32)),
+        o3d.core.Tensor(mesh.faces.astype(np.uint32)),
+    )
+    xs = (np.arange(cols) + 0.5) * mpp + (x_min - local[0])
+    ys = (y_max - local[1]) - (np.arange(rows) + 0.5) * mpp
+    gx, gy = np.meshgrid(xs, ys)
+    rays = np.zeros((rows, cols, 6), dtype=np.float32)
+    rays[..., 0], rays[..., 1], rays[..., 2], rays[..., 5] = gx, gy, top, -1.0
+    hits = raycaster.cast_rays(o3d.core.Tensor(rays))
+    t_hit = hits["t_hit"].numpy()
+    face = hits["primitive_ids"].numpy().astype(np.int64)
+    hit = np.isfinite(t_hit)
+    face_hit = face[hit]
+
+    # Per-face base colours: terrain classes, then lightened category colours for objects.
+    palette = np.array(
+        [scene.annotations.terrain_classes[n].color for n in class_names] or [BACKGROUND], float
+    )
+    face_class = labeled.class_index.astype(np.int64)
+    face_rgb = palette[np.clip(face_class, 0, None)]
+    categories = {o.annotation.id: o.annotation.category for o in scene.objects}
+    for object_id, category in categories.items():
+        face_rgb[labeled.instance_id == object_id] = lighten(default_color(category), OBJECT_LIGHTEN)
+
+    normals = hits["primitive_normals"].numpy()[hit].astype(np.float64)
+    normals[normals[:, 2] < 0] *= -1.0
+    shade = np.clip((normals @ _LIGHT) / _LIGHT[2], 0.55, 1.15)
+    height[hit] = top - t_hit[hit]
+    step = _height_steps(height, hit, normals, mpp)
+    shade = shade * np.where(step[hit], _EDGE_SHADE, 1.0)
+    rgb[hit] = np.clip(np.rint(face_rgb[face_hit] * shade[:, None]), 0, 255).astype(np.uint8)
+    class_index[hit] = face_class[face_hit]
+    instance_id[hit] = labeled.instance_id[face_hit]
+    return BevRaster(info, rgb, class_index, instance_id, height, class_names)
+
+
+def _height_steps(height: np.ndarray, hit: np.ndarray, normals: np.ndarray, mpp: float) -> np.ndarray:
+    """Mark pixels next to a height jump that the hit surfaces' slopes do not explain."""
+    nz = np.maximum(normals[:, 2], 0.05)
+    grad_x = np.full(height.shape, np.nan)
+    grad_y = np.full(height.shape, np.nan)
+    grad_x[hit] = -normals[:, 0] / nz
+    grad_y[hit] = -normals[:, 1] / nz
+    step = np.zeros(height.shape, dtype=bool)
+    with np.errstate(invalid="ignore"):
+        # Neighbour to the right is +mpp in x; neighbour below is -mpp in y. A jump counts when
+        # extending either pixel's surface plane misses the other pixel's height.
+        miss_x = (
+            np.minimum(
+                np.abs(height[:, 1:] - (height[:, :-1] + grad_x[:, :-1] * mpp)),
+                np.abs(height[:, :-1] - (height[:, 1:] - grad_x[:, 1:] * mpp)),
+            )
+            > _STEP_M
+        )
+        miss_y = (
+            np.minimum(
+                np.abs(height[1:] - (height[:-1] - grad_y[:-1] * mpp)),
+                np.abs(height[:-1] - (height[1:] + grad_y[1:] * mpp)),
+            )
+            > _STEP_M
+        )
+    step[:, :-1] |= miss_x
+    step[:, 1:] |= miss_x
+    step[:-1] |= miss_y
+    step[1:] |= miss_y
+    return step
+
+
+def _rgb01(color: tuple[int, int, int]) -> tuple[float, float, float]:
+    return (color[0] / 255.0, color[1] / 255.0, color[2] / 255.0)
+
+
+def _marker(marker: str, color: str, label: str, *, size: float = 6.0) -> Line2D:
+    return Line2D(
+        [], [], marker=marker, linestyle="", markersize=size, markerfacecolor=color, markeredgecolor="black",
+        markeredgewidth=0.5, label=label,
+    )  # fmt: skip
+
+
+def _draw_annotations(ax: Axes, ann: SceneAnnotations, overlays: Sequence[BevOverlay]) -> list[Artist]:
+    """Draw regions, objects, storefronts, exits, the anchor and overlays; return legend handles."""
+    handles: list[Artist] = []
+    for polygon in ann.regions.indoor:
+        ax.add_patch(
+            PolygonPatch(np.asarray(polygon), closed=True, fill=False, edgecolor="tab:purple", linestyle="--",
+                         linewidth=1.2, zorder=2)
+        )  # fmt: skip
+    if ann.regions.indoor:
+        handles.append(Line2D([], [], color="tab:purple", linestyle="--", label="indoor region"))
+    for category in sorted({o.category for o in ann.objects}):
+        centers = np.array([o.center[:2] for o in ann.objects if o.category == category])
+        ax.scatter(centers[:, 0], centers[:, 1], s=22, color=_rgb01(default_color(category)),
+                   edgecolors="black", linewidths=0.5, zorder=3)  # fmt: skip
+    if ann.storefronts:
+        centers = np.array([s.center[:2] for s in ann.storefronts])
+        ax.scatter(centers[:, 0], centers[:, 1], marker="s", s=40, color="yellow", edgecolors="black",
+                   linewidths=0.7, zorder=4)  # fmt: skip
+        handles.append(_marker("s", "yellow", "storefront"))
+    for exit_ in ann.regions.exits:
+        # Marker (3, 0, angle) is a triangle pointing up (+y) rotated by `angle` degrees.
+        ax.scatter([exit_.center[0]], [exit_.center[1]], marker=(3, 0, math.degrees(exit_.facing) - 90.0),
+                   s=70, color="red", edgecolors="black", linewidths=0.5, zorder=5)  # fmt: skip
+    if ann.regions.exits:
+        handles.append(_marker("^", "red", "exit"))
+    if ann.regions.indoor_anchor is not None:
+        x, y = ann.regions.indoor_anchor[:2]
+        ax.scatter([x], [y], marker="*", s=220, color="red", edgecolors="black", linewidths=0.6, zorder=6)
+        handles.append(_marker("*", "red", "indoor anchor", size=12.0))
+    for overlay in overlays:
+        ax.add_collection(
+            LineCollection(overlay.segments, colors=overlay.color, linewidths=overlay.linewidth, zorder=7)
+        )
+        handles.append(Line2D([], [], color=overlay.color, linewidth=overlay.linewidth, label=overlay.label))
+    return handles
+
+
+def _add_legends(fig: Figure, handles: list[Artist], categories: list[str], *, x: float, top: float) -> None:
+    """Place the terrain/marker legend and, below it, the object-category legend (figure fractions)."""
+    legend_kw = {"loc": "upper left", "fontsize": 8, "title_fontsize": 9, "frameon": True}
+    if handles:
+        legend = fig.legend(handles=handles, bbox_to_anchor=(x, top), title="terrain", **legend_kw)
+        box = legend.get_window_extent(fig.canvas.get_renderer())
+        top = (box.y0 - 12) / fig.bbox.height
+    if categories:
+        shown = categories[:MAX_LEGEND_CATEGORIES]
+        title = "objects" if len(shown) == len(categories) else f"objects ({len(shown)} of {len(categories)})"
+        object_handles = [_marker("o", _rgb01(default_color(c)), c, size=5.0) for c in shown]
+        fig.legend(handles=object_handles, bbox_to_anchor=(x, top), title=title, **legend_kw)
+
+
+def render_bev(
+    scene: Scene,
+    out_path: Path,
+    *,
+    meters_per_pixel: float | None = None,
+    overlays: Sequence[BevOverlay] = (),
+) -> BevInfo:
+    """Write a bird's-eye-view PNG of the scene.
+
+    The ray-cast raster (see :func:`raster_bev`) is drawn one raster pixel per PNG pixel on axes in
+    meters. On top: objects as points coloured by category, storefronts as yellow squares, indoor
+    regions as dashed outlines, exits as red triangles pointing outwards, the indoor anchor as a red
+    star, then `overlays`. Legends for terrain classes present, markers and (up to 25) object
+    categories sit right of the map. The PNG carries no software version, so the same scene gives
+    the same bytes.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene to draw.
+    out_path : Path
+        The PNG to write.
+    meters_per_pixel : float, optional
+        Raster resolution; automatic by default (longer side ~1600 px).
+    overlays : sequence of BevOverlay
+        Extra line collections, drawn in order above everything else.
+
+    Returns
+    -------
+    BevInfo
+        How world coordinates map to PNG pixels.
+    """
+    raster = raster_bev(scene, meters_per_pixel=meters_per_pixel)
+    ann = scene.annotations
+    rows, cols = raster.info.raster_shape
+    mpp = raster.info.meters_per_pixel
+    x0, y_top = raster.info.origin
+    extent = (x0, x0 + cols * mpp, y_top - rows * mpp, y_top)
+
+    present = sorted(int(i) for i in np.unique(raster.class_index) if i >= 0)
+    terrain_handles: list[Artist] = [
+        Patch(facecolor=_rgb01(ann.terrain_classes[raster.class_names[i]].color), edgecolor="black",
+              linewidth=0.5, label=raster.class_names[i])
+        for i in present
+    ]  # fmt: skip
+    categories = sorted({o.category for o in ann.objects})
+    legend_rows = len(terrain_handles) + 4 + len(overlays) + min(len(categories), MAX_LEGEND_CATEGORIES)
+    width = _MARGIN_LEFT + cols + _LEGEND_WIDTH
+    height = max(_MARGIN_TOP + rows + _MARGIN_BOTTOM, _MARGIN_TOP + legend_rows * _LEGEND_ROW_PX + 120)
+
+    # Size the figure in whole pixels and place the axes so one raster pixel is one PNG pixel.
+    fig = Figure(figsize=(width / _DPI, height / _DPI), dpi=_DPI)
+    FigureCanvasAgg(fig)
+    ax = fig.add_axes(
+        (_MARGIN_LEFT / width, (height - _MARGIN_TOP - rows) / height, cols / width, rows / height)
+    )
+    ax.imshow(raster.rgb, extent=extent, origin="upper", interpolation="nearest", aspect="auto", zorder=0)
+    ax.set_xlim(extent[0], extent[1])
+    ax.set_ylim(extent[2], extent[3])
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title(f"{ann.scene_id} ({ann.scene_type})")
+    marker_handles = _draw_annotations(ax, ann, overlays)
+    _add_legends(
+        fig, terrain_handles + marker_handles, categories,
+        x=(_MARGIN_LEFT + cols + 15) / width, top=1.0 - _MARGIN_TOP / height,
+    )  # fmt: skip
+    fig.savefig(Path(out_path), dpi=_DPI, metadata={"Software": None})
+    return BevInfo(
+        origin=raster.info.origin,
+        meters_per_pixel=mpp,
+        raster_shape=(rows, cols),
+        raster_offset=(_MARGIN_TOP, _MARGIN_LEFT),
+        image_shape=(height, width),
+    )

@@ -1,0 +1,351 @@
+"""In-memory scene: triangle meshes, terrain surfaces, objects and their annotations.
+
+A :class:`Scene` is what scene stages produce and what :mod:`navverse.scene.usd` writes. Shapes and
+indices are checked when objects are built; such errors are programming errors and raise
+``ValueError``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from navverse.scene.annotations import ObjectAnnotation, SceneAnnotations
+from navverse.scene.naming import is_identifier
+
+__all__ = ["LabeledMesh", "MeshData", "Scene", "SceneObject", "Surface", "yaw_matrix"]
+
+
+def yaw_matrix(yaw: float) -> np.ndarray:
+    """Return the 3x3 rotation about +z by `yaw` radians."""
+    c, s = math.cos(yaw), math.sin(yaw)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _frozen(array: np.ndarray) -> np.ndarray:
+    array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True, eq=False)
+class MeshData:
+    """A triangle mesh.
+
+    Parameters
+    ----------
+    vertices : ndarray, shape (N, 3)
+        Vertex positions in meters; stored as float64.
+    faces : ndarray, shape (M, 3)
+        Vertex indices per triangle (counter-clockwise seen from outside); stored as int64.
+    face_colors : ndarray, shape (M, 3), optional
+        sRGB colour per face, 0..255; stored as uint8.
+
+    Notes
+    -----
+    The arrays are copied and made read-only, so a mesh cannot change after it is built.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    face_colors: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        vertices = np.array(self.vertices, dtype=np.float64)
+        if vertices.size == 0:
+            vertices = vertices.reshape(0, 3)
+        if vertices.ndim != 2 or vertices.shape[1] != 3:
+            raise ValueError(f"vertices must have shape (N, 3), got {vertices.shape}")
+        if not np.isfinite(vertices).all():
+            raise ValueError("vertices must be finite")
+        faces_in = np.asarray(self.faces)
+        if faces_in.size == 0:
+            faces_in = faces_in.reshape(0, 3).astype(np.int64)
+        if not np.issubdtype(faces_in.dtype, np.integer):
+            raise ValueError(f"faces must hold integers, got dtype {faces_in.dtype}")
+        faces = np.array(faces_in, dtype=np.int64)
+        if faces.ndim != 2 or faces.shape[1] != 3:
+            raise ValueError(f"faces must have shape (M, 3), got {faces.shape}")
+        if faces.size and (faces.min() < 0 or faces.max() >= len(vertices)):
+            raise ValueError(
+                f"face indices must be in [0, {len(vertices)}), got [{faces.min()}, {faces.max()}]"
+            )
+        object.__setattr__(self, "vertices", _frozen(vertices))
+        object.__setattr__(self, "faces", _frozen(faces))
+        if self.face_colors is not None:
+            colors_in = np.asarray(self.face_colors)
+            if colors_in.shape != faces.shape:
+                raise ValueError(f"face_colors must have shape {faces.shape}, got {colors_in.shape}")
+            if colors_in.size and (
+                not np.issubdtype(colors_in.dtype, np.integer) or colors_in.min() < 0 or colors_in.max() > 255
+            ):
+                raise ValueError("face_colors must hold integers in 0..255")
+            object.__setattr__(self, "face_colors", _frozen(np.array(colors_in, dtype=np.uint8)))
+
+    @property
+    def num_vertices(self) -> int:
+        """Number of vertices."""
+        return int(self.vertices.shape[0])
+
+    @property
+    def num_faces(self) -> int:
+        """Number of triangles."""
+        return int(self.faces.shape[0])
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """Return the axis-aligned bounds ``(min_xyz, max_xyz)`` of the vertices.
+
+        Raises
+        ------
+        ValueError
+            If the mesh has no vertices.
+        """
+        if self.num_vertices == 0:
+            raise ValueError("an empty mesh has no bounds")
+        return self.vertices.min(axis=0), self.vertices.max(axis=0)
+
+    def transformed(self, translation: ArrayLike, yaw: float = 0.0) -> MeshData:
+        """Return the mesh rotated by `yaw` about +z, then translated.
+
+        Parameters
+        ----------
+        translation : array_like, shape (3,)
+            Offset added after the rotation.
+        yaw : float
+            Rotation about +z in radians.
+
+        Returns
+        -------
+        MeshData
+            ``Rz(yaw) @ v + translation`` for every vertex ``v``; faces and colours unchanged.
+        """
+        offset = np.asarray(translation, dtype=np.float64).reshape(3)
+        vertices = self.vertices @ yaw_matrix(yaw).T + offset
+        return MeshData(vertices, self.faces, self.face_colors)
+
+    @staticmethod
+    def concatenate(meshes: Iterable[MeshData]) -> MeshData:
+        """Join meshes into one, re-indexing faces.
+
+        Face colours are kept if every mesh has them (or none has); mixing raises ``ValueError``.
+        No meshes give an empty mesh.
+        """
+        meshes = list(meshes)
+        if not meshes:
+            return MeshData(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64))
+        with_colors = [m.face_colors is not None for m in meshes]
+        if any(with_colors) and not all(with_colors):
+            raise ValueError(
+                "cannot concatenate meshes with and without face_colors; give every mesh colours"
+            )
+        offsets = np.cumsum([0] + [m.num_vertices for m in meshes[:-1]])
+        vertices = np.concatenate([m.vertices for m in meshes])
+        faces = np.concatenate([m.faces + off for m, off in zip(meshes, offsets, strict=True)])
+        colors = np.concatenate([m.face_colors for m in meshes]) if all(with_colors) else None
+        return MeshData(vertices, faces, colors)
+
+    @classmethod
+    def box(cls, size: ArrayLike, *, center: ArrayLike = (0.0, 0.0, 0.0)) -> MeshData:
+        """Return an axis-aligned box with outward-facing triangles.
+
+        Parameters
+        ----------
+        size : array_like, shape (3,)
+            Extent along x, y, z; all > 0.
+        center : array_like, shape (3,)
+            Centre of the box.
+
+        Returns
+        -------
+        MeshData
+            8 vertices, 12 triangles.
+        """
+        half = 0.5 * np.asarray(size, dtype=np.float64).reshape(3)
+        if (half <= 0).any():
+            raise ValueError(f"box size must be > 0 on every axis, got {2 * half}")
+        corners = np.array([[x, y, z] for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)], dtype=np.float64)
+        vertices = corners * half + np.asarray(center, dtype=np.float64).reshape(3)
+        faces = np.array(
+            [
+                [0, 2, 1], [1, 2, 3],  # bottom (-z)
+                [4, 5, 6], [5, 7, 6],  # top (+z)
+                [0, 1, 4], [1, 5, 4],  # front (-y)
+                [2, 6, 3], [3, 6, 7],  # back (+y)
+                [0, 4, 2], [2, 4, 6],  # left (-x)
+                [1, 3, 5], [3, 7, 5],  # right (+x)
+            ],
+            dtype=np.int64,
+        )  # fmt: skip
+        return cls(vertices, faces)
+
+
+@dataclass(frozen=True, eq=False)
+class Surface:
+    """Static geometry of one terrain class, e.g. the floor of a room or a stretch of road.
+
+    Parameters
+    ----------
+    name : str
+        Prim name under ``/World/Terrain``; must be a USD identifier (see
+        :func:`navverse.scene.naming.sanitize_identifier`) and unique within the scene.
+    terrain_class : str
+        Key into ``SceneAnnotations.terrain_classes``.
+    mesh : MeshData
+        Geometry in world coordinates.
+    """
+
+    name: str
+    terrain_class: str
+    mesh: MeshData
+
+    def __post_init__(self) -> None:
+        if not is_identifier(self.name):
+            raise ValueError(
+                f"surface name {self.name!r} is not a valid USD identifier; use sanitize_identifier()"
+            )
+        if not self.terrain_class:
+            raise ValueError(f"surface {self.name!r} needs a terrain class")
+
+
+@dataclass(frozen=True, eq=False)
+class SceneObject:
+    """An object instance: its annotation and its mesh in the object's local frame.
+
+    The world position of a local vertex ``v`` is ``Rz(annotation.yaw) @ v + annotation.center``.
+    """
+
+    annotation: ObjectAnnotation
+    mesh: MeshData
+
+    def world_mesh(self) -> MeshData:
+        """Return the mesh placed in the world frame."""
+        return self.mesh.transformed(self.annotation.center, self.annotation.yaw)
+
+
+@dataclass(frozen=True, eq=False)
+class LabeledMesh:
+    """A world-frame mesh with per-face labels.
+
+    Parameters
+    ----------
+    mesh : MeshData
+        All selected geometry in world coordinates.
+    class_index : ndarray of int16, shape (M,)
+        Index into `class_names` for faces of terrain surfaces; ``-1`` for object faces.
+    instance_id : ndarray of int32, shape (M,)
+        Object instance id for object faces; ``0`` for terrain surfaces.
+    class_names : tuple of str
+        Terrain class names, in the order of ``SceneAnnotations.terrain_classes``.
+    """
+
+    mesh: MeshData
+    class_index: np.ndarray
+    instance_id: np.ndarray
+    class_names: tuple[str, ...]
+
+    def __post_init__(self) -> None:
+        n = self.mesh.num_faces
+        if self.class_index.shape != (n,) or self.instance_id.shape != (n,):
+            raise ValueError(f"class_index and instance_id must have shape ({n},)")
+
+    def class_mask(self, name: str) -> np.ndarray:
+        """Return a boolean mask of the faces of terrain class `name` (all False if absent)."""
+        if name not in self.class_names:
+            return np.zeros(self.mesh.num_faces, dtype=bool)
+        return self.class_index == self.class_names.index(name)
+
+    @property
+    def object_mask(self) -> np.ndarray:
+        """Boolean mask of faces that belong to objects."""
+        return self.instance_id > 0
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """A complete scene in memory: annotations, terrain surfaces and objects.
+
+    Parameters
+    ----------
+    annotations : SceneAnnotations
+        The contents of ``scene.json``.
+    surfaces : tuple of Surface
+        Static terrain geometry; every ``terrain_class`` must be in ``annotations.terrain_classes``
+        and names must be unique.
+    objects : tuple of SceneObject
+        One per entry of ``annotations.objects``, in the same order and with equal annotations.
+    """
+
+    annotations: SceneAnnotations
+    surfaces: tuple[Surface, ...] = field(default=())
+    objects: tuple[SceneObject, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "surfaces", tuple(self.surfaces))
+        object.__setattr__(self, "objects", tuple(self.objects))
+        known = self.annotations.terrain_classes
+        names = [s.name for s in self.surfaces]
+        if len(set(names)) != len(names):
+            repeated = sorted({n for n in names if names.count(n) > 1})
+            raise ValueError(f"surface names must be unique; repeated: {repeated}")
+        for surface in self.surfaces:
+            if surface.terrain_class not in known:
+                raise ValueError(
+                    f"surface {surface.name!r} has terrain class {surface.terrain_class!r}, which is not in "
+                    f"the annotations' terrain classes ({', '.join(known)})"
+                )
+        expected = self.annotations.objects
+        if len(self.objects) != len(expected) or any(
+            obj.annotation != ann for obj, ann in zip(self.objects, expected, strict=False)
+        ):
+            raise ValueError("scene objects must carry exactly annotations.objects, in the same order")
+
+    @property
+    def scene_id(self) -> str:
+        """The scene's id."""
+        return self.annotations.scene_id
+
+    def world_mesh(self, *, include_objects: bool = True, exclude_classes: Sequence[str] = ()) -> LabeledMesh:
+        """Merge the scene's geometry into one labelled world-frame mesh.
+
+        Parameters
+        ----------
+        include_objects : bool
+            Whether object meshes are included.
+        exclude_classes : sequence of str
+            Terrain classes to leave out (e.g. ``("ceiling",)``); names absent from the scene are
+            ignored, so one list can serve every scene.
+
+        Returns
+        -------
+        LabeledMesh
+            Surfaces first (in order), then objects, with per-face class index and instance id.
+            Face colours are not carried over; the labels say what each face is.
+        """
+        class_names = tuple(self.annotations.terrain_classes)
+        excluded = set(exclude_classes)
+        meshes: list[MeshData] = []
+        class_index: list[np.ndarray] = []
+        instance_id: list[np.ndarray] = []
+        for surface in self.surfaces:
+            if surface.terrain_class in excluded:
+                continue
+            meshes.append(surface.mesh)
+            class_index.append(
+                np.full(surface.mesh.num_faces, class_names.index(surface.terrain_class), np.int16)
+            )
+            instance_id.append(np.zeros(surface.mesh.num_faces, np.int32))
+        if include_objects:
+            for obj in self.objects:
+                meshes.append(obj.world_mesh())
+                class_index.append(np.full(obj.mesh.num_faces, -1, np.int16))
+                instance_id.append(np.full(obj.mesh.num_faces, obj.annotation.id, np.int32))
+        mesh = MeshData.concatenate(MeshData(m.vertices, m.faces) for m in meshes)
+        return LabeledMesh(
+            mesh=mesh,
+            class_index=np.concatenate(class_index) if class_index else np.zeros(0, np.int16),
+            instance_id=np.concatenate(instance_id) if instance_id else np.zeros(0, np.int32),
+            class_names=class_names,
+        )

@@ -1,0 +1,537 @@
+"""Write a :class:`~navverse.scene.geometry.Scene` to USD and read it back.
+
+Layout of the stage (z up, meters, default prim ``/World``)::
+
+    /World/PhysicsScene           UsdPhysics.Scene, gravity 9.81 m/s^2 along -z
+    /World/Looks/<class>          UsdPreviewSurface per terrain class (+ ``objects``)
+    /World/Physics/<class>        physics material per terrain class (+ ``objects``)
+    /World/Terrain/<surface>      Mesh, collider, terrain class, semantic label
+    /World/Objects/<name>         Xform (translate, rotateZ) with category, instance id, size, label
+    /World/Objects/<name>/mesh    Mesh in the object's local frame, collider
+
+Vertex positions are stored as ``point3f`` (float32, ~0.1 mm at 1 km from the origin); object
+placements use double-precision xform ops. Colours are stored in ``displayColor`` as linear RGB
+(converted from the sRGB values of the annotations) and the look materials read that primvar, so
+per-face colours show in usdview and Isaac Sim.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdPhysics, UsdSemantics, UsdShade, Vt
+
+from navverse.errors import SceneError
+from navverse.scene.annotations import SceneAnnotations
+from navverse.scene.colors import default_color
+from navverse.scene.geometry import MeshData, Scene, SceneObject, Surface
+from navverse.scene.naming import LOOKS_ROOT, OBJECTS_ROOT, PHYSICS_ROOT, TERRAIN_ROOT, WORLD_PATH
+
+__all__ = [
+    "ATTR_CATEGORY",
+    "ATTR_INSTANCE_ID",
+    "ATTR_SIZE",
+    "ATTR_TERRAIN_CLASS",
+    "GRAVITY",
+    "OBJECT_FRICTION",
+    "OBJECT_MATERIAL",
+    "SEMANTIC_TAXONOMY",
+    "UsdObject",
+    "UsdScene",
+    "UsdSurface",
+    "export_usd",
+    "physics_materials",
+    "read_usd",
+    "scene_from_usd",
+]
+
+GRAVITY = 9.81
+OBJECT_FRICTION = 0.6
+OBJECT_MATERIAL = "objects"
+PHYSICS_PURPOSE = "physics"
+SEMANTIC_TAXONOMY = "class"
+ATTR_TERRAIN_CLASS = "navverse:terrainClass"
+ATTR_CATEGORY = "navverse:category"
+ATTR_INSTANCE_ID = "navverse:instanceId"
+ATTR_SIZE = "navverse:size"
+OBJECT_MESH_NAME = "mesh"
+
+# float32 storage of friction and positions; comparisons against scene.json use these tolerances.
+_FRICTION_TOL = 1e-6
+_POSITION_TOL = 1e-6
+_ANGLE_TOL = 1e-6
+
+
+# ----------------------------------------------------------------------------------------- colours
+
+
+def _srgb_to_linear(rgb: np.ndarray) -> np.ndarray:
+    c = np.asarray(rgb, dtype=np.float64) / 255.0
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def _linear_to_srgb(linear: np.ndarray) -> np.ndarray:
+    c = np.clip(np.asarray(linear, dtype=np.float64), 0.0, 1.0)
+    srgb = np.where(c <= 0.0031308, c * 12.92, 1.055 * c ** (1.0 / 2.4) - 0.055)
+    return np.rint(srgb * 255.0).astype(np.uint8)
+
+
+def _vec3f(rgb: tuple[int, int, int]) -> Gf.Vec3f:
+    return Gf.Vec3f(*(float(v) for v in _srgb_to_linear(np.array(rgb))))
+
+
+# ------------------------------------------------------------------------------------------ export
+
+
+def export_usd(scene: Scene, path: Path) -> None:
+    """Write `scene` as a USD crate file.
+
+    The same scene always gives byte-identical files. The file is written next to `path` under a
+    temporary name and renamed into place, so readers never see a partial file.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene to write.
+    path : Path
+        Destination, ending in ``.usdc``; its directory must exist.
+
+    Raises
+    ------
+    SceneError
+        If `path` does not end in ``.usdc`` or its directory does not exist.
+    """
+    path = Path(path)
+    if path.suffix != ".usdc":
+        raise SceneError(f"USD scenes are written as crate files; give a path ending in '.usdc', not {path}")
+    if not path.parent.is_dir():
+        raise SceneError(f"cannot write {path}: directory {path.parent} does not exist; create it first")
+    # CreateNew refuses a path whose layer is still open in this process, so write a fresh name.
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.usdc")
+    try:
+        stage = Usd.Stage.CreateNew(str(tmp))
+        _populate(stage, scene)
+        stage.Save()
+        del stage
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+
+
+def _populate(stage: Usd.Stage, scene: Scene) -> None:
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    UsdPhysics.SetStageKilogramsPerUnit(stage, 1.0)
+    world = UsdGeom.Xform.Define(stage, WORLD_PATH)
+    stage.SetDefaultPrim(world.GetPrim())
+
+    physics_scene = UsdPhysics.Scene.Define(stage, f"{WORLD_PATH}/PhysicsScene")
+    physics_scene.CreateGravityDirectionAttr(Gf.Vec3f(0.0, 0.0, -1.0))
+    physics_scene.CreateGravityMagnitudeAttr(GRAVITY)
+
+    UsdGeom.Scope.Define(stage, LOOKS_ROOT)
+    UsdGeom.Scope.Define(stage, PHYSICS_ROOT)
+    looks: dict[str, UsdShade.Material] = {}
+    physics: dict[str, UsdShade.Material] = {}
+    for name, terrain_class in scene.annotations.terrain_classes.items():
+        looks[name] = _define_look(stage, name, terrain_class.color)
+        physics[name] = _define_physics_material(stage, name, terrain_class.friction)
+    looks[OBJECT_MATERIAL] = _define_look(stage, OBJECT_MATERIAL, (200, 200, 200))
+    physics[OBJECT_MATERIAL] = _define_physics_material(stage, OBJECT_MATERIAL, OBJECT_FRICTION)
+
+    UsdGeom.Xform.Define(stage, TERRAIN_ROOT)
+    for surface in scene.surfaces:
+        color = scene.annotations.terrain_classes[surface.terrain_class].color
+        mesh = _define_mesh(stage, f"{TERRAIN_ROOT}/{surface.name}", surface.mesh, color)
+        prim = mesh.GetPrim()
+        _make_collider(prim, looks[surface.terrain_class], physics[surface.terrain_class])
+        prim.CreateAttribute(ATTR_TERRAIN_CLASS, Sdf.ValueTypeNames.String, custom=True).Set(
+            surface.terrain_class
+        )
+        _label(prim, surface.terrain_class)
+
+    UsdGeom.Xform.Define(stage, OBJECTS_ROOT)
+    for obj in scene.objects:
+        _define_object(stage, obj, looks[OBJECT_MATERIAL], physics[OBJECT_MATERIAL])
+
+
+def _define_look(stage: Usd.Stage, name: str, color: tuple[int, int, int]) -> UsdShade.Material:
+    material = UsdShade.Material.Define(stage, f"{LOOKS_ROOT}/{name}")
+    reader = UsdShade.Shader.Define(stage, f"{LOOKS_ROOT}/{name}/DisplayColor")
+    reader.CreateIdAttr("UsdPrimvarReader_float3")
+    reader.CreateInput("varname", Sdf.ValueTypeNames.Token).Set("displayColor")
+    reader.CreateInput("fallback", Sdf.ValueTypeNames.Float3).Set(_vec3f(color))
+    reader.CreateOutput("result", Sdf.ValueTypeNames.Float3)
+    shader = UsdShade.Shader.Define(stage, f"{LOOKS_ROOT}/{name}/PreviewSurface")
+    shader.CreateIdAttr("UsdPreviewSurface")
+    shader.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(
+        reader.ConnectableAPI(), "result"
+    )
+    shader.CreateInput("roughness", Sdf.ValueTypeNames.Float).Set(0.8)
+    shader.CreateInput("metallic", Sdf.ValueTypeNames.Float).Set(0.0)
+    material.CreateSurfaceOutput().ConnectToSource(shader.ConnectableAPI(), "surface")
+    return material
+
+
+def _define_physics_material(stage: Usd.Stage, name: str, friction: float) -> UsdShade.Material:
+    material = UsdShade.Material.Define(stage, f"{PHYSICS_ROOT}/{name}")
+    api = UsdPhysics.MaterialAPI.Apply(material.GetPrim())
+    api.CreateStaticFrictionAttr(float(friction))
+    api.CreateDynamicFrictionAttr(float(friction))
+    api.CreateRestitutionAttr(0.0)
+    return material
+
+
+def _define_mesh(stage: Usd.Stage, path: str, mesh: MeshData, color: tuple[int, int, int]) -> UsdGeom.Mesh:
+    usd_mesh = UsdGeom.Mesh.Define(stage, path)
+    points = mesh.vertices.astype(np.float32)
+    usd_mesh.CreatePointsAttr(Vt.Vec3fArray.FromNumpy(points))
+    usd_mesh.CreateFaceVertexCountsAttr(Vt.IntArray.FromNumpy(np.full(mesh.num_faces, 3, dtype=np.int32)))
+    usd_mesh.CreateFaceVertexIndicesAttr(Vt.IntArray.FromNumpy(mesh.faces.reshape(-1).astype(np.int32)))
+    usd_mesh.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    if mesh.num_vertices:
+        lo, hi = points.min(axis=0), points.max(axis=0)
+        usd_mesh.CreateExtentAttr(Vt.Vec3fArray([Gf.Vec3f(*map(float, lo)), Gf.Vec3f(*map(float, hi))]))
+    if mesh.face_colors is not None:
+        colors = _srgb_to_linear(mesh.face_colors).astype(np.float32)
+        primvar = usd_mesh.CreateDisplayColorPrimvar(UsdGeom.Tokens.uniform)
+        primvar.Set(Vt.Vec3fArray.FromNumpy(colors))
+    else:
+        primvar = usd_mesh.CreateDisplayColorPrimvar(UsdGeom.Tokens.constant)
+        primvar.Set(Vt.Vec3fArray([_vec3f(color)]))
+    return usd_mesh
+
+
+def _make_collider(prim: Usd.Prim, look: UsdShade.Material, physics: UsdShade.Material) -> None:
+    UsdPhysics.CollisionAPI.Apply(prim)
+    UsdPhysics.MeshCollisionAPI.Apply(prim).CreateApproximationAttr(UsdPhysics.Tokens.none)
+    binding = UsdShade.MaterialBindingAPI.Apply(prim)
+    binding.Bind(look)
+    binding.Bind(physics, UsdShade.Tokens.fallbackStrength, PHYSICS_PURPOSE)
+
+
+def _label(prim: Usd.Prim, label: str) -> None:
+    labels = UsdSemantics.LabelsAPI.Apply(prim, SEMANTIC_TAXONOMY)
+    labels.CreateLabelsAttr(Vt.TokenArray([label]))
+
+
+def _define_object(
+    stage: Usd.Stage, obj: SceneObject, look: UsdShade.Material, physics: UsdShade.Material
+) -> None:
+    ann = obj.annotation
+    xform = UsdGeom.Xform.Define(stage, ann.prim_path)
+    xform.AddTranslateOp(UsdGeom.XformOp.PrecisionDouble).Set(Gf.Vec3d(*ann.center))
+    xform.AddRotateZOp(UsdGeom.XformOp.PrecisionDouble).Set(math.degrees(ann.yaw))
+    prim = xform.GetPrim()
+    prim.CreateAttribute(ATTR_CATEGORY, Sdf.ValueTypeNames.String, custom=True).Set(ann.category)
+    prim.CreateAttribute(ATTR_INSTANCE_ID, Sdf.ValueTypeNames.Int, custom=True).Set(ann.id)
+    prim.CreateAttribute(ATTR_SIZE, Sdf.ValueTypeNames.Float3, custom=True).Set(Gf.Vec3f(*ann.size))
+    _label(prim, ann.category)
+    mesh = _define_mesh(stage, f"{ann.prim_path}/{OBJECT_MESH_NAME}", obj.mesh, default_color(ann.category))
+    _make_collider(mesh.GetPrim(), look, physics)
+
+
+# -------------------------------------------------------------------------------------------- read
+
+
+@dataclass(frozen=True, eq=False)
+class UsdSurface:
+    """A terrain mesh as stored in a USD file."""
+
+    name: str
+    prim_path: str
+    terrain_class: str
+    mesh: MeshData
+    labels: tuple[str, ...]
+    physics_material: str
+    static_friction: float
+    dynamic_friction: float
+
+
+@dataclass(frozen=True, eq=False)
+class UsdObject:
+    """An object as stored in a USD file; `position` and `yaw` come from its world transform."""
+
+    prim_path: str
+    instance_id: int
+    category: str
+    position: np.ndarray
+    yaw: float
+    size: tuple[float, float, float]
+    mesh: MeshData
+    labels: tuple[str, ...]
+    physics_material: str
+    static_friction: float
+    dynamic_friction: float
+
+
+@dataclass(frozen=True, eq=False)
+class UsdScene:
+    """What a scene USD file says: stage metadata, terrain surfaces and objects, in file order."""
+
+    up_axis: str
+    meters_per_unit: float
+    default_prim: str
+    surfaces: tuple[UsdSurface, ...]
+    objects: tuple[UsdObject, ...]
+
+
+def _open(path: Path) -> Usd.Stage:
+    path = Path(path)
+    if not path.is_file():
+        raise SceneError(f"USD scene not found: {path}; build the scene with `navverse build <scene_id>`")
+    try:
+        return Usd.Stage.Open(str(path), Usd.Stage.LoadAll)
+    except Tf.ErrorException as exc:
+        raise SceneError(
+            f"cannot open USD scene {path}: {exc}; rebuild it with `navverse build <scene_id>`"
+        ) from None
+
+
+def _malformed(path: Path, what: str) -> SceneError:
+    return SceneError(f"{path} is not a NavVerse scene: {what}; rebuild it with `navverse build <scene_id>`")
+
+
+def _read_mesh(path: Path, prim: Usd.Prim) -> MeshData:
+    mesh = UsdGeom.Mesh(prim)
+    points = mesh.GetPointsAttr().Get()
+    counts = mesh.GetFaceVertexCountsAttr().Get()
+    indices = mesh.GetFaceVertexIndicesAttr().Get()
+    if points is None or counts is None or indices is None:
+        raise _malformed(path, f"mesh {prim.GetPath()} lacks points or faces")
+    vertices = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    counts_np = np.asarray(counts, dtype=np.int64)
+    indices_np = np.asarray(indices, dtype=np.int64)
+    if (counts_np.size and counts_np.min() < 3) or counts_np.sum() != indices_np.size:
+        raise _malformed(path, f"mesh {prim.GetPath()} has inconsistent face vertex counts")
+    # Fan-triangulate polygons (a no-op for the triangles this module writes): polygon p with
+    # n corners starting at s gives triangles (s, s+k+1, s+k+2) for k in 0..n-3.
+    triangles_per_polygon = counts_np - 2
+    polygon = np.repeat(np.arange(counts_np.size), triangles_per_polygon)
+    first_triangle = np.cumsum(triangles_per_polygon) - triangles_per_polygon
+    k = np.arange(polygon.size) - np.repeat(first_triangle, triangles_per_polygon)
+    start = (np.cumsum(counts_np) - counts_np)[polygon]
+    faces = np.stack([indices_np[start], indices_np[start + k + 1], indices_np[start + k + 2]], axis=1)
+    colors = None
+    primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar("displayColor")
+    if primvar and primvar.GetInterpolation() == UsdGeom.Tokens.uniform:
+        values = primvar.Get()
+        if values is not None and len(values) == counts_np.size:
+            colors = _linear_to_srgb(np.asarray(values, dtype=np.float64).reshape(-1, 3))[polygon]
+    try:
+        return MeshData(vertices, faces.reshape(-1, 3), colors)
+    except ValueError as exc:
+        raise _malformed(path, f"mesh {prim.GetPath()}: {exc}") from None
+
+
+def _physics_binding(path: Path, prim: Usd.Prim) -> tuple[str, float, float]:
+    material, _ = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial(PHYSICS_PURPOSE)
+    if not material or not material.GetPrim().HasAPI(UsdPhysics.MaterialAPI):
+        raise _malformed(path, f"{prim.GetPath()} has no bound physics material")
+    api = UsdPhysics.MaterialAPI(material.GetPrim())
+    return (
+        str(material.GetPath()),
+        float(api.GetStaticFrictionAttr().Get()),
+        float(api.GetDynamicFrictionAttr().Get()),
+    )
+
+
+def _labels(prim: Usd.Prim) -> tuple[str, ...]:
+    if not prim.HasAPI(UsdSemantics.LabelsAPI, SEMANTIC_TAXONOMY):
+        return ()
+    value = UsdSemantics.LabelsAPI(prim, SEMANTIC_TAXONOMY).GetLabelsAttr().Get()
+    return tuple(str(v) for v in value or ())
+
+
+def _attr(path: Path, prim: Usd.Prim, name: str) -> object:
+    attr = prim.GetAttribute(name)
+    value = attr.Get() if attr else None
+    if value is None:
+        raise _malformed(path, f"{prim.GetPath()} lacks attribute {name}")
+    return value
+
+
+def read_usd(path: Path) -> UsdScene:
+    """Read the surfaces and objects of a scene USD file.
+
+    Friction is read from the physics material bound to each mesh (purpose ``physics``), and an
+    object's position and yaw from its world transform.
+
+    Parameters
+    ----------
+    path : Path
+        A file written by :func:`export_usd` (or edited since, e.g. in usdview).
+
+    Returns
+    -------
+    UsdScene
+        Stage metadata, surfaces and objects.
+
+    Raises
+    ------
+    SceneError
+        If the file is missing, unreadable or lacks what a scene needs.
+    """
+    path = Path(path)
+    stage = _open(path)
+    time = Usd.TimeCode.Default()
+    surfaces: list[UsdSurface] = []
+    terrain = stage.GetPrimAtPath(TERRAIN_ROOT)
+    for prim in terrain.GetChildren() if terrain else ():
+        if not prim.IsA(UsdGeom.Mesh):
+            continue
+        material, static, dynamic = _physics_binding(path, prim)
+        surfaces.append(
+            UsdSurface(
+                name=prim.GetName(),
+                prim_path=str(prim.GetPath()),
+                terrain_class=str(_attr(path, prim, ATTR_TERRAIN_CLASS)),
+                mesh=_read_mesh(path, prim),
+                labels=_labels(prim),
+                physics_material=material,
+                static_friction=static,
+                dynamic_friction=dynamic,
+            )
+        )
+    objects: list[UsdObject] = []
+    objects_root = stage.GetPrimAtPath(OBJECTS_ROOT)
+    for prim in objects_root.GetChildren() if objects_root else ():
+        mesh_prim = prim.GetChild(OBJECT_MESH_NAME)
+        if not mesh_prim or not mesh_prim.IsA(UsdGeom.Mesh):
+            raise _malformed(path, f"object {prim.GetPath()} has no child mesh '{OBJECT_MESH_NAME}'")
+        matrix = UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(time)
+        translation = matrix.ExtractTranslation()
+        material, static, dynamic = _physics_binding(path, mesh_prim)
+        size = _attr(path, prim, ATTR_SIZE)
+        objects.append(
+            UsdObject(
+                prim_path=str(prim.GetPath()),
+                instance_id=int(_attr(path, prim, ATTR_INSTANCE_ID)),
+                category=str(_attr(path, prim, ATTR_CATEGORY)),
+                position=np.array([translation[0], translation[1], translation[2]], dtype=np.float64),
+                # USD matrices act on row vectors: row 0 is the image of the local x axis.
+                yaw=math.atan2(matrix[0][1], matrix[0][0]),
+                size=(float(size[0]), float(size[1]), float(size[2])),
+                mesh=_read_mesh(path, mesh_prim),
+                labels=_labels(prim),
+                physics_material=material,
+                static_friction=static,
+                dynamic_friction=dynamic,
+            )
+        )
+    default_prim = stage.GetDefaultPrim()
+    return UsdScene(
+        up_axis=str(UsdGeom.GetStageUpAxis(stage)),
+        meters_per_unit=float(UsdGeom.GetStageMetersPerUnit(stage)),
+        default_prim=str(default_prim.GetPath()) if default_prim else "",
+        surfaces=tuple(surfaces),
+        objects=tuple(objects),
+    )
+
+
+def physics_materials(path: Path) -> dict[str, tuple[float, float]]:
+    """List the physics materials of a USD file.
+
+    Parameters
+    ----------
+    path : Path
+        A USD file.
+
+    Returns
+    -------
+    dict of str to (float, float)
+        ``prim path -> (static friction, dynamic friction)`` for every prim with
+        ``PhysicsMaterialAPI``, in stage order.
+    """
+    stage = _open(Path(path))
+    result: dict[str, tuple[float, float]] = {}
+    for prim in stage.Traverse():
+        if prim.HasAPI(UsdPhysics.MaterialAPI):
+            api = UsdPhysics.MaterialAPI(prim)
+            static, dynamic = api.GetStaticFrictionAttr().Get(), api.GetDynamicFrictionAttr().Get()
+            result[str(prim.GetPath())] = (
+                float(static) if static is not None else 0.0,
+                float(dynamic) if dynamic is not None else 0.0,
+            )
+    return result
+
+
+def _angle_diff(a: float, b: float) -> float:
+    return abs(math.remainder(a - b, math.tau))
+
+
+def scene_from_usd(path: Path, annotations: SceneAnnotations) -> Scene:
+    """Rebuild the in-memory scene from its USD file and its annotations.
+
+    Parameters
+    ----------
+    path : Path
+        The scene's ``scene.usdc``.
+    annotations : SceneAnnotations
+        The scene's ``scene.json``.
+
+    Returns
+    -------
+    Scene
+        Surfaces from the file; objects in the order of ``annotations.objects`` with local meshes
+        from the file.
+
+    Raises
+    ------
+    SceneError
+        If the file and the annotations disagree (terrain classes, friction, object ids,
+        categories or placements).
+    """
+    path = Path(path)
+    usd = read_usd(path)
+
+    def disagree(what: str) -> SceneError:
+        return SceneError(
+            f"{path} and the scene annotations disagree: {what}; rebuild the scene with "
+            f"`navverse build {annotations.scene_id}`"
+        )
+
+    surfaces = []
+    for surface in usd.surfaces:
+        terrain_class = annotations.terrain_classes.get(surface.terrain_class)
+        if terrain_class is None:
+            raise disagree(f"surface {surface.name!r} has unknown terrain class {surface.terrain_class!r}")
+        if abs(surface.static_friction - terrain_class.friction) > _FRICTION_TOL * max(
+            1.0, terrain_class.friction
+        ):
+            raise disagree(
+                f"surface {surface.name!r} has friction {surface.static_friction:.6g}, "
+                f"class {terrain_class.name!r} says {terrain_class.friction:.6g}"
+            )
+        surfaces.append(Surface(surface.name, surface.terrain_class, surface.mesh))
+
+    by_id = {obj.instance_id: obj for obj in usd.objects}
+    if len(by_id) != len(usd.objects) or set(by_id) != {a.id for a in annotations.objects}:
+        raise disagree(
+            f"object ids {sorted(by_id)} in the USD file, "
+            f"{sorted(a.id for a in annotations.objects)} in scene.json"
+        )
+    objects = []
+    for ann in annotations.objects:
+        obj = by_id[ann.id]
+        if obj.category != ann.category or obj.prim_path != ann.prim_path:
+            raise disagree(
+                f"object {ann.id} is {obj.category!r} at {obj.prim_path}, expected {ann.category!r} "
+                f"at {ann.prim_path}"
+            )
+        if (
+            np.abs(obj.position - np.asarray(ann.center)).max()
+            > _POSITION_TOL * max(1.0, float(np.abs(ann.center).max()))
+            or _angle_diff(obj.yaw, ann.yaw) > _ANGLE_TOL
+        ):
+            raise disagree(f"object {ann.id} ({ann.category}) has moved")
+        objects.append(SceneObject(ann, obj.mesh))
+    try:
+        return Scene(annotations, tuple(surfaces), tuple(objects))
+    except ValueError as exc:
+        raise disagree(str(exc)) from None

@@ -1,0 +1,170 @@
+"""Scenes assembled from primitive solids declared in the recipe (test courses, quick layouts)."""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from typing import Annotated, Literal
+
+import numpy as np
+from pydantic import Field, field_validator, model_validator
+
+from pipeline import Params, StageContext, stage
+
+PositiveFloat = Annotated[float, Field(gt=0)]
+Vec3 = tuple[float, float, float]
+Size3 = tuple[PositiveFloat, PositiveFloat, PositiveFloat]
+
+
+class RampShape(Params):
+    """A wedge rising along its local +x by ``height`` over ``length``."""
+
+    length: PositiveFloat
+    width: PositiveFloat
+    height: PositiveFloat
+
+
+class CylinderShape(Params):
+    """An upright cylinder."""
+
+    radius: PositiveFloat
+    height: PositiveFloat
+
+
+class Solid(Params):
+    """A primitive solid: exactly one of ``box`` (its size), ``ramp`` or ``cylinder``, placed with
+    its bounding-box centre at ``center`` and turned by ``yaw_deg`` about +z."""
+
+    center: Vec3
+    yaw_deg: float = 0.0
+    box: Size3 | None = None
+    ramp: RampShape | None = None
+    cylinder: CylinderShape | None = None
+
+    @model_validator(mode="after")
+    def _one_shape(self) -> Solid:
+        given = [name for name in ("box", "ramp", "cylinder") if getattr(self, name) is not None]
+        if len(given) != 1:
+            raise ValueError(f"give exactly one shape of box, ramp or cylinder (got {given or 'none'})")
+        return self
+
+    def local_mesh(self) -> tuple[np.ndarray, np.ndarray]:
+        """Vertices (local frame, centred) and faces of the solid."""
+        from navverse.assets.primitives import box, cylinder, ramp
+
+        if self.box is not None:
+            return box(self.box)
+        if self.ramp is not None:
+            return ramp(self.ramp.length, self.ramp.width, self.ramp.height)
+        assert self.cylinder is not None
+        return cylinder(self.cylinder.radius, self.cylinder.height)
+
+    def size(self) -> Vec3:
+        """Extent along the solid's own axes."""
+        vertices, _ = self.local_mesh()
+        extent = vertices.max(axis=0) - vertices.min(axis=0)
+        return (float(extent[0]), float(extent[1]), float(extent[2]))
+
+
+class SurfaceSolid(Solid):
+    """Static geometry of one terrain class (floor, wall, road, curb...)."""
+
+    name: Annotated[str, Field(pattern=r"^[A-Za-z_][A-Za-z0-9_]*$")]
+    terrain: str
+
+    @field_validator("terrain")
+    @classmethod
+    def _known_class(cls, value: str) -> str:
+        from navverse.scene.terrain import DEFAULT_TERRAIN_CLASSES
+
+        if value not in DEFAULT_TERRAIN_CLASSES:
+            raise ValueError(f"unknown terrain class {value!r} (known: {', '.join(sorted(DEFAULT_TERRAIN_CLASSES))})")
+        return value
+
+
+class ObjectSolid(Solid):
+    """An annotated object (a goal candidate) of a semantic category."""
+
+    category: Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*$")]
+
+
+class BlockoutParams(Params):
+    """Parameters of :func:`blockout`."""
+
+    scene_type: Literal["indoor", "outdoor", "i2o"] = "indoor"
+    friction: dict[str, Annotated[float, Field(ge=0, le=5)]] = {}
+    surfaces: Annotated[list[SurfaceSolid], Field(min_length=1)]
+    objects: list[ObjectSolid] = []
+
+    @model_validator(mode="after")
+    def _consistent(self) -> BlockoutParams:
+        names = [s.name for s in self.surfaces]
+        repeated = sorted({n for n in names if names.count(n) > 1})
+        if repeated:
+            raise ValueError(f"surface names must be unique; repeated: {', '.join(repeated)}")
+        unused = sorted(set(self.friction) - {s.terrain for s in self.surfaces})
+        if unused:
+            raise ValueError(f"'friction' names classes no surface uses: {', '.join(unused)}")
+        return self
+
+
+@stage(name="blockout", outputs=["geometry"])
+def blockout(ctx: StageContext, params: BlockoutParams) -> None:
+    """A scene directory (scene.usdc, scene.json, bev.png) built from the recipe's primitive solids."""
+    import navverse
+    from navverse.scene import (
+        Bounds,
+        MeshData,
+        ObjectAnnotation,
+        Scene,
+        SceneAnnotations,
+        SceneObject,
+        SceneSource,
+        SceneStatistics,
+        Surface,
+        terrain_classes,
+        write_scene_dir,
+    )
+    from navverse.scene.naming import object_prim_path
+
+    surfaces = []
+    for solid in params.surfaces:
+        vertices, faces = solid.local_mesh()
+        local = MeshData(vertices=vertices, faces=faces)
+        mesh = local.transformed(solid.center, math.radians(solid.yaw_deg))
+        surfaces.append(Surface(name=solid.name, terrain_class=solid.terrain, mesh=mesh))
+
+    objects = []
+    for instance_id, solid in enumerate(params.objects, start=1):
+        vertices, faces = solid.local_mesh()
+        annotation = ObjectAnnotation(
+            id=instance_id,
+            category=solid.category,
+            prim_path=object_prim_path(solid.category, instance_id),
+            center=solid.center,
+            size=solid.size(),
+            yaw=math.radians(solid.yaw_deg),
+        )
+        objects.append(SceneObject(annotation=annotation, mesh=MeshData(vertices=vertices, faces=faces)))
+
+    all_vertices = np.concatenate(
+        [s.mesh.vertices for s in surfaces]
+        + [o.mesh.transformed(o.annotation.center, o.annotation.yaw).vertices for o in objects]
+    )
+    faces = sum(s.mesh.num_faces for s in surfaces) + sum(o.mesh.num_faces for o in objects)
+    annotations = SceneAnnotations(
+        scene_id=ctx.target,
+        scene_type=params.scene_type,
+        bounds=Bounds(min=tuple(all_vertices.min(axis=0)), max=tuple(all_vertices.max(axis=0))),
+        objects=[o.annotation for o in objects],
+        terrain_classes=terrain_classes(sorted({s.terrain for s in params.surfaces}), overrides=params.friction),
+        statistics=SceneStatistics(
+            faces=faces,
+            objects_per_category=dict(sorted(Counter(o.category for o in params.objects).items())),
+        ),
+        source=SceneSource(recipe=ctx.recipe, recipe_hash=ctx.recipe_hash, toolkit_version=navverse.__version__),
+    )
+    scene = Scene(annotations=annotations, surfaces=tuple(surfaces), objects=tuple(objects))
+    write_scene_dir(scene, ctx.output)
+    ctx.record(faces=faces, surfaces=len(surfaces), objects=len(objects))
+    ctx.log.info("blockout %s: %d surfaces, %d objects, %d faces", ctx.target, len(surfaces), len(objects), faces)

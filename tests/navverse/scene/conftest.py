@@ -1,0 +1,106 @@
+"""A tiny hand-built scene: a room (floor, two walls, ceiling), a road, three objects, a storefront."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from navverse.scene import (
+    Bounds,
+    ExitAnnotation,
+    MeshData,
+    ObjectAnnotation,
+    Regions,
+    Scene,
+    SceneAnnotations,
+    SceneObject,
+    SceneSource,
+    SceneStatistics,
+    StorefrontAnnotation,
+    Surface,
+    object_prim_path,
+    terrain_classes,
+)
+
+ROAD_FRICTION = 0.7
+FLOOR_POINT = (8.0, 2.0)  # on the floor, away from walls and objects
+WALL_POINT = (5.0, 0.15)  # middle of the south wall's top
+ROAD_POINT = (5.0, -2.5)
+
+
+def quad(x0: float, y0: float, x1: float, y1: float, z: float) -> MeshData:
+    """An upward-facing rectangle at height z."""
+    vertices = [[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]]
+    return MeshData(np.array(vertices), np.array([[0, 1, 2], [0, 2, 3]]))
+
+
+OBJECTS = (
+    # (id, category, center, size, yaw)
+    (1, "chair", (3.0, 5.0, 0.45), (0.5, 0.5, 0.9), 0.3),
+    (2, "chair", (4.0, 6.0, 0.45), (0.5, 0.5, 0.9), -1.2),
+    (3, "table", (7.0, 5.0, 0.375), (1.2, 0.8, 0.75), 2.5),
+)
+
+
+def build_scene() -> Scene:
+    objects = []
+    for object_id, category, center, size, yaw in OBJECTS:
+        annotation = ObjectAnnotation(
+            id=object_id,
+            category=category,
+            prim_path=object_prim_path(category, object_id),
+            center=center,
+            size=size,
+            yaw=yaw,
+        )
+        mesh = MeshData.box(size)
+        if category == "table":
+            colors = np.tile(np.array([[140, 90, 40]], dtype=np.uint8), (mesh.num_faces, 1))
+            colors[::2] = (10, 200, 30)
+            mesh = MeshData(mesh.vertices, mesh.faces, colors)
+        objects.append(SceneObject(annotation, mesh))
+    road = quad(-2.0, -4.0, 12.0, -1.0, -0.1)
+    road = MeshData(road.vertices, road.faces, np.array([[50, 50, 60], [70, 60, 50]], dtype=np.uint8))
+    surfaces = (
+        Surface("floor", "floor", quad(0.0, 0.0, 10.0, 8.0, 0.0)),
+        Surface("wall_south", "wall", MeshData.box((10.0, 0.3, 2.5), center=(5.0, 0.15, 1.25))),
+        Surface("wall_west", "wall", MeshData.box((0.3, 8.0, 2.5), center=(0.15, 4.0, 1.25))),
+        Surface("ceiling", "ceiling", quad(0.0, 0.0, 10.0, 8.0, 2.5)),
+        Surface("road_0", "road", road),
+    )
+    annotations = SceneAnnotations(
+        scene_id="tiny_room",
+        scene_type="i2o",
+        bounds=Bounds(min=(-2.0, -4.0, -0.1), max=(12.0, 8.0, 2.5)),
+        objects=[o.annotation for o in objects],
+        storefronts=[
+            StorefrontAnnotation(
+                id=1,
+                place_category="cafe",
+                center=(5.0, -0.6, 1.5),
+                facing=-math.pi / 2,
+                size=(3.0, 0.2, 2.5),
+                entrance=(5.0, -1.0, 0.0),
+            )
+        ],
+        regions=Regions(
+            indoor=[[(0.0, 0.0), (10.0, 0.0), (10.0, 8.0), (0.0, 8.0)]],
+            exits=[ExitAnnotation(id=1, center=(5.0, 0.0, 0.0), width=1.2, facing=-math.pi / 2)],
+            indoor_anchor=(5.0, 4.0, 0.0),
+        ),
+        terrain_classes=terrain_classes(
+            ["floor", "wall", "ceiling", "road"], overrides={"road": ROAD_FRICTION}
+        ),
+        statistics=SceneStatistics(faces=58, objects_per_category={"chair": 2, "table": 1}),
+        source=SceneSource(
+            recipe="recipes/scenes/i2o/tiny.yaml", recipe_hash="abc123", toolkit_version="0.1.0"
+        ),
+    )
+    return Scene(annotations, surfaces, tuple(objects))
+
+
+@pytest.fixture(scope="session")
+def tiny_scene() -> Scene:
+    return build_scene()

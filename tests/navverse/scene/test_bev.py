@@ -1,0 +1,143 @@
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from navverse.errors import SceneError
+from navverse.scene import (
+    BevOverlay,
+    Bounds,
+    MeshData,
+    Scene,
+    SceneAnnotations,
+    Surface,
+    default_color,
+    lighten,
+    raster_bev,
+    render_bev,
+    terrain_classes,
+)
+from navverse.scene.bev import auto_meters_per_pixel
+from tests.navverse.scene.conftest import FLOOR_POINT, OBJECTS, ROAD_POINT, WALL_POINT
+
+MPP = 0.02
+
+
+@pytest.fixture(scope="module")
+def bev(tiny_scene: Scene, tmp_path_factory: pytest.TempPathFactory) -> tuple[np.ndarray, object]:
+    path = tmp_path_factory.mktemp("bev") / "bev.png"
+    overlay = BevOverlay("path", np.array([[[1.0, 7.0], [9.5, 7.0]]]), color=(0.0, 0.0, 1.0), linewidth=3.0)
+    info = render_bev(tiny_scene, path, meters_per_pixel=MPP, overlays=[overlay])
+    image = np.asarray(Image.open(path).convert("RGB"))
+    return image, info
+
+
+def _pixel(image: np.ndarray, info: object, xy: tuple[float, float]) -> np.ndarray:
+    row, col = info.world_to_pixel(xy)
+    return image[row, col].astype(int)
+
+
+def _distance(a: np.ndarray, b: tuple[int, int, int]) -> float:
+    return float(np.linalg.norm(a - np.array(b)))
+
+
+def test_png_size_matches_info(bev: tuple[np.ndarray, object]) -> None:
+    image, info = bev
+    assert image.shape[:2] == info.image_shape
+    assert info.raster_shape == (600, 700)  # 12 m x 14 m at 2 cm
+    assert info.image_shape[1] > info.image_shape[0]  # the scene is wider than tall
+    row, col = info.raster_offset
+    assert row + 600 <= image.shape[0] and col + 700 <= image.shape[1]
+
+
+def test_pixels_take_their_terrain_class_colour(tiny_scene: Scene, bev: tuple[np.ndarray, object]) -> None:
+    image, info = bev
+    classes = tiny_scene.annotations.terrain_classes
+    for point, name in ((FLOOR_POINT, "floor"), (WALL_POINT, "wall"), (ROAD_POINT, "road")):
+        color = _pixel(image, info, point)
+        nearest = min(classes, key=lambda n: _distance(color, classes[n].color))
+        assert nearest == name, (point, color)
+        assert _distance(color, classes[name].color) < 6, (name, color)
+    # The ceiling (show_in_bev=False) does not hide the floor, and outside the scene is white.
+    assert _distance(_pixel(image, info, FLOOR_POINT), classes["ceiling"].color) > 30
+    np.testing.assert_array_equal(_pixel(image, info, (11.0, 7.0)), [255, 255, 255])
+
+
+def test_overlay_is_drawn(bev: tuple[np.ndarray, object]) -> None:
+    image, info = bev
+    color = _pixel(image, info, (8.5, 7.0))
+    assert color[2] > 200 and color[0] < 60 and color[1] < 60
+
+
+def test_raster_labels_and_object_colours(tiny_scene: Scene) -> None:
+    raster = raster_bev(tiny_scene, meters_per_pixel=0.05)
+    names = raster.class_names
+    for point, expected in ((FLOOR_POINT, "floor"), (WALL_POINT, "wall"), (ROAD_POINT, "road")):
+        row, col = raster.info.world_to_raster(point)
+        assert names[raster.class_index[row, col]] == expected
+    for object_id, category, center, _size, _yaw in OBJECTS:
+        row, col = raster.info.world_to_raster(center[:2])
+        assert raster.instance_id[row, col] == object_id
+        assert raster.class_index[row, col] == -1
+        assert raster.height[row, col] == pytest.approx(center[2] * 2, abs=1e-4)  # top of the box
+        expected = lighten(default_color(category), 0.35)
+        assert _distance(raster.rgb[row, col].astype(int), expected) < 6
+    # The table (1.2 x 0.8, yaw 2.5) is rotated counter-clockwise: 0.55 m along its long axis is
+    # on it, 0.55 m along the axis of yaw -2.5 is not.
+    on_table = raster.info.world_to_raster(np.array([7.0, 5.0]) + 0.55 * np.array([np.cos(2.5), np.sin(2.5)]))
+    beside = raster.info.world_to_raster(np.array([7.0, 5.0]) + 0.55 * np.array([np.cos(-2.5), np.sin(-2.5)]))
+    assert raster.instance_id[tuple(on_table)] == 3
+    assert raster.instance_id[tuple(beside)] == 0
+
+
+def test_wall_edges_are_shaded(tiny_scene: Scene) -> None:
+    raster = raster_bev(tiny_scene, meters_per_pixel=0.02)
+    wall = np.array(tiny_scene.annotations.terrain_classes["wall"].color)
+    row_in, col = raster.info.world_to_raster(WALL_POINT)
+    row_edge, _ = raster.info.world_to_raster((5.0, 0.29))
+    assert (raster.rgb[row_edge, col] < raster.rgb[row_in, col]).all()
+    np.testing.assert_array_equal(raster.rgb[row_in, col], wall)
+
+
+def test_resolution_choice() -> None:
+    assert auto_meters_per_pixel(3200.0) == pytest.approx(2.0)
+    assert auto_meters_per_pixel(5.0) == pytest.approx(0.01)
+
+
+def test_too_fine_resolution_is_rejected(tiny_scene: Scene, tmp_path: Path) -> None:
+    with pytest.raises(SceneError, match="use at least"):
+        render_bev(tiny_scene, tmp_path / "bev.png", meters_per_pixel=0.001)
+
+
+def test_hillshade_brightens_slopes_facing_the_light() -> None:
+    # Light comes from -x/+y. Ramp "west" faces -x (towards the light), ramp "east" faces +x.
+    def ramp(x0: float, z0: float, z1: float) -> MeshData:
+        vertices = np.array([[x0, 0, z0], [x0 + 2, 0, z1], [x0 + 2, 2, z1], [x0, 2, z0]], dtype=float)
+        return MeshData(vertices, np.array([[0, 1, 2], [0, 2, 3]]))
+
+    annotations = SceneAnnotations(
+        scene_id="ramps",
+        scene_type="outdoor",
+        bounds=Bounds(min=(0, 0, 0), max=(6, 2, 1)),
+        terrain_classes=terrain_classes(["ground"]),
+    )
+    surfaces = (
+        Surface("flat", "ground", ramp(0.0, 0.0, 0.0)),
+        Surface("west", "ground", ramp(2.0, 0.0, 0.5)),  # rises towards +x: its normal tilts to -x
+        Surface("east", "ground", ramp(4.0, 0.5, 0.0)),
+    )
+    raster = raster_bev(Scene(annotations, surfaces, ()), meters_per_pixel=0.25)  # 6 cm rise per pixel
+    flat, west, east = (
+        raster.rgb[tuple(raster.info.world_to_raster((x, 1.0)))].astype(int) for x in (1.0, 3.0, 5.0)
+    )
+    ground = np.array(annotations.terrain_classes["ground"].color)
+    np.testing.assert_array_equal(flat, ground)
+    assert (west > flat).all()
+    assert (east < flat).all()
+    # Inside a ramp the colour is the plain hillshade: a steady slope is not outlined as a step.
+    light = np.array([-1.0, 1.0, 1.5]) / np.linalg.norm([-1.0, 1.0, 1.5])
+    normal = np.array([-0.25, 0.0, 1.0]) / np.linalg.norm([-0.25, 0.0, 1.0])
+    np.testing.assert_allclose(west, ground * (normal @ light) / light[2], atol=1.0)

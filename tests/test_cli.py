@@ -1,0 +1,137 @@
+"""The ``navverse`` command end to end, on a copy of the shipped recipes."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+NAVVERSE = str(Path(sys.executable).parent / "navverse")
+
+
+def run(root: Path, *args: str, timeout: float = 600) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "NAVVERSE_ROOT": str(root)}
+    return subprocess.run([NAVVERSE, *args], env=env, capture_output=True, text=True, timeout=timeout, cwd=root)
+
+
+def copy_recipes(root: Path, *, only: str | None = None) -> Path:
+    shutil.copytree(REPO / "recipes", root / "recipes")
+    if only is not None:
+        for path in (root / "recipes" / "scenes").rglob("*.yaml"):
+            if not path.match(only):
+                path.unlink()
+    return root
+
+
+def built_files(root: Path) -> dict[str, dict]:
+    """{artifact dir name: manifest 'files'} of every committed artifact."""
+    found = {}
+    for manifest in sorted((root / "data" / "built" / "artifacts").glob("*/*/manifest.json")):
+        found[manifest.parent.name] = json.loads(manifest.read_text())["files"]
+    return found
+
+
+def test_help_everywhere():
+    for args in ([], ["build"], ["status"], ["clean"], ["validate", "recipe"], ["show", "scene"]):
+        result = subprocess.run([NAVVERSE, *args, "--help"], capture_output=True, text=True)
+        assert result.returncode == 0 and "usage: navverse" in result.stdout
+
+
+def test_dry_run_prints_the_graph_of_shipped_recipes():
+    result = run(REPO, "build", "--dry-run")
+    assert result.returncode == 0, result.stderr
+    assert "Build graph" in result.stdout
+    for recipe in (REPO / "recipes" / "scenes").rglob("*.yaml"):
+        assert recipe.stem in result.stdout
+
+
+def test_recipe_with_three_mistakes(tmp_path):
+    copy_recipes(tmp_path)
+    bad = tmp_path / "recipes" / "scenes" / "bad.yaml"
+    bad.write_text(
+        "description: three mistakes\n"
+        "stages:\n"
+        "  blockout:\n"
+        "    scene_type: indoor\n"
+        "    colour: red\n"
+        "    surfaces:\n"
+        "      - {name: floor, terrain: floor, center: [0, 0, 0], box: [-4, 4, 0.1]}\n"
+        "      - {name: wall, terrain: wall, center: [zero, 0, 1], box: [4, 0.2, 2]}\n"
+    )
+    for command in (["build"], ["validate", "recipe", str(bad)]):
+        result = run(tmp_path, *command)
+        assert result.returncode == 1
+        assert "Traceback" not in result.stderr + result.stdout
+        assert "bad.yaml:5: stages.blockout.colour: unknown key 'colour'" in result.stderr
+        assert "bad.yaml:7: stages.blockout.surfaces.0.box.0:" in result.stderr
+        assert "bad.yaml:8: stages.blockout.surfaces.1.center.0:" in result.stderr
+        assert "3 problems" in result.stderr
+    assert not (tmp_path / "data" / "built").exists()
+
+
+def test_unknown_target_and_missing_scene_are_clean_errors(tmp_path):
+    copy_recipes(tmp_path)
+    result = run(tmp_path, "build", "no-such-target")
+    assert result.returncode == 1 and "no target or recipe matches 'no-such-target'" in result.stderr
+    result = run(tmp_path, "show", "scene", "corridor")
+    assert result.returncode == 1 and "navverse build corridor" in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def test_build_twice_then_edit_one_recipe(tmp_path):
+    copy_recipes(tmp_path, only="*corridor.yaml")
+    first = run(tmp_path, "build", "--jobs", "2")
+    assert first.returncode == 0, first.stderr + first.stdout
+    assert "2 built" in first.stdout
+    second = run(tmp_path, "build")
+    assert second.returncode == 0 and "Nothing to do" in second.stdout
+    status = run(tmp_path, "status")
+    assert "2 fresh" in status.stdout
+    recipe = tmp_path / "recipes" / "scenes" / "blockout" / "corridor.yaml"
+    recipe.write_text(recipe.read_text().replace("radius: 0.25", "radius: 0.3"))
+    assert "1 stale" in run(tmp_path, "status").stdout
+    third = run(tmp_path, "build")
+    assert third.returncode == 0
+    assert "built corridor:blockout" in third.stdout and "l-corridor:blockout" not in third.stdout.split("Build finished")[0]
+    assert "1 built, 1 cached" in third.stdout
+    scene = json.loads((tmp_path / "data/built/targets/corridor/geometry/scene.json").read_text())
+    assert scene["scene_id"] == "corridor" and scene["objects"][0]["size"][0] == pytest.approx(0.6)
+    out = tmp_path / "corridor.png"
+    shown = run(tmp_path, "show", "scene", "corridor", "-o", str(out))
+    assert shown.returncode == 0 and out.stat().st_size > 10_000
+
+
+def test_sigkill_mid_build_then_resume_matches_clean_build(tmp_path):
+    clean = copy_recipes(tmp_path / "clean")
+    killed = copy_recipes(tmp_path / "killed")
+    assert run(clean, "build", "--jobs", "2").returncode == 0
+    env = {**os.environ, "NAVVERSE_ROOT": str(killed)}
+    process = subprocess.Popen([NAVVERSE, "build", "--jobs", "2"], env=env, cwd=killed, start_new_session=True,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    artifacts = killed / "data" / "built" / "artifacts"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and len(list(artifacts.glob("*/*/manifest.json"))) < 1:
+        time.sleep(0.05)
+    os.killpg(process.pid, signal.SIGKILL)
+    process.wait()
+    gone_by = time.monotonic() + 10
+    while time.monotonic() < gone_by:  # until every process of the build (workers included) is gone
+        try:
+            os.killpg(process.pid, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.05)
+    partial = built_files(killed)
+    assert 1 <= len(partial) < len(built_files(clean)), "the kill should land mid-build"
+    resumed = run(killed, "build", "--jobs", "2")
+    assert resumed.returncode == 0, resumed.stderr + resumed.stdout
+    assert built_files(killed) == built_files(clean)
+    assert not list((killed / "data" / "built" / "tmp").iterdir())
