@@ -150,10 +150,19 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     build = sub.add_parser("build", help="build targets from recipes (default: all)")
-    build.add_argument("targets", nargs="*", metavar="TARGET",
-                       help="target ids (globs allowed) or recipe paths/folders such as 'scenes/indoor'")
-    build.add_argument("--jobs", "-j", type=int, default=None,
-                       help="parallel processes (default: number of cores; 0 runs in this process)")
+    build.add_argument(
+        "targets",
+        nargs="*",
+        metavar="TARGET",
+        help="target ids (globs allowed) or recipe paths/folders such as 'scenes/indoor'",
+    )
+    build.add_argument(
+        "--jobs",
+        "-j",
+        type=int,
+        default=None,
+        help="parallel processes (default: number of cores; 0 runs in this process)",
+    )
     build.add_argument("--force", action="store_true", help="rebuild the selected targets even if cached")
     build.add_argument("--dry-run", action="store_true", help="print the build graph and what would run")
     build.set_defaults(func=cmd_build)
@@ -190,7 +199,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args.func(args, console))
     except (NavverseError, PipelineError) as exc:
-        Console(stderr=True).print(f"error: {exc}", style="red", highlight=False, markup=False, soft_wrap=True)
+        Console(stderr=True).print(
+            f"error: {exc}", style="red", highlight=False, markup=False, soft_wrap=True
+        )
         return 1
     except KeyboardInterrupt:
         Console(stderr=True).print("interrupted")

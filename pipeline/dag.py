@@ -150,7 +150,7 @@ def build_graph(targets: Sequence[Target], *, universe: Sequence[Target] | None 
                         f"{made[output]!r} and stage {call.spec.name!r}; remove one of them from the recipe"
                     )
                 made[output] = call.spec.name
-        for artifact, patterns in target.links.items():
+        for artifact in target.links:
             if artifact in made:
                 problems.append(
                     f"target {target.id!r}: artifact {artifact!r} is both produced by stage "
@@ -237,6 +237,7 @@ def _topological_order(graph: Graph) -> list[str]:
         raise DagError(
             "the stages form a cycle (each waits for another's output): "
             + ", ".join(stuck)
-            + "; change the stages' inputs or the recipes' links so that one of them does not depend on the others"
+            + "; change the stages' inputs or the recipes' links so that one of them "
+            "does not depend on the others"
         )
     return order

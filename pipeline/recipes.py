@@ -237,7 +237,9 @@ class RecipeLoader:
             if spec is None:
                 known = ", ".join(sorted(self.stages)) or "none registered"
                 self._issue(
-                    display, located.where(("stages", name))[1], ("stages", name),
+                    display,
+                    located.where(("stages", name))[1],
+                    ("stages", name),
                     f"unknown stage {name!r} (known stages: {known})",
                 )
                 continue
@@ -279,8 +281,7 @@ class RecipeLoader:
             return []
         data = located.data
         stages_raw = data.get("stages")
-        top = {k: v for k, v in data.items() if k != "stages"}
-        top["stages"] = stages_raw if isinstance(stages_raw, dict) else stages_raw
+        top = dict(data)
         try:
             model = RecipeModel.model_validate(top)
         except ValidationError as exc:
@@ -331,7 +332,9 @@ class RecipeLoader:
             for target in self.load_file(Path(path)):
                 if target.id in seen:
                     self._issue(
-                        target.recipe, None, "id",
+                        target.recipe,
+                        None,
+                        "id",
                         f"target id {target.id!r} is also made by {seen[target.id]}; give one an 'id'",
                     )
                     continue
@@ -353,10 +356,9 @@ def _existing_prefix(data: Any, loc: Sequence[str | int], error_type: str) -> tu
     kept: list[str | int] = []
     node = data
     for index, part in enumerate(loc):
-        if isinstance(node, dict) and part in node:
-            kept.append(part)
-            node = node[part]
-        elif isinstance(node, list) and isinstance(part, int) and 0 <= part < len(node):
+        in_dict = isinstance(node, dict) and part in node
+        in_list = isinstance(node, list) and isinstance(part, int) and 0 <= part < len(node)
+        if in_dict or in_list:
             kept.append(part)
             node = node[part]
         elif index == len(loc) - 1 and error_type in ("missing", "extra_forbidden"):
@@ -416,9 +418,7 @@ def select_targets(targets: Sequence[Target], selectors: Sequence[str]) -> list[
         matched = [
             t
             for t in targets
-            if fnmatch.fnmatchcase(t.id, key)
-            or t.recipe == f"{stem}.yaml"
-            or t.recipe.startswith(f"{stem}/")
+            if fnmatch.fnmatchcase(t.id, key) or t.recipe == f"{stem}.yaml" or t.recipe.startswith(f"{stem}/")
         ]
         if not matched:
             some = ", ".join(sorted(t.id for t in targets)[:12])

@@ -69,9 +69,7 @@ def target_status(graph: Graph, store: ArtifactStore) -> dict[str, TargetStatus]
     for node in graph.nodes.values():
         by_target.setdefault(node.target.id, []).append(node)
     for target_id, nodes in sorted(by_target.items()):
-        current = all(
-            store.has(n.stage, out, key) for n in nodes for out, key in n.artifact_keys.items()
-        )
+        current = all(store.has(n.stage, out, key) for n in nodes for out, key in n.artifact_keys.items())
         built_before = any(
             store.target_output(target_id, out) is not None for n in nodes for out in n.artifact_keys
         )
@@ -123,7 +121,11 @@ def _task(node: Node, graph: Graph, store: ArtifactStore) -> StageTask:
         params=node.call.params.model_dump(mode="json"),
         inputs={
             name: [
-                str(store.artifact_path(graph.nodes[graph.producers[ref]].stage, ref[1], graph.artifact_key(ref)))
+                str(
+                    store.artifact_path(
+                        graph.nodes[graph.producers[ref]].stage, ref[1], graph.artifact_key(ref)
+                    )
+                )
                 for ref in refs
             ]
             for name, refs in node.inputs.items()
@@ -189,7 +191,9 @@ def run_build(
     todo = [n for n in graph.order if states[n] == "build"]
     if not todo:
         report.seconds = time.perf_counter() - started
-        console.print(f"Nothing to do: {len(graph.nodes)} stage runs are up to date ({report.seconds:.2f} s).")
+        console.print(
+            f"Nothing to do: {len(graph.nodes)} stage runs are up to date ({report.seconds:.2f} s)."
+        )
         return report
 
     executor = executor_factory()
@@ -231,7 +235,9 @@ def run_build(
                     try:
                         result = future.result()
                     except BrokenProcessPool:
-                        result = TaskResult(node_id, ok=False, error="the worker process died (killed, or out of memory)")
+                        result = TaskResult(
+                            node_id, ok=False, error="the worker process died (killed, or out of memory)"
+                        )
                         executor.restart()
                     except Exception as exc:  # an executor fault is this node's failure, not the build's
                         result = TaskResult(node_id, ok=False, error=f"{type(exc).__name__}: {exc}")

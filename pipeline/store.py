@@ -98,7 +98,9 @@ class ArtifactStore:
         try:
             path.mkdir(parents=True)
         except OSError as exc:
-            raise StoreError(f"cannot create {path}: {exc.strerror}; check that {self.root} is writable") from exc
+            raise StoreError(
+                f"cannot create {path}: {exc.strerror}; check that {self.root} is writable"
+            ) from exc
         return path
 
     def commit(self, tmp: Path, final: Path, manifest: dict[str, Any]) -> Path:

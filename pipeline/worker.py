@@ -177,8 +177,13 @@ def run_task(task: StageTask, progress: Any = None) -> TaskResult:
             }
             store.commit(tmp, Path(out.final), manifest)
         return TaskResult(
-            node_id=task.node_id, ok=True, log_path=str(log_path), wall_s=wall, cpu_s=cpu,
-            peak_rss_mb=peak, stats=dict(ctx.stats),
+            node_id=task.node_id,
+            ok=True,
+            log_path=str(log_path),
+            wall_s=wall,
+            cpu_s=cpu,
+            peak_rss_mb=peak,
+            stats=dict(ctx.stats),
         )
     except BaseException as exc:  # a failing stage must not take the build down
         logger.error("failed:\n%s", traceback.format_exc())
@@ -188,7 +193,10 @@ def run_task(task: StageTask, progress: Any = None) -> TaskResult:
             raise
         message = str(exc).strip() or type(exc).__name__
         return TaskResult(
-            node_id=task.node_id, ok=False, error=f"{type(exc).__name__}: {message}", log_path=str(log_path),
+            node_id=task.node_id,
+            ok=False,
+            error=f"{type(exc).__name__}: {message}",
+            log_path=str(log_path),
             wall_s=time.perf_counter() - started,
         )
     finally:

@@ -78,7 +78,9 @@ class SurfaceSolid(Solid):
         from navverse.scene.terrain import DEFAULT_TERRAIN_CLASSES
 
         if value not in DEFAULT_TERRAIN_CLASSES:
-            raise ValueError(f"unknown terrain class {value!r} (known: {', '.join(sorted(DEFAULT_TERRAIN_CLASSES))})")
+            raise ValueError(
+                f"unknown terrain class {value!r} (known: {', '.join(sorted(DEFAULT_TERRAIN_CLASSES))})"
+            )
         return value
 
 
@@ -157,14 +159,20 @@ def blockout(ctx: StageContext, params: BlockoutParams) -> None:
         scene_type=params.scene_type,
         bounds=Bounds(min=tuple(all_vertices.min(axis=0)), max=tuple(all_vertices.max(axis=0))),
         objects=[o.annotation for o in objects],
-        terrain_classes=terrain_classes(sorted({s.terrain for s in params.surfaces}), overrides=params.friction),
+        terrain_classes=terrain_classes(
+            sorted({s.terrain for s in params.surfaces}), overrides=params.friction
+        ),
         statistics=SceneStatistics(
             faces=faces,
             objects_per_category=dict(sorted(Counter(o.category for o in params.objects).items())),
         ),
-        source=SceneSource(recipe=ctx.recipe, recipe_hash=ctx.recipe_hash, toolkit_version=navverse.__version__),
+        source=SceneSource(
+            recipe=ctx.recipe, recipe_hash=ctx.recipe_hash, toolkit_version=navverse.__version__
+        ),
     )
     scene = Scene(annotations=annotations, surfaces=tuple(surfaces), objects=tuple(objects))
     write_scene_dir(scene, ctx.output)
     ctx.record(faces=faces, surfaces=len(surfaces), objects=len(objects))
-    ctx.log.info("blockout %s: %d surfaces, %d objects, %d faces", ctx.target, len(surfaces), len(objects), faces)
+    ctx.log.info(
+        "blockout %s: %d surfaces, %d objects, %d faces", ctx.target, len(surfaces), len(objects), faces
+    )

@@ -19,7 +19,9 @@ NAVVERSE = str(Path(sys.executable).parent / "navverse")
 
 def run(root: Path, *args: str, timeout: float = 600) -> subprocess.CompletedProcess[str]:
     env = {**os.environ, "NAVVERSE_ROOT": str(root)}
-    return subprocess.run([NAVVERSE, *args], env=env, capture_output=True, text=True, timeout=timeout, cwd=root)
+    return subprocess.run(
+        [NAVVERSE, *args], env=env, capture_output=True, text=True, timeout=timeout, cwd=root
+    )
 
 
 def copy_recipes(root: Path, *, only: str | None = None) -> Path:
@@ -100,7 +102,10 @@ def test_build_twice_then_edit_one_recipe(tmp_path):
     assert "1 stale" in run(tmp_path, "status").stdout
     third = run(tmp_path, "build")
     assert third.returncode == 0
-    assert "built corridor:blockout" in third.stdout and "l-corridor:blockout" not in third.stdout.split("Build finished")[0]
+    assert (
+        "built corridor:blockout" in third.stdout
+        and "l-corridor:blockout" not in third.stdout.split("Build finished")[0]
+    )
     assert "1 built, 1 cached" in third.stdout
     scene = json.loads((tmp_path / "data/built/targets/corridor/geometry/scene.json").read_text())
     assert scene["scene_id"] == "corridor" and scene["objects"][0]["size"][0] == pytest.approx(0.6)
@@ -114,8 +119,14 @@ def test_sigkill_mid_build_then_resume_matches_clean_build(tmp_path):
     killed = copy_recipes(tmp_path / "killed")
     assert run(clean, "build", "--jobs", "2").returncode == 0
     env = {**os.environ, "NAVVERSE_ROOT": str(killed)}
-    process = subprocess.Popen([NAVVERSE, "build", "--jobs", "2"], env=env, cwd=killed, start_new_session=True,
-                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    process = subprocess.Popen(
+        [NAVVERSE, "build", "--jobs", "2"],
+        env=env,
+        cwd=killed,
+        start_new_session=True,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     artifacts = killed / "data" / "built" / "artifacts"
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and len(list(artifacts.glob("*/*/manifest.json"))) < 1:

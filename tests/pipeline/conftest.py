@@ -29,26 +29,38 @@ def stages():
 @pytest.fixture
 def workspace(tmp_path: Path) -> Workspace:
     ws = Workspace(tmp_path)
-    write(ws.presets_dir / "base.yaml", """
+    write(
+        ws.presets_dir / "base.yaml",
+        """
         stages:
           ex_numbers: {count: 4}
           ex_sum: {offset: 1.0}
-    """)
-    write(ws.recipes_dir / "group" / "alpha.yaml", """
+    """,
+    )
+    write(
+        ws.recipes_dir / "group" / "alpha.yaml",
+        """
         description: two seeds of numbers and their sums
         extends: base
         seeds: [0, 1]
-    """)
-    write(ws.recipes_dir / "group" / "beta.yaml", """
+    """,
+    )
+    write(
+        ws.recipes_dir / "group" / "beta.yaml",
+        """
         extends: base
         seed: 7
         stages:
           ex_sum: {offset: 2.5}
-    """)
-    write(ws.recipes_dir / "all.yaml", """
+    """,
+    )
+    write(
+        ws.recipes_dir / "all.yaml",
+        """
         stages:
           ex_gather: {}
         links:
           total: ["alpha-*", "beta"]
-    """)
+    """,
+    )
     return ws

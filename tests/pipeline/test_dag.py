@@ -30,8 +30,11 @@ def test_graph_order_links_and_keys(workspace, stages):
     graph = build_graph(targets)
     order = graph.order
     assert order.index("alpha-s0:ex_numbers") < order.index("alpha-s0:ex_sum") < order.index("all:ex_gather")
-    assert graph.nodes["all:ex_gather"].inputs["total"] == [("alpha-s0", "total"), ("alpha-s1", "total"),
-                                                            ("beta", "total")]
+    assert graph.nodes["all:ex_gather"].inputs["total"] == [
+        ("alpha-s0", "total"),
+        ("alpha-s1", "total"),
+        ("beta", "total"),
+    ]
     keys = [n.key for n in graph.nodes.values()]
     assert len(set(keys)) == len(keys)
     # same recipes -> same keys; another seed -> another key downstream too

@@ -23,20 +23,25 @@ def test_extends_presets_and_seed_expansion(workspace, stages):
 
 
 def test_count_expansion_and_null_removes_stage(workspace, stages):
-    path = write(workspace.recipes_dir / "many.yaml", """
+    path = write(
+        workspace.recipes_dir / "many.yaml",
+        """
         extends: base
         count: 3
         seed: 10
         stages:
           ex_sum: null
-    """)
+    """,
+    )
     targets = RecipeLoader(workspace, stages=stages).load([path])
     assert [(t.id, t.seed) for t in targets] == [("many-00", 10), ("many-01", 11), ("many-02", 12)]
     assert [c.spec.name for c in targets[0].stages] == ["ex_numbers"]
 
 
 def test_three_mistakes_reported_together_with_lines(workspace, stages):
-    path = write(workspace.recipes_dir / "bad.yaml", """
+    path = write(
+        workspace.recipes_dir / "bad.yaml",
+        """
         seed: 0
         stages:
           ex_numbers:
@@ -44,7 +49,8 @@ def test_three_mistakes_reported_together_with_lines(workspace, stages):
             colour: red
           ex_sum:
             offset: lots
-    """)
+    """,
+    )
     with pytest.raises(RecipeError) as info:
         RecipeLoader(workspace, stages=stages).load([path])
     issues = {i.key_path: i for i in info.value.issues}
@@ -59,15 +65,21 @@ def test_three_mistakes_reported_together_with_lines(workspace, stages):
 
 
 def test_errors_across_files_and_top_level(workspace, stages):
-    one = write(workspace.recipes_dir / "one.yaml", """
+    one = write(
+        workspace.recipes_dir / "one.yaml",
+        """
         seeds: [1, 1]
         stages:
           nonexistent_stage: {}
-    """)
-    two = write(workspace.recipes_dir / "two.yaml", """
+    """,
+    )
+    two = write(
+        workspace.recipes_dir / "two.yaml",
+        """
         extends: no-such-preset
         stages: {ex_numbers: {}}
-    """)
+    """,
+    )
     three = write(workspace.recipes_dir / "three.yaml", "stages: [unclosed\n")
     with pytest.raises(RecipeError) as info:
         RecipeLoader(workspace, stages=stages).load([one, two, three])
@@ -79,11 +91,14 @@ def test_errors_across_files_and_top_level(workspace, stages):
 
 
 def test_error_in_preset_points_at_preset_line(workspace, stages):
-    write(workspace.presets_dir / "broken.yaml", """
+    write(
+        workspace.presets_dir / "broken.yaml",
+        """
         stages:
           ex_numbers:
             count: zero
-    """)
+    """,
+    )
     path = write(workspace.recipes_dir / "child.yaml", "extends: broken\n")
     with pytest.raises(RecipeError) as info:
         RecipeLoader(workspace, stages=stages).load([path])
@@ -111,10 +126,14 @@ def test_extends_cycle_is_reported(workspace, stages):
 
 def test_source_file_is_resolved_and_checked(workspace, stages):
     write(workspace.recipes_dir / "data" / "values.txt", "1 2 3\n")
-    good = write(workspace.recipes_dir / "data" / "read.yaml", "stages: {ex_read_file: {source: values.txt}}\n")
+    good = write(
+        workspace.recipes_dir / "data" / "read.yaml", "stages: {ex_read_file: {source: values.txt}}\n"
+    )
     (target,) = RecipeLoader(workspace, stages=stages).load([good])
     assert target.stages[0].params.source == (workspace.recipes_dir / "data" / "values.txt").resolve()
-    bad = write(workspace.recipes_dir / "data" / "missing.yaml", "stages: {ex_read_file: {source: nope.txt}}\n")
+    bad = write(
+        workspace.recipes_dir / "data" / "missing.yaml", "stages: {ex_read_file: {source: nope.txt}}\n"
+    )
     with pytest.raises(RecipeError, match="file not found"):
         RecipeLoader(workspace, stages=stages).load([bad])
 

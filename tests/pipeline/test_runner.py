@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
 import numpy as np
@@ -52,14 +51,17 @@ def test_manifest_records_files_stats_and_run(workspace, stages):
 
 
 def test_editing_one_recipe_rebuilds_only_its_dependents(workspace, stages):
-    graph, store, _ = _build(workspace, stages)
+    _, store, _ = _build(workspace, stages)
     before = _total(store, "alpha-s0")
-    write(workspace.recipes_dir / "group" / "beta.yaml", """
+    write(
+        workspace.recipes_dir / "group" / "beta.yaml",
+        """
         extends: base
         seed: 7
         stages:
           ex_sum: {offset: 3.5}
-    """)
+    """,
+    )
     edited = build_graph(RecipeLoader(workspace, stages=stages).load())
     status = target_status(edited, store)
     assert status["beta"] == "stale" and status["all"] == "stale" and status["alpha-s0"] == "fresh"
@@ -72,7 +74,9 @@ def test_editing_one_recipe_rebuilds_only_its_dependents(workspace, stages):
 
 def test_seeds_are_derived_per_target_and_stage(workspace, stages):
     graph, store, _ = _build(workspace, stages)
-    numbers = {t: np.load(store.targets_dir / t / "numbers" / "numbers.npy") for t in ("alpha-s0", "alpha-s1")}
+    numbers = {
+        t: np.load(store.targets_dir / t / "numbers" / "numbers.npy") for t in ("alpha-s0", "alpha-s1")
+    }
     assert not np.allclose(numbers["alpha-s0"], numbers["alpha-s1"])
     seeds = {n.id: n.seed for n in graph.nodes.values()}
     assert seeds["alpha-s0:ex_numbers"] != seeds["alpha-s0:ex_sum"]
@@ -80,16 +84,21 @@ def test_seeds_are_derived_per_target_and_stage(workspace, stages):
     for child in (store.artifacts_dir, store.targets_dir):
         __import__("shutil").rmtree(child)
     _build(workspace, stages)
-    assert np.array_equal(np.load(store.targets_dir / "alpha-s0" / "numbers" / "numbers.npy"), numbers["alpha-s0"])
+    assert np.array_equal(
+        np.load(store.targets_dir / "alpha-s0" / "numbers" / "numbers.npy"), numbers["alpha-s0"]
+    )
 
 
 def test_failure_spares_independent_targets(workspace, stages):
-    write(workspace.recipes_dir / "group" / "beta.yaml", """
+    write(
+        workspace.recipes_dir / "group" / "beta.yaml",
+        """
         extends: base
         stages:
           ex_sum: {fail: true}
-    """)
-    graph, store, report = _build(workspace, stages)
+    """,
+    )
+    _graph, store, report = _build(workspace, stages)
     assert list(report.failed) == ["beta:ex_sum"]
     assert "ValueError: asked to fail" in report.failed["beta:ex_sum"].error
     assert "asked to fail" in Path(report.failed["beta:ex_sum"].log_path).read_text()
@@ -129,8 +138,10 @@ def test_force_rebuilds_selected_targets(workspace, stages):
 
 
 def test_process_executor_runs_in_parallel_and_reports_progress(workspace, stages):
-    write(workspace.recipes_dir / "slow.yaml", "seeds: [1, 2]\nstages: {ex_slow: {files: 4, delay_s: 0.01}}\n")
-    graph, store, report = _build(workspace, stages, executor=lambda: LocalProcessExecutor(2))
+    write(
+        workspace.recipes_dir / "slow.yaml", "seeds: [1, 2]\nstages: {ex_slow: {files: 4, delay_s: 0.01}}\n"
+    )
+    _graph, store, report = _build(workspace, stages, executor=lambda: LocalProcessExecutor(2))
     assert report.ok and "slow-s1:ex_slow" in report.built
     pids = {
         json.loads((store.targets_dir / t / "numbers" / MANIFEST_NAME).read_text())["run"]["peak_rss_mb"]
