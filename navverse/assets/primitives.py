@@ -39,8 +39,12 @@ def ramp(length: float, width: float, height: float) -> tuple[np.ndarray, np.nda
     hl, hw, hh = length / 2.0, width / 2.0, height / 2.0
     points = np.array(
         [
-            [-hl, -hw, -hh], [hl, -hw, -hh], [hl, hw, -hh], [-hl, hw, -hh],  # base
-            [hl, -hw, hh], [hl, hw, hh],  # high edge
+            [-hl, -hw, -hh],
+            [hl, -hw, -hh],
+            [hl, hw, -hh],
+            [-hl, hw, -hh],  # base
+            [hl, -hw, hh],
+            [hl, hw, hh],  # high edge
         ]
     )
     mesh = trimesh.convex.convex_hull(points)
