@@ -41,7 +41,7 @@ class RecipeError(PipelineError):
     """One or more recipes are invalid; every problem found is listed at once."""
 
     def __init__(self, issues: Sequence[RecipeIssue]) -> None:
-        self.issues = tuple(issues)
+        self.issues = tuple(sorted(issues, key=lambda i: (i.file, i.line or 0, i.key_path)))
         count = len(self.issues)
         lines = [f"{count} problem{'s' if count != 1 else ''} in recipes (nothing was built):"]
         lines += [f"  {issue}" for issue in self.issues]
