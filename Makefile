@@ -41,7 +41,8 @@ eval: $(STAMP)  ## score a submission: make eval SUBMISSION=file.jsonl [DATASET=
 	$(NAVVERSE) eval --dataset $(DATASET) --submission $(SUBMISSION) --split $(SPLIT) --out $(OUT)
 
 bench: $(STAMP)  ## run every benchmark in bench/ (prints ratios against peers)
-	@set -e; for b in bench/*.py; do echo "== $$b"; $(BIN)/python $$b; done
+	@set -e; found=0; for b in bench/*.py; do [ -e "$$b" ] || continue; found=1; echo "== $$b"; $(BIN)/python $$b; done; \
+	[ $$found = 1 ] || echo "bench/ has no benchmark yet"
 
 status: $(STAMP)  ## fresh / stale / missing per target
 	$(NAVVERSE) status
