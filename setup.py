@@ -1,5 +1,54 @@
-"""Build hook: compiles navverse.nav's RecastNavigation extension (added with the navmesh)."""
+"""Build hook: compiles navverse.nav's RecastNavigation extension (``navverse.nav._recast``).
 
+The extension links against the system RecastNavigation (Debian/Ubuntu package ``librecast-dev``,
+which ``make setup`` installs). Set ``RECAST_INCLUDE_DIR`` / ``RECAST_LIBRARY_DIR`` to use a copy
+installed elsewhere.
+"""
+
+import os
+from pathlib import Path
+
+from pybind11.setup_helpers import Pybind11Extension
+from pybind11.setup_helpers import build_ext as _build_ext
 from setuptools import setup
 
-setup()
+NAV = Path("navverse") / "nav"
+INCLUDE_CANDIDATES = [
+    os.environ.get("RECAST_INCLUDE_DIR", ""),
+    "/usr/include/recastnavigation",
+    "/usr/local/include/recastnavigation",
+]
+RECAST_INCLUDE = next((d for d in INCLUDE_CANDIDATES if d and Path(d, "Recast.h").is_file()), None)
+LIBRARY_DIRS = [os.environ["RECAST_LIBRARY_DIR"]] if os.environ.get("RECAST_LIBRARY_DIR") else []
+
+
+class build_ext(_build_ext):  # noqa: N801 - setuptools command name
+    """Fail early, with the fix, when the RecastNavigation headers are missing."""
+
+    def run(self) -> None:
+        if RECAST_INCLUDE is None:
+            raise SystemExit(
+                "error: RecastNavigation headers not found (looked for Recast.h in "
+                + ", ".join(d for d in INCLUDE_CANDIDATES if d)
+                + "). Install the system package `librecast-dev` (`make setup` does: "
+                "sudo apt-get install librecast-dev), or set RECAST_INCLUDE_DIR/RECAST_LIBRARY_DIR."
+            )
+        super().run()
+
+
+ext = Pybind11Extension(
+    "navverse.nav._recast",
+    sources=[
+        str(NAV / "_recast.cpp"),
+        str(NAV / "csrc" / "build.cpp"),
+        str(NAV / "csrc" / "navmesh.cpp"),
+    ],
+    depends=[str(NAV / "csrc" / "navmesh.h")],
+    include_dirs=[RECAST_INCLUDE or "/usr/include/recastnavigation"],
+    library_dirs=LIBRARY_DIRS,
+    libraries=["Recast", "Detour"],
+    cxx_std=17,
+    extra_compile_args=["-O2"],
+)
+
+setup(ext_modules=[ext], cmdclass={"build_ext": build_ext})

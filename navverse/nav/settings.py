@@ -1,0 +1,170 @@
+"""Navmesh build settings and the paper's indoor and outdoor presets.
+
+Field names and units follow habitat-sim's ``NavMeshSettings``: lengths in meters, the slope in
+degrees, and the Recast tuning values (region sizes, edge error, detail sampling) in cells, the
+way habitat-sim and the Recast demo pass them on. :data:`INDOOR` and :data:`OUTDOOR` are the values
+of the paper's table ``tab:navmesh_params``; ``recipes/presets/navmesh-{indoor,outdoor}.yaml`` hold
+the same values for recipes to extend.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from types import MappingProxyType
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from navverse.nav.errors import NavMeshError
+
+__all__ = ["INDOOR", "OUTDOOR", "PRESETS", "NavMeshSettings"]
+
+
+class NavMeshSettings(BaseModel):
+    """Everything Recast needs to voxelize a scene into a navmesh.
+
+    The defaults are the :data:`INDOOR` preset. Integer Recast parameters are derived as
+    ``ceil(agent_height / cell_height)``, ``floor(agent_max_climb / cell_height)`` and
+    ``ceil(agent_radius / cell_size)`` cells (with a 1e-6 tolerance, so 0.30 / 0.10 is 3 cells).
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
+
+    cell_size: float = Field(0.05, gt=0, description="Voxel size on the ground plane (m).")
+    cell_height: float = Field(0.05, gt=0, description="Voxel height (m).")
+    agent_height: float = Field(0.6, gt=0, description="Headroom the agent needs (m).")
+    agent_radius: float = Field(
+        0.6, ge=0, description="Agent radius (m); the walkable area is eroded by it, away from obstacles."
+    )
+    agent_max_climb: float = Field(0.2, ge=0, description="Highest step the agent climbs, up or down (m).")
+    agent_max_slope: float = Field(
+        45.0, ge=0, lt=90, description="Steepest walkable triangle (degrees from horizontal)."
+    )
+    region_min_size: float = Field(
+        8.0,
+        ge=0,
+        description=(
+            "Side of the smallest isolated region kept (cells): regions of fewer than "
+            "region_min_size**2 cells that touch no tile border are removed."
+        ),
+    )
+    region_merge_size: float = Field(
+        0.0,
+        ge=0,
+        description="Regions of fewer than region_merge_size**2 cells are merged into a neighbour (cells).",
+    )
+    edge_max_len: float = Field(
+        0.0, ge=0, description="Longest polygon border edge (m); 0 leaves edges unlimited."
+    )
+    edge_max_error: float = Field(
+        1.5, ge=0, description="Largest deviation of simplified borders from the voxel outline (cells)."
+    )
+    verts_per_poly: int = Field(6, ge=3, le=6, description="Most vertices per polygon (Detour allows 3..6).")
+    detail_sample_dist: float = Field(
+        1.0,
+        ge=0,
+        description=(
+            "Spacing of height samples of the detail mesh, in multiples of cell_size; below 0.9 the "
+            "detail mesh only follows the polygon outlines."
+        ),
+    )
+    detail_sample_max_error: float = Field(
+        0.0, ge=0, description="Largest height error of the detail mesh, in multiples of cell_height."
+    )
+    filter_low_hanging_obstacles: bool = Field(
+        True, description="Let the agent step onto obstacles lower than agent_max_climb (curbs, stairs)."
+    )
+    filter_ledge_spans: bool = Field(
+        True, description="Make cells next to drops higher than the climb unwalkable."
+    )
+    filter_walkable_low_height_spans: bool = Field(
+        True, description="Make cells with less than agent_height of headroom unwalkable."
+    )
+    fill_solid_interiors: bool = Field(
+        True,
+        description=(
+            "Treat the inside of closed solids as solid: nothing between a downward-facing surface and "
+            "where the solid ends above it is walkable (Recast alone sees surfaces only, so the floor "
+            "inside a closed box would be a walkable island)."
+        ),
+    )
+    tile_size: int = Field(
+        256,
+        ge=0,
+        description=(
+            "Tile side in cells; tiles are built in parallel. 0 builds the whole scene as one tile "
+            "(at most 65535 polygon vertices)."
+        ),
+    )
+
+    @model_validator(mode="after")
+    def _recast_limits(self) -> NavMeshSettings:
+        if self.agent_height / self.cell_height < 3 - 1e-6:
+            raise ValueError(
+                f"agent_height {self.agent_height} m must be at least 3 cells "
+                f"of cell_height {self.cell_height} m"
+            )
+        if self.agent_radius / self.cell_size > 250:
+            raise ValueError(
+                f"agent_radius {self.agent_radius} m is more than 250 cells of cell_size {self.cell_size} m: "
+                "increase cell_size"
+            )
+        if self.agent_max_climb / self.cell_height > 8000:
+            raise ValueError("agent_max_climb is more than 8000 cells of cell_height: increase cell_height")
+        if 0 < self.tile_size < 16 or self.tile_size > 4096:
+            raise ValueError(f"tile_size must be 0 (one tile) or 16..4096 cells, got {self.tile_size}")
+        return self
+
+    @classmethod
+    def preset(cls, name: str) -> NavMeshSettings:
+        """The settings of a named preset (``"indoor"`` or ``"outdoor"``).
+
+        Parameters
+        ----------
+        name : str
+            Preset name, a key of :data:`PRESETS`.
+
+        Returns
+        -------
+        NavMeshSettings
+            The preset (an immutable, shared instance).
+
+        Raises
+        ------
+        NavMeshError
+            On an unknown name.
+        """
+        try:
+            return PRESETS[name]
+        except KeyError:
+            raise NavMeshError(
+                f"unknown navmesh preset {name!r}; choose from: {', '.join(PRESETS)}"
+            ) from None
+
+
+INDOOR = NavMeshSettings(
+    cell_size=0.05,
+    cell_height=0.05,
+    agent_height=0.6,
+    agent_radius=0.6,
+    agent_max_climb=0.2,
+    agent_max_slope=45.0,
+    region_min_size=8.0,
+    region_merge_size=0.0,
+    edge_max_len=0.0,
+    edge_max_error=1.5,
+    verts_per_poly=6,
+    detail_sample_dist=1.0,
+    detail_sample_max_error=0.0,
+    filter_low_hanging_obstacles=True,
+    filter_ledge_spans=True,
+    filter_walkable_low_height_spans=True,
+    fill_solid_interiors=True,
+    tile_size=256,
+)
+"""Indoor scenes: fine voxels (5 cm) for narrow passages (paper, table ``tab:navmesh_params``)."""
+
+OUTDOOR = INDOOR.model_copy(update={"cell_size": 0.1, "cell_height": 0.1, "agent_max_climb": 0.3})
+"""Outdoor scenes: 10 cm voxels and curbs up to 0.30 m (paper, table ``tab:navmesh_params``)."""
+
+PRESETS: Mapping[str, NavMeshSettings] = MappingProxyType({"indoor": INDOOR, "outdoor": OUTDOOR})
+"""The presets by name (read-only)."""

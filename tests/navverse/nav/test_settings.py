@@ -1,0 +1,66 @@
+"""Settings presets match the paper's table and the recipe presets."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import yaml
+from pydantic import ValidationError
+
+from navverse import nav
+from navverse.nav import NavMeshError, NavMeshSettings
+
+REPO = Path(__file__).resolve().parents[3]
+
+# The paper's table tab:navmesh_params.
+PAPER = {
+    "indoor": {"cell_size": 0.05, "cell_height": 0.05, "agent_max_climb": 0.20},
+    "outdoor": {"cell_size": 0.10, "cell_height": 0.10, "agent_max_climb": 0.30},
+}
+PAPER_COMMON = {
+    "agent_height": 0.60,
+    "agent_radius": 0.60,
+    "agent_max_slope": 45.0,
+    "region_min_size": 8.0,
+    "region_merge_size": 0.0,
+    "edge_max_error": 1.5,
+    "edge_max_len": 0.0,
+    "detail_sample_dist": 1.0,
+    "detail_sample_max_error": 0.0,
+    "verts_per_poly": 6,
+}
+
+
+@pytest.mark.parametrize("name", ["indoor", "outdoor"])
+def test_presets_match_the_paper(name: str):
+    preset = NavMeshSettings.preset(name)
+    assert preset is nav.PRESETS[name]
+    for key, value in {**PAPER_COMMON, **PAPER[name]}.items():
+        assert getattr(preset, key) == value, key
+
+
+@pytest.mark.parametrize("name", ["indoor", "outdoor"])
+def test_recipe_presets_match_the_constants(name: str):
+    data = yaml.safe_load((REPO / "recipes" / "presets" / f"navmesh-{name}.yaml").read_text())
+    assert list(data) == ["stages"] and list(data["stages"]) == ["navmesh"]
+    settings = data["stages"]["navmesh"]["settings"]
+    assert settings == nav.PRESETS[name].model_dump()  # every field, same values
+    assert NavMeshSettings.model_validate(settings) == nav.PRESETS[name]
+
+
+def test_defaults_are_the_indoor_preset():
+    assert NavMeshSettings() == nav.INDOOR
+
+
+def test_settings_are_strict_and_frozen():
+    with pytest.raises(ValidationError):
+        NavMeshSettings(voxel_size=0.1)
+    with pytest.raises(ValidationError):
+        NavMeshSettings(agent_max_slope=90)
+    with pytest.raises(ValidationError, match="at least 3 cells"):
+        NavMeshSettings(agent_height=0.1)
+    with pytest.raises(ValidationError):
+        nav.INDOOR.cell_size = 0.2  # type: ignore[misc]
+    with pytest.raises(NavMeshError, match="unknown navmesh preset 'attic'"):
+        NavMeshSettings.preset("attic")
