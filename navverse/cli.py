@@ -122,8 +122,9 @@ def cmd_validate_recipe(args: argparse.Namespace, console: Console) -> int:
 
 
 def cmd_show_scene(args: argparse.Namespace, console: Console) -> int:
-    """Draw a built scene's bird's-eye view."""
-    from navverse.scene import read_scene, render_bev
+    """Draw a built scene's bird's-eye view, with its navmesh when it has one."""
+    from navverse.nav.scene_navmesh import load_scene_navmesh, navmesh_overlay
+    from navverse.scene import SceneFiles, read_scene, render_bev
     from pipeline.store import ArtifactStore
 
     workspace = _workspace()
@@ -136,7 +137,9 @@ def cmd_show_scene(args: argparse.Namespace, console: Console) -> int:
             "('navverse status' lists the scenes)"
         )
     out = Path(args.output or f"{args.scene_id}-bev.png")
-    render_bev(read_scene(scene_dir), out, meters_per_pixel=args.meters_per_pixel)
+    has_navmesh = SceneFiles(scene_dir).navmesh.is_file()
+    overlays = [navmesh_overlay(load_scene_navmesh(scene_dir))] if has_navmesh else []
+    render_bev(read_scene(scene_dir), out, meters_per_pixel=args.meters_per_pixel, overlays=overlays)
     console.print(f"wrote {out}")
     return 0
 

@@ -2,6 +2,8 @@
 
 Only modules of the same source tree are followed (not the standard library or site-packages), so
 editing a stage, or a library module it uses, changes the cache key of every artifact it makes.
+A compiled extension module of the project (``.so``/``.pyd``) counts by its bytes, so rebuilding
+it from changed C++ sources also changes the keys of what depends on it.
 """
 
 from __future__ import annotations
@@ -9,6 +11,7 @@ from __future__ import annotations
 import ast
 import functools
 import hashlib
+import importlib.machinery
 import importlib.util
 import sys
 import sysconfig
@@ -23,6 +26,7 @@ def _external_roots() -> tuple[Path, ...]:
 
 
 _ENGINE_PACKAGE = __name__.partition(".")[0]
+_EXTENSION_SUFFIXES = tuple(importlib.machinery.EXTENSION_SUFFIXES)
 
 
 def _module_file(name: str) -> Path | None:
@@ -32,7 +36,7 @@ def _module_file(name: str) -> Path | None:
         spec = importlib.util.find_spec(name)
     except (ImportError, ValueError):
         return None
-    if spec is None or spec.origin is None or not spec.origin.endswith(".py"):
+    if spec is None or spec.origin is None or not spec.origin.endswith((".py", *_EXTENSION_SUFFIXES)):
         return None
     path = Path(spec.origin).resolve()
     if any(path.is_relative_to(root) for root in _external_roots()):
@@ -41,6 +45,8 @@ def _module_file(name: str) -> Path | None:
 
 
 def _imported_names(path: Path, module: str) -> set[str]:
+    if path.suffix != ".py":
+        return set()  # a compiled extension: hashed by its bytes, its imports are not followed
     tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
     package = module if path.name == "__init__.py" else module.rpartition(".")[0]
     names: set[str] = set()

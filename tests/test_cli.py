@@ -92,7 +92,7 @@ def test_build_twice_then_edit_one_recipe(tmp_path):
     copy_recipes(tmp_path, only="*corridor.yaml")
     first = run(tmp_path, "build", "--jobs", "2")
     assert first.returncode == 0, first.stderr + first.stdout
-    assert "2 built" in first.stdout
+    assert "4 built" in first.stdout  # blockout and navmesh of each corridor
     second = run(tmp_path, "build")
     assert second.returncode == 0 and "Nothing to do" in second.stdout
     status = run(tmp_path, "status")
@@ -106,9 +106,11 @@ def test_build_twice_then_edit_one_recipe(tmp_path):
         "built corridor:blockout" in third.stdout
         and "l-corridor:blockout" not in third.stdout.split("Build finished")[0]
     )
-    assert "1 built, 1 cached" in third.stdout
-    scene = json.loads((tmp_path / "data/built/targets/corridor/geometry/scene.json").read_text())
+    assert "2 built, 2 cached" in third.stdout  # the corridor's blockout and navmesh
+    scene_dir = tmp_path / "data/built/targets/corridor/scene"
+    scene = json.loads((scene_dir / "scene.json").read_text())
     assert scene["scene_id"] == "corridor" and scene["objects"][0]["size"][0] == pytest.approx(0.6)
+    assert scene["statistics"]["navigable_area_m2"] > 15.0 and (scene_dir / "navmesh.bin").is_file()
     out = tmp_path / "corridor.png"
     shown = run(tmp_path, "show", "scene", "corridor", "-o", str(out))
     assert shown.returncode == 0 and out.stat().st_size > 10_000

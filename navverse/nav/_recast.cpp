@@ -210,6 +210,18 @@ PYBIND11_MODULE(_recast, m) {
              if (!areas.empty()) std::memcpy(a.mutable_data(), areas.data(), areas.size());
              return py::make_tuple(out, a);
            })
+      .def("boundary_edges",
+           [](const NavMesh& self) {
+             const auto edges = self.boundaryEdges();
+             py::array_t<double> out({static_cast<py::ssize_t>(edges.size()), static_cast<py::ssize_t>(2),
+                                      static_cast<py::ssize_t>(3)});
+             auto w = out.mutable_unchecked<3>();
+             for (std::size_t i = 0; i < edges.size(); ++i)
+               for (int e = 0; e < 2; ++e)
+                 for (int k = 0; k < 3; ++k)
+                   w(static_cast<py::ssize_t>(i), e, k) = edges[i][static_cast<std::size_t>(e)][static_cast<std::size_t>(k)];
+             return out;
+           })
       .def(
           "topdown",
           [](const NavMesh& self, double mpp, bool useHeight, double height, double eps) {

@@ -551,6 +551,14 @@ class PathFinder:
         polys, _ = self._mesh.polygons()
         return polys
 
+    def boundary_edges(self) -> np.ndarray:
+        """The navmesh outline: polygon edges with nothing walkable across them, shape (K, 2, 3).
+
+        Edges between polygons, within a tile or across tile borders, are left out, so drawing these
+        segments outlines the walkable area (and the holes in it) without showing the tiling.
+        """
+        return self._mesh.boundary_edges()
+
     def polygon_area_types(self) -> np.ndarray:
         """Area id of every polygon, aligned with :meth:`polygons`, shape (P,) uint8."""
         _, areas = self._mesh.polygons()

@@ -11,12 +11,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from types import MappingProxyType
+from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model, model_validator
 
 from navverse.nav.errors import NavMeshError
 
-__all__ = ["INDOOR", "OUTDOOR", "PRESETS", "NavMeshSettings"]
+__all__ = ["INDOOR", "OUTDOOR", "PRESETS", "NavMeshOverrides", "NavMeshSettings"]
 
 
 class NavMeshSettings(BaseModel):
@@ -140,6 +141,34 @@ class NavMeshSettings(BaseModel):
                 f"unknown navmesh preset {name!r}; choose from: {', '.join(PRESETS)}"
             ) from None
 
+    def with_overrides(self, overrides: BaseModel | Mapping[str, Any]) -> NavMeshSettings:
+        """These settings with some fields replaced, validated as a whole.
+
+        Parameters
+        ----------
+        overrides : NavMeshOverrides or mapping
+            Fields to replace; unset (None) fields keep their value here.
+
+        Returns
+        -------
+        NavMeshSettings
+
+        Raises
+        ------
+        NavMeshError
+            When the combination is invalid (e.g. an agent height under 3 cell heights).
+        """
+        changes = (
+            overrides.model_dump(exclude_none=True) if isinstance(overrides, BaseModel) else dict(overrides)
+        )
+        try:
+            return NavMeshSettings.model_validate({**self.model_dump(), **changes})
+        except ValidationError as exc:
+            problems = "; ".join(
+                f"{'.'.join(str(p) for p in e['loc']) or 'settings'}: {e['msg']}" for e in exc.errors()
+            )
+            raise NavMeshError(f"invalid navmesh settings: {problems}") from None
+
 
 INDOOR = NavMeshSettings(
     cell_size=0.05,
@@ -168,3 +197,22 @@ OUTDOOR = INDOOR.model_copy(update={"cell_size": 0.1, "cell_height": 0.1, "agent
 
 PRESETS: Mapping[str, NavMeshSettings] = MappingProxyType({"indoor": INDOOR, "outdoor": OUTDOOR})
 """The presets by name (read-only)."""
+
+
+def _optional_fields() -> dict[str, Any]:
+    fields: dict[str, Any] = {}
+    for name, info in NavMeshSettings.model_fields.items():
+        annotation = Annotated[(info.annotation, *info.metadata)] if info.metadata else info.annotation
+        fields[name] = (annotation | None, Field(None, description=info.description))
+    return fields
+
+
+NavMeshOverrides = create_model(
+    "NavMeshOverrides",
+    __config__=ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False),
+    __doc__=(
+        "Some fields of :class:`NavMeshSettings` (each optional, with the same constraints), to apply "
+        "over a preset with :meth:`NavMeshSettings.with_overrides`; recipes use it."
+    ),
+    **_optional_fields(),
+)

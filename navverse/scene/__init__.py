@@ -25,6 +25,7 @@ from navverse.scene.colors import default_color, lighten
 from navverse.scene.directory import (
     BEV_PNG,
     NAVMESH_BIN,
+    NAVMESH_JSON,
     SCENE_JSON,
     SCENE_USD,
     SceneFiles,
@@ -49,6 +50,7 @@ __all__ = [
     "BEV_PNG",
     "DEFAULT_TERRAIN_CLASSES",
     "NAVMESH_BIN",
+    "NAVMESH_JSON",
     "SCENE_FORMAT_VERSION",
     "SCENE_JSON",
     "SCENE_USD",

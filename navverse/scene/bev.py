@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -21,8 +21,9 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.patches import Patch
+from matplotlib.patches import Patch, PathPatch
 from matplotlib.patches import Polygon as PolygonPatch
+from matplotlib.path import Path as MplPath
 from numpy.typing import ArrayLike
 
 from navverse.errors import SceneError
@@ -59,24 +60,31 @@ _LEGEND_ROW_PX = 20
 
 @dataclass(frozen=True, eq=False)
 class BevOverlay:
-    """Extra line segments drawn on a BEV picture, e.g. navmesh outlines or a path.
+    """Extra geometry drawn on a BEV picture: line segments (a path, an outline) and filled polygons
+    (an area such as the navmesh).
 
     Parameters
     ----------
     label : str
         Legend entry.
     segments : ndarray, shape (K, 2, 2)
-        Segments ``[[x0, y0], [x1, y1]]`` in world meters.
+        Segments ``[[x0, y0], [x1, y1]]`` in world meters; may be empty.
     color : str or tuple of float
-        Any matplotlib colour.
+        Any matplotlib colour, for the lines and (translucent) the polygons.
     linewidth : float
         Line width in points.
+    polygons : sequence of ndarray, each shape (N, 2)
+        Polygons in world meters, filled with `color` at `fill_alpha`, below the segments.
+    fill_alpha : float
+        Opacity of the polygon fill.
     """
 
     label: str
-    segments: np.ndarray
+    segments: np.ndarray = field(default_factory=lambda: np.zeros((0, 2, 2)))
     color: str | tuple[float, ...] = "tab:blue"
     linewidth: float = 1.0
+    polygons: Sequence[np.ndarray] = ()
+    fill_alpha: float = 0.3
 
     def __post_init__(self) -> None:
         segments = np.asarray(self.segments, dtype=np.float64)
@@ -84,7 +92,14 @@ class BevOverlay:
             segments = segments.reshape(0, 2, 2)
         if segments.ndim != 3 or segments.shape[1:] != (2, 2):
             raise ValueError(f"overlay segments must have shape (K, 2, 2), got {segments.shape}")
+        polygons = tuple(np.asarray(p, dtype=np.float64) for p in self.polygons)
+        for polygon in polygons:
+            if polygon.ndim != 2 or polygon.shape[1] != 2 or len(polygon) < 3:
+                raise ValueError(f"overlay polygons must have shape (N >= 3, 2), got {polygon.shape}")
+        if not 0.0 <= self.fill_alpha <= 1.0:
+            raise ValueError(f"fill_alpha must be in [0, 1], got {self.fill_alpha}")
         object.__setattr__(self, "segments", segments)
+        object.__setattr__(self, "polygons", polygons)
 
 
 @dataclass(frozen=True)
@@ -303,6 +318,15 @@ def _marker(marker: str, color: str, label: str, *, size: float = 6.0) -> Line2D
     )  # fmt: skip
 
 
+def _compound_path(polygons: Sequence[np.ndarray]) -> MplPath:
+    """All polygons as closed sub-paths of one path (nonzero winding: opposite winding cuts holes)."""
+    vertices = np.concatenate([np.vstack([p, p[:1]]) for p in polygons])
+    codes = np.concatenate(
+        [[MplPath.MOVETO, *[MplPath.LINETO] * (len(p) - 1), MplPath.CLOSEPOLY] for p in polygons]
+    ).astype(MplPath.code_type)
+    return MplPath(vertices, codes)
+
+
 def _draw_annotations(ax: Axes, ann: SceneAnnotations, overlays: Sequence[BevOverlay]) -> list[Artist]:
     """Draw regions, objects, storefronts, exits, the anchor and overlays; return legend handles."""
     handles: list[Artist] = []
@@ -333,10 +357,23 @@ def _draw_annotations(ax: Axes, ann: SceneAnnotations, overlays: Sequence[BevOve
         ax.scatter([x], [y], marker="*", s=220, color="red", edgecolors="black", linewidths=0.6, zorder=6)
         handles.append(_marker("*", "red", "indoor anchor", size=12.0))
     for overlay in overlays:
-        ax.add_collection(
-            LineCollection(overlay.segments, colors=overlay.color, linewidths=overlay.linewidth, zorder=7)
-        )
-        handles.append(Line2D([], [], color=overlay.color, linewidth=overlay.linewidth, label=overlay.label))
+        if overlay.polygons:
+            # One compound path: coverage is summed over it, so edges shared by two polygons leave
+            # no seam (separate translucent polygons would show every shared edge).
+            ax.add_patch(
+                PathPatch(_compound_path(overlay.polygons), facecolor=overlay.color, edgecolor="none",
+                          alpha=overlay.fill_alpha, zorder=1.5)
+            )  # fmt: skip
+            handles.append(Patch(facecolor=overlay.color, alpha=overlay.fill_alpha, edgecolor=overlay.color,
+                                 label=overlay.label))  # fmt: skip
+        if len(overlay.segments):
+            ax.add_collection(
+                LineCollection(overlay.segments, colors=overlay.color, linewidths=overlay.linewidth, zorder=7)
+            )
+            if not overlay.polygons:
+                handles.append(
+                    Line2D([], [], color=overlay.color, linewidth=overlay.linewidth, label=overlay.label)
+                )
     return handles
 
 

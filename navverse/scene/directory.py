@@ -1,8 +1,9 @@
 """The scene directory: the files a built scene consists of, and reading/writing them.
 
 A scene directory ``<scene_id>/`` holds :data:`SCENE_USD` (geometry, labels, physics),
-:data:`SCENE_JSON` (annotations) and :data:`BEV_PNG` (a bird's-eye-view picture); later stages add
-files such as :data:`NAVMESH_BIN`. File names are defined here and nowhere else.
+:data:`SCENE_JSON` (annotations) and :data:`BEV_PNG` (a bird's-eye-view picture); the navmesh stage
+adds :data:`NAVMESH_BIN` (the navmesh) and :data:`NAVMESH_JSON` (its settings, area types and
+statistics). File names are defined here and nowhere else.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from navverse.scene.usd import export_usd, scene_from_usd
 __all__ = [
     "BEV_PNG",
     "NAVMESH_BIN",
+    "NAVMESH_JSON",
     "SCENE_JSON",
     "SCENE_USD",
     "SceneFiles",
@@ -31,6 +33,7 @@ SCENE_USD = "scene.usdc"
 SCENE_JSON = "scene.json"
 BEV_PNG = "bev.png"
 NAVMESH_BIN = "navmesh.bin"
+NAVMESH_JSON = "navmesh.json"
 
 
 @dataclass(frozen=True)
@@ -58,6 +61,11 @@ class SceneFiles:
     def navmesh(self) -> Path:
         """The navigation mesh, written by the navmesh stage."""
         return self.root / NAVMESH_BIN
+
+    @property
+    def navmesh_info(self) -> Path:
+        """The navmesh's settings, area types and statistics (JSON), written by the navmesh stage."""
+        return self.root / NAVMESH_JSON
 
 
 def write_scene_dir(scene: Scene, out_dir: Path, *, bev: bool = True) -> SceneFiles:

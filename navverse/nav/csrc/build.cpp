@@ -324,6 +324,11 @@ TileOut buildTile(const Geometry& g, const Grid& grid, const rcConfig& base, con
   if (!dmesh || !rcBuildPolyMeshDetail(&ctx, *pmesh, *chf, c.detailSampleDist, c.detailSampleMaxError, *dmesh))
     return fail("building the detail mesh");
   chf.reset();
+  // rcBuildPolyMeshDetail lifts every detail vertex by one cell height when moving it to world
+  // space, while Detour takes polygon corners from the poly mesh without that lift: on a flat floor
+  // the detail mesh would bulge one cell above its own corners (random points and snapped heights
+  // off by up to a cell, areas inflated). Undo the lift so both share the span-top reference.
+  for (int i = 0; i < dmesh->nverts; ++i) dmesh->verts[3 * i + 1] -= c.ch;
 
   // Every polygon is walkable (flag 1); its area id is the triangles' area type.
   for (int i = 0; i < pmesh->npolys; ++i) pmesh->flags[i] = pmesh->areas[i] != RC_NULL_AREA ? 1 : 0;

@@ -609,6 +609,34 @@ void NavMesh::polygons(std::vector<std::vector<Vec3>>* polys, std::vector<unsign
   }
 }
 
+std::vector<std::array<Vec3, 2>> NavMesh::boundaryEdges() const {
+  std::vector<std::array<Vec3, 2>> edges;
+  const dtNavMesh* nav = nav_;
+  for (int i = 0; i < nav->getMaxTiles(); ++i) {
+    const dtMeshTile* tile = nav->getTile(i);
+    if (!tile || !tile->header) continue;
+    for (int j = 0; j < tile->header->polyCount; ++j) {
+      const dtPoly& poly = tile->polys[j];
+      if (poly.getType() != DT_POLYTYPE_GROUND) continue;
+      for (int k = 0; k < poly.vertCount; ++k) {
+        bool open = poly.neis[k] == 0;
+        if (poly.neis[k] & DT_EXT_LINK) {  // a tile border: open unless a link crosses this edge
+          open = true;
+          for (unsigned int l = poly.firstLink; l != DT_NULL_LINK; l = tile->links[l].next)
+            if (tile->links[l].edge == k) {
+              open = false;
+              break;
+            }
+        }
+        if (!open) continue;
+        const int next = (k + 1) % poly.vertCount;
+        edges.push_back({toWorld(&tile->verts[3 * poly.verts[k]]), toWorld(&tile->verts[3 * poly.verts[next]])});
+      }
+    }
+  }
+  return edges;
+}
+
 TopDown NavMesh::topDown(double mpp, bool useHeight, double height, double eps) const {
   TopDown td;
   const std::array<double, 6> b = bounds();

@@ -129,6 +129,8 @@ class NavMesh {
   int numPolygons() const { return numPolys_; }
   std::array<double, 6> bounds() const;  // xmin, ymin, zmin, xmax, ymax, zmax
   void polygons(std::vector<std::vector<Vec3>>* polys, std::vector<unsigned char>* areas) const;
+  // Polygon edges with nothing walkable across them (no neighbour, no link to another tile).
+  std::vector<std::array<Vec3, 2>> boundaryEdges() const;
   TopDown topDown(double metersPerPixel, bool useHeight, double height, double eps) const;
 
  private:

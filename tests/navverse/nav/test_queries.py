@@ -107,6 +107,24 @@ def test_random_points_are_on_the_navmesh_and_deterministic(box_nav: PathFinder)
         box_nav.get_random_navigable_point(np.random.RandomState(0))
 
 
+@pytest.mark.parametrize("preset", [nav.INDOOR, nav.OUTDOOR], ids=["indoor", "outdoor"])
+def test_flat_floor_navmesh_is_flat(preset: nav.NavMeshSettings):
+    # Height samples of the detail mesh and polygon corners agree: on a flat floor every point of
+    # the navmesh has one height, and the surface area is the polygons' planar area.
+    finder = build_scene(scenes.box_room(), preset)
+    corners = np.vstack(finder.polygons())
+    assert np.ptp(corners[:, 2]) < 1e-5
+    rng = np.random.default_rng(2)
+    heights = np.array([finder.get_random_navigable_point(rng)[2] for _ in range(500)])
+    np.testing.assert_allclose(heights, corners[0, 2], atol=1e-5)
+    assert 0.0 <= corners[0, 2] < preset.cell_height  # the floor (z = 0) quantized up, by less than a cell
+    planar = sum(
+        0.5 * abs(np.dot(p[:, 0], np.roll(p[:, 1], -1)) - np.dot(p[:, 1], np.roll(p[:, 0], -1)))
+        for p in finder.polygons()
+    )
+    assert finder.navigable_area == pytest.approx(planar, rel=1e-4)
+
+
 def test_random_points_are_uniform_by_area(rooms_nav: PathFinder):
     rng = np.random.default_rng(11)
     islands = rooms_nav.island_of(np.array([rooms_nav.get_random_navigable_point(rng) for _ in range(2000)]))

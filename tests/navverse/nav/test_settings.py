@@ -10,6 +10,7 @@ from pydantic import ValidationError
 
 from navverse import nav
 from navverse.nav import NavMeshError, NavMeshSettings
+from navverse.nav.settings import NavMeshOverrides
 
 REPO = Path(__file__).resolve().parents[3]
 
@@ -44,6 +45,7 @@ def test_presets_match_the_paper(name: str):
 def test_recipe_presets_match_the_constants(name: str):
     data = yaml.safe_load((REPO / "recipes" / "presets" / f"navmesh-{name}.yaml").read_text())
     assert list(data) == ["stages"] and list(data["stages"]) == ["navmesh"]
+    assert data["stages"]["navmesh"]["preset"] == name
     settings = data["stages"]["navmesh"]["settings"]
     assert settings == nav.PRESETS[name].model_dump()  # every field, same values
     assert NavMeshSettings.model_validate(settings) == nav.PRESETS[name]
@@ -64,3 +66,22 @@ def test_settings_are_strict_and_frozen():
         nav.INDOOR.cell_size = 0.2  # type: ignore[misc]
     with pytest.raises(NavMeshError, match="unknown navmesh preset 'attic'"):
         NavMeshSettings.preset("attic")
+
+
+def test_overrides_replace_single_fields():
+    changed = nav.OUTDOOR.with_overrides(NavMeshOverrides(agent_radius=0.3, tile_size=0))
+    assert changed.agent_radius == 0.3 and changed.tile_size == 0
+    assert changed.cell_size == nav.OUTDOOR.cell_size  # untouched fields keep the preset's values
+    assert nav.INDOOR.with_overrides(NavMeshOverrides()) == nav.INDOOR
+    assert nav.INDOOR.with_overrides({"cell_height": 0.1}).cell_height == 0.1
+
+
+def test_overrides_are_checked_alone_and_together():
+    assert set(NavMeshOverrides.model_fields) == set(NavMeshSettings.model_fields)
+    with pytest.raises(ValidationError, match="greater than 0"):
+        NavMeshOverrides(cell_size=0)
+    with pytest.raises(ValidationError, match="Extra inputs"):
+        NavMeshOverrides(voxel_size=0.1)
+    # Valid alone, but 0.1 m of headroom is fewer than 3 cells of 0.05 m.
+    with pytest.raises(NavMeshError, match=r"invalid navmesh settings: .*at least 3 cells"):
+        nav.INDOOR.with_overrides(NavMeshOverrides(agent_height=0.1))

@@ -141,3 +141,34 @@ def test_hillshade_brightens_slopes_facing_the_light() -> None:
     light = np.array([-1.0, 1.0, 1.5]) / np.linalg.norm([-1.0, 1.0, 1.5])
     normal = np.array([-0.25, 0.0, 1.0]) / np.linalg.norm([-0.25, 0.0, 1.0])
     np.testing.assert_allclose(west, ground * (normal @ light) / light[2], atol=1.0)
+
+
+def test_filled_polygons_are_tinted_without_seams(tiny_scene: Scene, tmp_path: Path) -> None:
+    # Two squares sharing the edge x = 8 cover the floor point; red at half opacity.
+    left = np.array([[7.0, 1.5], [8.0, 1.5], [8.0, 2.5], [7.0, 2.5]])
+    right = np.array([[8.0, 1.5], [9.0, 1.5], [9.0, 2.5], [8.0, 2.5]])
+    overlay = BevOverlay("area", polygons=[left, right], color=(1.0, 0.0, 0.0), fill_alpha=0.5)
+    path = tmp_path / "filled.png"
+    info = render_bev(tiny_scene, path, meters_per_pixel=MPP, overlays=[overlay])
+    image = np.asarray(Image.open(path).convert("RGB"))
+    floor = np.array(tiny_scene.annotations.terrain_classes["floor"].color)
+    expected = 0.5 * floor + 0.5 * np.array([255, 0, 0])
+    inside = _pixel(image, info, (7.5, 2.0))
+    assert _distance(inside, tuple(expected)) < 8, inside
+    on_shared_edge = _pixel(image, info, (8.0 + MPP / 2, 2.0))
+    assert _distance(on_shared_edge, tuple(inside)) < 3, (on_shared_edge, inside)
+    assert _distance(_pixel(image, info, (6.5, 2.0)), tuple(floor)) < 8  # outside: untouched
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"polygons": [np.zeros((2, 2))]}, "N >= 3"),
+        ({"polygons": [np.zeros((4, 3))]}, "N >= 3"),
+        ({"segments": np.zeros((3, 2))}, r"\(K, 2, 2\)"),
+        ({"fill_alpha": 1.5}, "fill_alpha"),
+    ],
+)
+def test_overlay_shapes_are_checked(kwargs: dict, match: str) -> None:
+    with pytest.raises(ValueError, match=match):
+        BevOverlay("bad", **kwargs)

@@ -1,0 +1,106 @@
+"""The navmesh stage: completes a scene directory with its navigation mesh."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import time
+from pathlib import Path
+from typing import Annotated, Literal
+
+from pydantic import AfterValidator, Field
+
+from navverse.nav.settings import NavMeshOverrides
+from pipeline import Params, StageContext, stage
+
+
+def _known_class(name: str) -> str:
+    from navverse.scene.terrain import DEFAULT_TERRAIN_CLASSES
+
+    if name not in DEFAULT_TERRAIN_CLASSES:
+        known = ", ".join(sorted(DEFAULT_TERRAIN_CLASSES))
+        raise ValueError(f"unknown terrain class {name!r} (known: {known})")
+    if not DEFAULT_TERRAIN_CLASSES[name].navigable:
+        raise ValueError(f"terrain class {name!r} is never walkable; name a navigable class")
+    return name
+
+
+TerrainName = Annotated[str, AfterValidator(_known_class)]
+
+
+class NavmeshParams(Params):
+    """Parameters of :func:`navmesh`.
+
+    ``preset: auto`` takes the preset of the scene's type (indoor scenes: ``indoor``; outdoor and
+    indoor-to-outdoor scenes: ``outdoor``); ``settings`` replaces single fields of it.
+    ``area_costs`` (cost per meter, >= 1) and ``excluded_classes`` name terrain classes; classes a
+    scene does not have are ignored, so a preset can serve many scenes.
+    """
+
+    preset: Literal["auto", "indoor", "outdoor"] = "auto"
+    settings: NavMeshOverrides = Field(default_factory=NavMeshOverrides)
+    area_costs: dict[TerrainName, Annotated[float, Field(ge=1.0, le=1000.0)]] = {}
+    excluded_classes: list[TerrainName] = []
+
+
+def _link_or_copy(source: Path, target: Path) -> None:
+    """Hard-link ``source`` to ``target`` (artifacts are immutable), copying where links fail."""
+    try:
+        os.link(source, target)
+    except OSError:
+        shutil.copy2(source, target)
+
+
+@stage(name="navmesh", inputs=["geometry"], outputs=["scene"])
+def navmesh(ctx: StageContext, params: NavmeshParams) -> None:
+    """The complete scene directory: geometry files, navmesh.bin, navmesh.json, bev.png with the navmesh."""
+    from navverse.nav import NavMeshSettings
+    from navverse.nav.scene_navmesh import (
+        build_scene_navmesh,
+        describe_navmesh,
+        navmesh_overlay,
+        preset_for_scene_type,
+        write_navmesh_info,
+    )
+    from navverse.scene import Scene, SceneFiles, read_scene, render_bev, save_annotations
+
+    source = SceneFiles(ctx.inputs["geometry"])
+    files = SceneFiles(ctx.outputs["scene"])
+    scene = read_scene(source.root)
+    annotations = scene.annotations
+    preset = preset_for_scene_type(annotations.scene_type) if params.preset == "auto" else params.preset
+    settings = NavMeshSettings.preset(preset).with_overrides(params.settings)
+
+    ctx.progress(0, 3, "navmesh")
+    started = time.perf_counter()
+    finder = build_scene_navmesh(
+        scene, settings, area_costs=params.area_costs, excluded_classes=params.excluded_classes
+    )
+    build_seconds = time.perf_counter() - started
+    ctx.progress(1, 3, "navmesh")
+
+    info = describe_navmesh(finder, annotations, preset=preset)
+    statistics = annotations.statistics.model_copy(update={"navigable_area_m2": info.navigable_area_m2})
+    annotations = annotations.model_copy(update={"statistics": statistics})
+    _link_or_copy(source.usd, files.usd)
+    save_annotations(annotations, files.annotations)
+    finder.save(files.navmesh)
+    write_navmesh_info(info, files.navmesh_info)
+    ctx.progress(2, 3, "navmesh")
+    scene = Scene(annotations=annotations, surfaces=scene.surfaces, objects=scene.objects)
+    render_bev(scene, files.bev, overlays=[navmesh_overlay(finder)])
+    ctx.progress(3, 3, "navmesh")
+
+    ctx.record(
+        preset=preset,
+        build_time_s=round(build_seconds, 4),
+        tiles=info.tiles,
+        polygons=info.polygons,
+        navigable_area_m2=round(info.navigable_area_m2, 3),
+        islands=info.islands,
+        largest_island_m2=round(info.island_areas_m2[0], 3) if info.island_areas_m2 else 0.0,
+    )
+    ctx.log.info(
+        "navmesh %s (%s preset): %d polygons in %d tiles, %.1f m2 navigable, %d islands, built in %.2f s",
+        ctx.target, preset, info.polygons, info.tiles, info.navigable_area_m2, info.islands, build_seconds,
+    )  # fmt: skip
