@@ -60,6 +60,18 @@ const unsigned char* detailTri(const dtMeshTile* tile, int ip, int k) {
   return &tile->detailTris[4 * (tile->detailMeshes[ip].triBase + static_cast<unsigned int>(k))];
 }
 
+// Calls fn(tile, tileIndex, polyIndex) for every ground polygon (not off-mesh connections) of every
+// loaded tile, in tile order.
+template <class Fn>
+void forEachGroundPoly(const dtNavMesh* nav, Fn&& fn) {
+  for (int i = 0; i < nav->getMaxTiles(); ++i) {
+    const dtMeshTile* tile = nav->getTile(i);
+    if (!tile || !tile->header) continue;
+    for (int j = 0; j < tile->header->polyCount; ++j)
+      if (tile->polys[j].getType() == DT_POLYTYPE_GROUND) fn(tile, i, j);
+  }
+}
+
 // Uniform point in a triangle from two uniforms.
 void pointInTriangle(const float* a, const float* b, const float* c, double u, double v, float* out) {
   const double su = std::sqrt(u);
@@ -232,35 +244,25 @@ void NavMesh::index() {
 
   // Detail triangles grouped by island, with cumulative areas for sampling.
   std::vector<std::size_t> counts(islandArea_.size() + 1, 0);
-  for (int i = 0; i < maxTiles; ++i) {
-    const dtMeshTile* tile = nav->getTile(i);
-    if (!tile || !tile->header) continue;
-    for (int j = 0; j < tile->header->polyCount; ++j) {
-      if (tile->polys[j].getType() != DT_POLYTYPE_GROUND) continue;
-      const int isl = polyIsland_[static_cast<std::size_t>(tileBase_[static_cast<std::size_t>(i)] + j)];
-      counts[static_cast<std::size_t>(isl) + 1] += tile->detailMeshes[j].triCount;
-    }
-  }
+  forEachGroundPoly(nav, [&](const dtMeshTile* tile, int i, int j) {
+    const int isl = polyIsland_[static_cast<std::size_t>(tileBase_[static_cast<std::size_t>(i)] + j)];
+    counts[static_cast<std::size_t>(isl) + 1] += tile->detailMeshes[j].triCount;
+  });
   for (std::size_t k = 1; k < counts.size(); ++k) counts[k] += counts[k - 1];
   islandTri_ = counts;
   tris_.assign(counts.back(), TriRef{0, 0});
   std::vector<double> triArea_(counts.back(), 0.0);
   std::vector<std::size_t> fill(counts.begin(), counts.end() - 1);
-  for (int i = 0; i < maxTiles; ++i) {
-    const dtMeshTile* tile = nav->getTile(i);
-    if (!tile || !tile->header) continue;
+  forEachGroundPoly(nav, [&](const dtMeshTile* tile, int i, int j) {
     const dtPolyRef base = nav->getPolyRefBase(tile);
-    for (int j = 0; j < tile->header->polyCount; ++j) {
-      if (tile->polys[j].getType() != DT_POLYTYPE_GROUND) continue;
-      const int isl = polyIsland_[static_cast<std::size_t>(tileBase_[static_cast<std::size_t>(i)] + j)];
-      for (int k = 0; k < tile->detailMeshes[j].triCount; ++k) {
-        const unsigned char* t = detailTri(tile, j, k);
-        const std::size_t slot = fill[static_cast<std::size_t>(isl)]++;
-        tris_[slot] = TriRef{base | static_cast<dtPolyRef>(j), k};
-        triArea_[slot] = triArea(detailVertex(tile, j, t, 0), detailVertex(tile, j, t, 1), detailVertex(tile, j, t, 2));
-      }
+    const int isl = polyIsland_[static_cast<std::size_t>(tileBase_[static_cast<std::size_t>(i)] + j)];
+    for (int k = 0; k < tile->detailMeshes[j].triCount; ++k) {
+      const unsigned char* t = detailTri(tile, j, k);
+      const std::size_t slot = fill[static_cast<std::size_t>(isl)]++;
+      tris_[slot] = TriRef{base | static_cast<dtPolyRef>(j), k};
+      triArea_[slot] = triArea(detailVertex(tile, j, t, 0), detailVertex(tile, j, t, 1), detailVertex(tile, j, t, 2));
     }
-  }
+  });
   triCum_.resize(triArea_.size());
   std::partial_sum(triArea_.begin(), triArea_.end(), triCum_.begin());
   totalArea_ = triCum_.empty() ? 0.0 : triCum_.back();
@@ -595,45 +597,35 @@ void NavMesh::polygons(std::vector<std::vector<Vec3>>* polys, std::vector<unsign
   polys->clear();
   areas->clear();
   const dtNavMesh* nav = nav_;
-  for (int i = 0; i < nav->getMaxTiles(); ++i) {
-    const dtMeshTile* tile = nav->getTile(i);
-    if (!tile || !tile->header) continue;
-    for (int j = 0; j < tile->header->polyCount; ++j) {
-      const dtPoly& poly = tile->polys[j];
-      if (poly.getType() != DT_POLYTYPE_GROUND) continue;
-      std::vector<Vec3> ring;
-      for (int k = 0; k < poly.vertCount; ++k) ring.push_back(toWorld(&tile->verts[3 * poly.verts[k]]));
-      polys->push_back(std::move(ring));
-      areas->push_back(poly.getArea());
-    }
-  }
+  forEachGroundPoly(nav, [&](const dtMeshTile* tile, int /*tileIndex*/, int j) {
+    const dtPoly& poly = tile->polys[j];
+    std::vector<Vec3> ring;
+    for (int k = 0; k < poly.vertCount; ++k) ring.push_back(toWorld(&tile->verts[3 * poly.verts[k]]));
+    polys->push_back(std::move(ring));
+    areas->push_back(poly.getArea());
+  });
 }
 
 std::vector<std::array<Vec3, 2>> NavMesh::boundaryEdges() const {
   std::vector<std::array<Vec3, 2>> edges;
   const dtNavMesh* nav = nav_;
-  for (int i = 0; i < nav->getMaxTiles(); ++i) {
-    const dtMeshTile* tile = nav->getTile(i);
-    if (!tile || !tile->header) continue;
-    for (int j = 0; j < tile->header->polyCount; ++j) {
-      const dtPoly& poly = tile->polys[j];
-      if (poly.getType() != DT_POLYTYPE_GROUND) continue;
-      for (int k = 0; k < poly.vertCount; ++k) {
-        bool open = poly.neis[k] == 0;
-        if (poly.neis[k] & DT_EXT_LINK) {  // a tile border: open unless a link crosses this edge
-          open = true;
-          for (unsigned int l = poly.firstLink; l != DT_NULL_LINK; l = tile->links[l].next)
-            if (tile->links[l].edge == k) {
-              open = false;
-              break;
-            }
-        }
-        if (!open) continue;
-        const int next = (k + 1) % poly.vertCount;
-        edges.push_back({toWorld(&tile->verts[3 * poly.verts[k]]), toWorld(&tile->verts[3 * poly.verts[next]])});
+  forEachGroundPoly(nav, [&](const dtMeshTile* tile, int /*tileIndex*/, int j) {
+    const dtPoly& poly = tile->polys[j];
+    for (int k = 0; k < poly.vertCount; ++k) {
+      bool open = poly.neis[k] == 0;
+      if (poly.neis[k] & DT_EXT_LINK) {  // a tile border: open unless a link crosses this edge
+        open = true;
+        for (unsigned int l = poly.firstLink; l != DT_NULL_LINK; l = tile->links[l].next)
+          if (tile->links[l].edge == k) {
+            open = false;
+            break;
+          }
       }
+      if (!open) continue;
+      const int next = (k + 1) % poly.vertCount;
+      edges.push_back({toWorld(&tile->verts[3 * poly.verts[k]]), toWorld(&tile->verts[3 * poly.verts[next]])});
     }
-  }
+  });
   return edges;
 }
 
@@ -647,41 +639,36 @@ TopDown NavMesh::topDown(double mpp, bool useHeight, double height, double eps) 
   if (static_cast<double>(td.cols) * td.rows > 4e8) throw NavError("top-down view too large: increase meters_per_pixel");
   td.mask.assign(static_cast<std::size_t>(td.rows) * static_cast<std::size_t>(td.cols), 0);
   const dtNavMesh* nav = nav_;
-  for (int i = 0; i < nav->getMaxTiles(); ++i) {
-    const dtMeshTile* tile = nav->getTile(i);
-    if (!tile || !tile->header) continue;
-    for (int j = 0; j < tile->header->polyCount; ++j) {
-      if (tile->polys[j].getType() != DT_POLYTYPE_GROUND) continue;
-      for (int k = 0; k < tile->detailMeshes[j].triCount; ++k) {
-        const unsigned char* t = detailTri(tile, j, k);
-        Vec3 v[3];
-        for (int m = 0; m < 3; ++m) v[m] = toWorld(detailVertex(tile, j, t, m));
-        const double xmin = std::min({v[0][0], v[1][0], v[2][0]}), xmax = std::max({v[0][0], v[1][0], v[2][0]});
-        const double ymin = std::min({v[0][1], v[1][1], v[2][1]}), ymax = std::max({v[0][1], v[1][1], v[2][1]});
-        const int c0 = std::max(0, static_cast<int>(std::floor((xmin - td.origin_x) / mpp - 0.5)));
-        const int c1 = std::min(td.cols - 1, static_cast<int>(std::ceil((xmax - td.origin_x) / mpp - 0.5)));
-        const int r0 = std::max(0, static_cast<int>(std::floor((td.origin_y - ymax) / mpp - 0.5)));
-        const int r1 = std::min(td.rows - 1, static_cast<int>(std::ceil((td.origin_y - ymin) / mpp - 0.5)));
-        const double d = (v[1][1] - v[2][1]) * (v[0][0] - v[2][0]) + (v[2][0] - v[1][0]) * (v[0][1] - v[2][1]);
-        if (std::abs(d) < 1e-12) continue;
-        for (int r = r0; r <= r1; ++r) {
-          const double y = td.origin_y - (r + 0.5) * mpp;
-          for (int c = c0; c <= c1; ++c) {
-            const double x = td.origin_x + (c + 0.5) * mpp;
-            const double l0 = ((v[1][1] - v[2][1]) * (x - v[2][0]) + (v[2][0] - v[1][0]) * (y - v[2][1])) / d;
-            const double l1 = ((v[2][1] - v[0][1]) * (x - v[2][0]) + (v[0][0] - v[2][0]) * (y - v[2][1])) / d;
-            const double l2 = 1.0 - l0 - l1;
-            if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9) continue;
-            if (useHeight) {
-              const double z = l0 * v[0][2] + l1 * v[1][2] + l2 * v[2][2];
-              if (std::abs(z - height) > eps) continue;
-            }
-            td.mask[static_cast<std::size_t>(r) * static_cast<std::size_t>(td.cols) + static_cast<std::size_t>(c)] = 1;
+  forEachGroundPoly(nav, [&](const dtMeshTile* tile, int /*tileIndex*/, int j) {
+    for (int k = 0; k < tile->detailMeshes[j].triCount; ++k) {
+      const unsigned char* t = detailTri(tile, j, k);
+      Vec3 v[3];
+      for (int m = 0; m < 3; ++m) v[m] = toWorld(detailVertex(tile, j, t, m));
+      const double xmin = std::min({v[0][0], v[1][0], v[2][0]}), xmax = std::max({v[0][0], v[1][0], v[2][0]});
+      const double ymin = std::min({v[0][1], v[1][1], v[2][1]}), ymax = std::max({v[0][1], v[1][1], v[2][1]});
+      const int c0 = std::max(0, static_cast<int>(std::floor((xmin - td.origin_x) / mpp - 0.5)));
+      const int c1 = std::min(td.cols - 1, static_cast<int>(std::ceil((xmax - td.origin_x) / mpp - 0.5)));
+      const int r0 = std::max(0, static_cast<int>(std::floor((td.origin_y - ymax) / mpp - 0.5)));
+      const int r1 = std::min(td.rows - 1, static_cast<int>(std::ceil((td.origin_y - ymin) / mpp - 0.5)));
+      const double d = (v[1][1] - v[2][1]) * (v[0][0] - v[2][0]) + (v[2][0] - v[1][0]) * (v[0][1] - v[2][1]);
+      if (std::abs(d) < 1e-12) continue;
+      for (int r = r0; r <= r1; ++r) {
+        const double y = td.origin_y - (r + 0.5) * mpp;
+        for (int c = c0; c <= c1; ++c) {
+          const double x = td.origin_x + (c + 0.5) * mpp;
+          const double l0 = ((v[1][1] - v[2][1]) * (x - v[2][0]) + (v[2][0] - v[1][0]) * (y - v[2][1])) / d;
+          const double l1 = ((v[2][1] - v[0][1]) * (x - v[2][0]) + (v[0][0] - v[2][0]) * (y - v[2][1])) / d;
+          const double l2 = 1.0 - l0 - l1;
+          if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9) continue;
+          if (useHeight) {
+            const double z = l0 * v[0][2] + l1 * v[1][2] + l2 * v[2][2];
+            if (std::abs(z - height) > eps) continue;
           }
+          td.mask[static_cast<std::size_t>(r) * static_cast<std::size_t>(td.cols) + static_cast<std::size_t>(c)] = 1;
         }
       }
     }
-  }
+  });
   return td;
 }
 
