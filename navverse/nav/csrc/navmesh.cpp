@@ -3,6 +3,7 @@
 #include <DetourCommon.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -17,6 +18,7 @@ namespace {
 constexpr int kMaxNodes = 65535;        // Detour's node pool limit (16-bit node indices)
 constexpr int kMaxPathPolys = 65536;    // polygons in one corridor
 constexpr int kMaxCirclePolys = 16384;  // polygons considered around a sampling center
+constexpr int kMaxRayPolys = 2048;      // polygons one shortcut ray may cross
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr unsigned short kWalkFlag = 1;
@@ -176,6 +178,7 @@ void NavMesh::index() {
     if (!tile || !tile->header) continue;
     ++numTiles_;
     numPolys_ += tile->header->polyCount;
+    climb_ = std::max(climb_, tile->header->walkableClimb);
   }
 
   // Bounds of every vertex (polygon and detail), in the Recast frame.
@@ -420,31 +423,115 @@ double profileLength(const std::vector<double>& t, const std::vector<double>& y,
   return len;
 }
 
-// A* corridor plus string pulling between two located points. Partial corridors (the end was
-// not reached: disconnected, excluded or out of search nodes) count as unreachable.
-PathResult corridorPath(const dtNavMeshQuery* query, const dtQueryFilter* filter, std::vector<dtPolyRef>& buf,
-                        const LengthSampling& sampling, dtPolyRef sRef, const float* s, dtPolyRef eRef, const float* e) {
-  PathResult res;
-  res.length = kInf;
+// A polygon corridor and the string-pulled path through it.
+struct Straight {
+  std::vector<float> pts;  // Recast frame, 3 per point
+  std::vector<dtPolyRef> refs;  // the polygon entered at each point (0 at the end)
+  int count = 0;
+};
+
+bool straighten(const dtNavMeshQuery* query, const std::vector<dtPolyRef>& corridor, const float* s, const float* e,
+                int options, Straight* out) {
+  const int cap = 2 * static_cast<int>(corridor.size()) + 4;
+  out->pts.assign(3 * static_cast<std::size_t>(cap), 0.0f);
+  out->refs.assign(static_cast<std::size_t>(cap), 0);
+  std::vector<unsigned char> flags(static_cast<std::size_t>(cap));
+  const dtStatus st = query->findStraightPath(s, e, corridor.data(), static_cast<int>(corridor.size()),
+                                              out->pts.data(), flags.data(), out->refs.data(), &out->count, cap,
+                                              options);
+  return dtStatusSucceed(st) && out->count > 0 && !dtStatusDetail(st, DT_BUFFER_TOO_SMALL);
+}
+
+// Detour's A* from sRef to eRef (area costs respected). Empty when the end is not reached
+// (disconnected, excluded areas, or out of search nodes). Detour's any-angle option is not used:
+// it ignores area costs.
+std::vector<dtPolyRef> searchCorridor(const dtNavMeshQuery* query, const dtQueryFilter* filter,
+                                      std::vector<dtPolyRef>& buf, dtPolyRef sRef, const float* s, dtPolyRef eRef,
+                                      const float* e) {
   int n = 0;
   const dtStatus st = query->findPath(sRef, eRef, s, e, filter, buf.data(), &n, static_cast<int>(buf.size()));
   if (dtStatusFailed(st) || n == 0 || buf[static_cast<std::size_t>(n) - 1] != eRef || dtStatusDetail(st, DT_PARTIAL_RESULT))
-    return res;
-  // Corners only (the path to follow), then again with a vertex at every polygon edge crossing:
-  // the length is measured along the latter, so it follows ramps and steps instead of cutting
-  // through them.
-  const int cap = 2 * n + 4;
-  std::vector<float> pts(3 * static_cast<std::size_t>(cap));
-  std::vector<unsigned char> flags(static_cast<std::size_t>(cap));
-  std::vector<dtPolyRef> refs(static_cast<std::size_t>(cap));
-  int m = 0;
-  dtStatus ss = query->findStraightPath(s, e, buf.data(), n, pts.data(), flags.data(), refs.data(), &m, cap, 0);
-  if (dtStatusFailed(ss) || m == 0 || dtStatusDetail(ss, DT_BUFFER_TOO_SMALL)) return res;
+    return {};
+  return std::vector<dtPolyRef>(buf.begin(), buf.begin() + n);
+}
+
+// One pass of shortcuts over the corners of `path`: from each corner, the farthest later corner
+// reachable in a straight line on the navmesh that costs no more than the path between them
+// replaces the corners in between (Detour's A* scores polygon edge midpoints, so on large polygons
+// its corridor can bend where nothing is in the way). Returns whether the corridor changed.
+bool shortcutOnce(const dtNavMeshQuery* query, const dtQueryFilter* filter, const Straight& path,
+                  std::vector<dtPolyRef>* corridor, float climb) {
+  const int m = path.count;
+  if (m < 3) return false;
+  auto at = [&](int k) { return &path.pts[3 * static_cast<std::size_t>(k)]; };
+  std::vector<dtPolyRef> visited(kMaxRayPolys);
+  auto cast = [&](dtPolyRef from, const float* a, const float* b, dtRaycastHit* hit) {
+    hit->path = visited.data();
+    hit->maxPath = static_cast<int>(visited.size());
+    hit->pathCount = 0;
+    const dtStatus st = query->raycast(from, a, b, filter, DT_RAYCAST_USE_COSTS, hit);
+    return dtStatusSucceed(st) && hit->t == FLT_MAX && hit->pathCount > 0 && !dtStatusDetail(st, DT_BUFFER_TOO_SMALL);
+  };
+  // The polygon each corner leaves from: the corridor's start polygon, then the polygon entered there.
+  auto from = [&](int k) { return k == 0 ? corridor->front() : path.refs[static_cast<std::size_t>(k)]; };
+  // Cost of each piece of the current path (a straight segment inside the corridor by construction).
+  std::vector<double> cost(static_cast<std::size_t>(m - 1));
+  for (int k = 0; k + 1 < m; ++k) {
+    dtRaycastHit hit{};
+    cost[static_cast<std::size_t>(k)] = cast(from(k), at(k), at(k + 1), &hit) ? hit.pathCost : kInf;
+  }
+  for (int i = 0; i + 2 < m; ++i) {
+    double along = cost[static_cast<std::size_t>(i)];
+    std::vector<double> prefix(static_cast<std::size_t>(m), kInf);
+    for (int j = i + 1; j < m; ++j) {
+      prefix[static_cast<std::size_t>(j)] = along;
+      if (j + 1 < m) along += cost[static_cast<std::size_t>(j)];
+    }
+    for (int j = m - 1; j >= i + 2; --j) {
+      dtRaycastHit hit{};
+      if (!cast(from(i), at(i), at(j), &hit)) continue;
+      if (!(hit.pathCost <= prefix[static_cast<std::size_t>(j)] * (1.0 + 1e-6))) continue;
+      // The ray must end on the same surface as the corner (not on a level above or below it)...
+      const dtPolyRef last = visited[static_cast<std::size_t>(hit.pathCount) - 1];
+      float h = 0.0f;
+      if (dtStatusFailed(query->getPolyHeight(last, at(j), &h)) || std::abs(h - at(j)[1]) > climb) continue;
+      // ...and on a polygon of the corridor after corner i, where the rest of the corridor goes on.
+      const auto first = std::find(corridor->begin(), corridor->end(), from(i));
+      if (first == corridor->end()) continue;
+      const auto rejoin = std::find(first, corridor->end(), last);
+      if (rejoin == corridor->end()) continue;
+      std::vector<dtPolyRef> spliced(corridor->begin(), first);
+      spliced.insert(spliced.end(), visited.begin(), visited.begin() + hit.pathCount);
+      spliced.insert(spliced.end(), rejoin + 1, corridor->end());
+      *corridor = std::move(spliced);
+      return true;
+    }
+  }
+  return false;
+}
+
+// The shortest path between two located points: corridor search, shortcuts, string pulling, and its
+// length along the surface.
+PathResult corridorPath(const dtNavMeshQuery* query, const dtQueryFilter* filter, std::vector<dtPolyRef>& buf,
+                        const LengthSampling& sampling, dtPolyRef sRef, const float* s, dtPolyRef eRef, const float* e,
+                        float climb) {
+  PathResult res;
+  res.length = kInf;
+  std::vector<dtPolyRef> corridor = searchCorridor(query, filter, buf, sRef, s, eRef, e);
+  if (corridor.empty()) return res;
+  Straight path;
+  if (!straighten(query, corridor, s, e, 0, &path)) return res;
+  for (int pass = 0; pass < 8 && shortcutOnce(query, filter, path, &corridor, climb); ++pass)
+    if (!straighten(query, corridor, s, e, 0, &path)) return res;
   std::vector<Vec3> corners;
-  for (int i = 0; i < m; ++i) corners.push_back(toWorld(&pts[3 * static_cast<std::size_t>(i)]));
-  ss = query->findStraightPath(s, e, buf.data(), n, pts.data(), flags.data(), refs.data(), &m, cap,
-                               DT_STRAIGHTPATH_ALL_CROSSINGS);
-  if (dtStatusFailed(ss) || m == 0 || dtStatusDetail(ss, DT_BUFFER_TOO_SMALL)) return res;
+  for (int i = 0; i < path.count; ++i) corners.push_back(toWorld(&path.pts[3 * static_cast<std::size_t>(i)]));
+  // Again with a point at every polygon edge crossing: the length is measured along it, so it
+  // follows ramps and steps instead of cutting through them.
+  Straight crossings;
+  if (!straighten(query, corridor, s, e, DT_STRAIGHTPATH_ALL_CROSSINGS, &crossings)) return res;
+  const std::vector<float>& pts = crossings.pts;
+  const std::vector<dtPolyRef>& refs = crossings.refs;
+  const int m = crossings.count;
   // Length: exact horizontally; vertically along the surface. Between crossings the path stays in
   // one polygon (refs[i]), which may bend (a ramp merged with the floor around it), so sample its
   // detail height every `sampling.step` meters, then simplify the height profile with a tolerance
@@ -479,7 +566,7 @@ PathResult NavMesh::findPath(const Vec3& start, const Vec3& end, double hext, do
   dtPolyRef sRef, eRef;
   float s[3], e[3];
   if (!snap(start, hext, vext, true, &sRef, s) || !snap(end, hext, vext, true, &eRef, e)) return none;
-  PathResult res = corridorPath(query_, &pathFilter_, polyBuf_, sampling_, sRef, s, eRef, e);
+  PathResult res = corridorPath(query_, &pathFilter_, polyBuf_, sampling_, sRef, s, eRef, e, climb_);
   if (std::isfinite(res.length)) res.end_index = 0;
   return res;
 }
@@ -508,7 +595,7 @@ PathResult NavMesh::findPathMulti(const Vec3& start, const std::vector<Vec3>& en
   std::stable_sort(goals.begin(), goals.end(), [](const Goal& a, const Goal& b) { return a.euclid < b.euclid; });
   for (const Goal& g : goals) {
     if (g.euclid >= best.length) break;
-    PathResult r = corridorPath(query_, &pathFilter_, polyBuf_, sampling_, sRef, s, g.ref, g.pos);
+    PathResult r = corridorPath(query_, &pathFilter_, polyBuf_, sampling_, sRef, s, g.ref, g.pos, climb_);
     if (r.length < best.length) {
       best = std::move(r);
       best.end_index = g.index;

@@ -159,6 +159,7 @@ class NavMesh {
   std::vector<double> triCum_;          // inclusive prefix sums of triangle areas, per island range
   std::vector<std::size_t> islandTri_;  // islandTri_[i] .. islandTri_[i+1]: triangles of island i
   double totalArea_ = 0.0;
+  float climb_ = 0.0f;  // walkable climb (m), from the tiles
   LengthSampling sampling_;
   int numTiles_ = 0;
   int numPolys_ = 0;

@@ -60,3 +60,20 @@ def test_thread_count_does_not_change_the_navmesh():
 def test_settings_tile_size_validation():
     with pytest.raises(ValueError, match="tile_size"):
         nav.INDOOR.model_validate({**nav.INDOOR.model_dump(), "tile_size": 8})
+
+
+@pytest.mark.parametrize("preset", [nav.INDOOR, nav.OUTDOOR], ids=["indoor", "outdoor"])
+def test_open_ground_paths_are_straight_across_tiles(preset: nav.NavMeshSettings):
+    # On an empty slab every pair sees each other: the geodesic is the straight line even when the
+    # two points lie in different tiles, whose single large polygons have far-off edge midpoints.
+    vertices, faces, areas = scenes.MeshBuilder().floor(0, 0, 60, 60).arrays()
+    finder = nav.build(vertices, faces, preset, area_types=areas)
+    assert finder.num_tiles > 4
+    rng = np.random.default_rng(4)
+    starts = [finder.get_random_navigable_point(rng) for _ in range(300)]
+    ends = [finder.get_random_navigable_point(rng) for _ in range(300)]
+    excess = [
+        finder.geodesic_distance(a, b) / np.linalg.norm((b - a)[:2]) - 1.0
+        for a, b in zip(starts, ends, strict=True)
+    ]
+    assert max(excess) < 1e-4
