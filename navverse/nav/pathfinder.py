@@ -13,14 +13,17 @@ Conventions
   is off the mesh: paths to or from it are unreachable (``inf``, no points), snapped points and
   obstacle distances are NaN, islands are -1. Non-finite points are off the mesh too. No query
   raises on a far-away point.
-- Paths are Detour's A* polygon corridor, string-pulled into a straight path between the snapped
-  points; ``points`` are its corners. The geodesic distance is that path's length along the
-  navmesh surface: exact horizontally, plus the rise and fall of the detail mesh under it (height
-  wiggles below 1.5 cell heights, the voxel quantization, are ignored), so on flat ground it equals
-  the length of the polyline through ``points`` and on a ramp it follows the slope. Detour's A*
-  scores polygon edge midpoints, so on large, cluttered navmeshes a path can be a few percent
-  longer than the true shortest one. A corridor that does not reach the end (disconnected,
-  excluded areas, or more than 65535 search nodes) counts as unreachable.
+- Paths are exact shortest paths: with every area cost 1 and no excluded area (the default), the
+  polygon corridor comes from an any-angle search over the navmesh polygons (Polyanya) and the path
+  is string-pulled through it, so geodesic distances are the true shortest horizontal paths of the
+  navmesh (not Detour's A*, which scores polygon edge midpoints and can go around the wrong side
+  of an obstacle). With area costs or excluded areas, Detour's cost-aware A* chooses the corridor
+  and straight-line shortcuts that cost no more are taken; such paths minimise cost approximately.
+  ``points`` are the path's corners; the geodesic distance is its length along the navmesh
+  surface: exact horizontally, plus the rise and fall of the detail mesh under it (height wiggles
+  below 1.5 cell heights, the voxel quantization, are ignored), so on flat ground it equals the
+  length of the polyline through ``points`` and on a ramp or across a curb it follows the surface.
+  Unreachable ends (another island, excluded areas) give ``inf``.
 - Area costs and excluded areas apply to path queries only (:meth:`PathFinder.find_path`,
   :meth:`~PathFinder.find_path_multi`, :meth:`~PathFinder.geodesic_distance`); snapping, islands,
   random points and obstacle distances always see the whole navmesh.

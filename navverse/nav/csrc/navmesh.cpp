@@ -269,6 +269,7 @@ void NavMesh::index() {
   triCum_.resize(triArea_.size());
   std::partial_sum(triArea_.begin(), triArea_.end(), triCum_.begin());
   totalArea_ = triCum_.empty() ? 0.0 : triCum_.back();
+  polyanya_.build(nav_, tileBase_);
 }
 
 double NavMesh::polyArea(const dtMeshTile* tile, int ip) const {
@@ -325,6 +326,13 @@ void NavMesh::resetFlags() {
 void NavMesh::setAreaCosts(const std::vector<double>& costs) {
   for (int i = 0; i < DT_MAX_AREAS && i < static_cast<int>(costs.size()); ++i)
     pathFilter_.setAreaCost(i, static_cast<float>(costs[static_cast<std::size_t>(i)]));
+  updateUniform();
+}
+
+void NavMesh::updateUniform() {
+  uniformCosts_ = true;
+  for (int i = 0; i < DT_MAX_AREAS; ++i)
+    if (pathFilter_.getAreaCost(i) != 1.0f || excluded_[static_cast<std::size_t>(i)]) uniformCosts_ = false;
 }
 
 void NavMesh::setLengthSampling(double step, double tolerance) {
@@ -336,6 +344,7 @@ void NavMesh::setExcludedAreas(const std::vector<int>& areas) {
   excluded_.assign(DT_MAX_AREAS, false);
   for (int a : areas)
     if (a >= 0 && a < DT_MAX_AREAS) excluded_[static_cast<std::size_t>(a)] = true;
+  updateUniform();
   resetFlags();
 }
 
@@ -510,18 +519,15 @@ bool shortcutOnce(const dtNavMeshQuery* query, const dtQueryFilter* filter, cons
   return false;
 }
 
-// The shortest path between two located points: corridor search, shortcuts, string pulling, and its
-// length along the surface.
-PathResult corridorPath(const dtNavMeshQuery* query, const dtQueryFilter* filter, std::vector<dtPolyRef>& buf,
-                        const LengthSampling& sampling, dtPolyRef sRef, const float* s, dtPolyRef eRef, const float* e,
-                        float climb) {
+// The path through `corridor` between two located points: string pulling (after shortcut passes,
+// for corridors from Detour's A*), and its length along the surface.
+PathResult corridorPath(const dtNavMeshQuery* query, const dtQueryFilter* filter, std::vector<dtPolyRef> corridor,
+                        const LengthSampling& sampling, const float* s, const float* e, bool shortcuts, float climb) {
   PathResult res;
   res.length = kInf;
-  std::vector<dtPolyRef> corridor = searchCorridor(query, filter, buf, sRef, s, eRef, e);
-  if (corridor.empty()) return res;
   Straight path;
   if (!straighten(query, corridor, s, e, 0, &path)) return res;
-  for (int pass = 0; pass < 8 && shortcutOnce(query, filter, path, &corridor, climb); ++pass)
+  for (int pass = 0; shortcuts && pass < 8 && shortcutOnce(query, filter, path, &corridor, climb); ++pass)
     if (!straighten(query, corridor, s, e, 0, &path)) return res;
   std::vector<Vec3> corners;
   for (int i = 0; i < path.count; ++i) corners.push_back(toWorld(&path.pts[3 * static_cast<std::size_t>(i)]));
@@ -566,9 +572,23 @@ PathResult NavMesh::findPath(const Vec3& start, const Vec3& end, double hext, do
   dtPolyRef sRef, eRef;
   float s[3], e[3];
   if (!snap(start, hext, vext, true, &sRef, s) || !snap(end, hext, vext, true, &eRef, e)) return none;
-  PathResult res = corridorPath(query_, &pathFilter_, polyBuf_, sampling_, sRef, s, eRef, e, climb_);
+  PathResult res = shortestPath(sRef, s, eRef, e);
   if (std::isfinite(res.length)) res.end_index = 0;
   return res;
+}
+
+PathResult NavMesh::shortestPath(dtPolyRef sRef, const float* s, dtPolyRef eRef, const float* e) const {
+  PathResult none;
+  none.length = kInf;
+  if (islandOfRef(sRef) != islandOfRef(eRef)) return none;
+  std::vector<dtPolyRef> corridor;
+  // The exact search when nothing is weighted or excluded. Within one island every point is
+  // reachable then, so anything but a found corridor (the search gave up) falls back to Detour.
+  if (uniformCosts_ && polyanya_.corridor(sRef, s, eRef, e, &corridor) == Polyanya::Outcome::kFound)
+    return corridorPath(query_, &pathFilter_, std::move(corridor), sampling_, s, e, false, climb_);
+  corridor = searchCorridor(query_, &pathFilter_, polyBuf_, sRef, s, eRef, e);
+  if (corridor.empty()) return none;
+  return corridorPath(query_, &pathFilter_, std::move(corridor), sampling_, s, e, true, climb_);
 }
 
 PathResult NavMesh::findPathMulti(const Vec3& start, const std::vector<Vec3>& ends, double hext, double vext) const {
@@ -595,7 +615,7 @@ PathResult NavMesh::findPathMulti(const Vec3& start, const std::vector<Vec3>& en
   std::stable_sort(goals.begin(), goals.end(), [](const Goal& a, const Goal& b) { return a.euclid < b.euclid; });
   for (const Goal& g : goals) {
     if (g.euclid >= best.length) break;
-    PathResult r = corridorPath(query_, &pathFilter_, polyBuf_, sampling_, sRef, s, g.ref, g.pos, climb_);
+    PathResult r = shortestPath(sRef, s, g.ref, g.pos);
     if (r.length < best.length) {
       best = std::move(r);
       best.end_index = g.index;

@@ -8,6 +8,8 @@
 #include <DetourNavMesh.h>
 #include <DetourNavMeshQuery.h>
 
+#include "polyanya.h"
+
 #include <array>
 #include <cstdint>
 #include <stdexcept>
@@ -134,7 +136,11 @@ class NavMesh {
   TopDown topDown(double metersPerPixel, bool useHeight, double height, double eps) const;
 
  private:
-  void index();  // islands, areas and sampling tables, after every build or load
+  void index();  // islands, areas, sampling tables and the path search index, after every build or load
+  void updateUniform();
+  // Shortest path between located points: exact (Polyanya) when every area costs 1 and none is
+  // excluded, else Detour's A* with shortcut passes.
+  PathResult shortestPath(dtPolyRef sRef, const float* s, dtPolyRef eRef, const float* e) const;
   int islandOfRef(dtPolyRef ref) const;
   double polyArea(const dtMeshTile* tile, int polyIndex) const;
   bool sampleInPoly(const dtMeshTile* tile, int polyIndex, double u, double v, double w, float* out) const;
@@ -160,6 +166,8 @@ class NavMesh {
   std::vector<std::size_t> islandTri_;  // islandTri_[i] .. islandTri_[i+1]: triangles of island i
   double totalArea_ = 0.0;
   float climb_ = 0.0f;  // walkable climb (m), from the tiles
+  bool uniformCosts_ = true;
+  Polyanya polyanya_;
   LengthSampling sampling_;
   int numTiles_ = 0;
   int numPolys_ = 0;
