@@ -690,6 +690,9 @@ def build(
     """
     if not isinstance(settings, NavMeshSettings):
         raise TypeError(f"settings must be a NavMeshSettings, got {type(settings).__name__}")
+    # model_copy(update=...) does not validate: check the values the extension will read.
+    fields = {name: getattr(settings, name) for name in NavMeshSettings.model_fields}
+    settings = NavMeshSettings().with_overrides(fields)
     try:
         verts = np.ascontiguousarray(vertices, dtype=np.float64)
     except (TypeError, ValueError):

@@ -23,6 +23,9 @@
 namespace navverse {
 namespace {
 
+// Navmesh heights are lowered by this many cell heights from the voxel span tops (see buildTile).
+constexpr float kHeightOffset = 0.5f;
+
 // Collects Recast's warnings and errors, so a failing tile can say why.
 class BuildContext : public rcContext {
  public:
@@ -327,8 +330,11 @@ TileOut buildTile(const Geometry& g, const Grid& grid, const rcConfig& base, con
   // rcBuildPolyMeshDetail lifts every detail vertex by one cell height when moving it to world
   // space, while Detour takes polygon corners from the poly mesh without that lift: on a flat floor
   // the detail mesh would bulge one cell above its own corners (random points and snapped heights
-  // off by up to a cell, areas inflated). Undo the lift so both share the span-top reference.
-  for (int i = 0; i < dmesh->nverts; ++i) dmesh->verts[3 * i + 1] -= c.ch;
+  // off by up to a cell, areas inflated). Undo the lift so both share one reference, and lower
+  // both by half a cell (kHeightOffset): a span's top is its surface rounded up to the next cell
+  // boundary, and surfaces sit mid-cell on the half-cell-shifted grid, so this puts the navmesh on
+  // the surface (unbiased: within half a cell height either way).
+  for (int i = 0; i < dmesh->nverts; ++i) dmesh->verts[3 * i + 1] -= c.ch * (1.0f + kHeightOffset);
 
   // Every polygon is walkable (flag 1); its area id is the triangles' area type.
   for (int i = 0; i < pmesh->npolys; ++i) pmesh->flags[i] = pmesh->areas[i] != RC_NULL_AREA ? 1 : 0;
@@ -355,6 +361,8 @@ TileOut buildTile(const Geometry& g, const Grid& grid, const rcConfig& base, con
   p.tileLayer = 0;
   rcVcopy(p.bmin, pmesh->bmin);
   rcVcopy(p.bmax, pmesh->bmax);
+  p.bmin[1] -= c.ch * kHeightOffset;  // polygon corners are bmin[1] + cells * ch
+  p.bmax[1] -= c.ch * kHeightOffset;
   p.cs = c.cs;
   p.ch = c.ch;
   p.buildBvTree = true;

@@ -73,6 +73,10 @@ def test_bad_jobs_and_settings():
         nav.build(vertices, faces, nav.INDOOR, jobs=0)
     with pytest.raises(TypeError):
         nav.build(vertices, faces, {"cell_size": 0.05})  # type: ignore[arg-type]
+    # model_copy skips validation; build checks again.
+    unchecked = nav.OUTDOOR.model_copy(update={"tile_size": 128.5, "cell_size": -1.0})
+    with pytest.raises(NavMeshError, match=r"invalid navmesh settings: .*cell_size"):
+        nav.build(vertices, faces, unchecked)
 
 
 def test_too_many_tiles_for_polygon_references():

@@ -117,7 +117,7 @@ def test_flat_floor_navmesh_is_flat(preset: nav.NavMeshSettings):
     rng = np.random.default_rng(2)
     heights = np.array([finder.get_random_navigable_point(rng)[2] for _ in range(500)])
     np.testing.assert_allclose(heights, corners[0, 2], atol=1e-5)
-    assert 0.0 <= corners[0, 2] < preset.cell_height  # the floor (z = 0) quantized up, by less than a cell
+    assert corners[0, 2] == pytest.approx(0.0, abs=1e-5)  # on the floor (z = 0)
     planar = sum(
         0.5 * abs(np.dot(p[:, 0], np.roll(p[:, 1], -1)) - np.dot(p[:, 1], np.roll(p[:, 0], -1)))
         for p in finder.polygons()
