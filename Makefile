@@ -40,8 +40,8 @@ eval: $(STAMP)  ## score a submission: make eval SUBMISSION=file.jsonl [DATASET=
 	@test -n "$(SUBMISSION)" || { echo "usage: make eval SUBMISSION=path/to/submission.jsonl [DATASET=$(DATASET)] [SPLIT=$(SPLIT)]"; exit 1; }
 	$(NAVVERSE) eval --dataset $(DATASET) --submission $(SUBMISSION) --split $(SPLIT) --out $(OUT)
 
-bench: $(STAMP)  ## run every benchmark in bench/ (prints ratios against peers)
-	@set -e; found=0; for b in bench/*.py; do [ -e "$$b" ] || continue; found=1; echo "== $$b"; $(BIN)/python $$b; done; \
+bench: $(STAMP)  ## run every benchmark in bench/ (prints ratios against peers; _*.py are helpers)
+	@set -e; found=0; for b in bench/[!_]*.py; do [ -e "$$b" ] || continue; found=1; echo "== $$b"; $(BIN)/python $$b; done; \
 	[ $$found = 1 ] || echo "bench/ has no benchmark yet"
 
 status: $(STAMP)  ## fresh / stale / missing per target

@@ -23,6 +23,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr unsigned short kWalkFlag = 1;
 constexpr unsigned short kExcludedFlag = 2;
+constexpr unsigned short kFlatFlag = 4;  // the polygon's detail mesh is level: no height samples needed
 
 constexpr char kBlobMagic[4] = {'N', 'V', 'D', 'T'};
 constexpr std::uint32_t kBlobVersion = 1;
@@ -155,8 +156,8 @@ NavMesh::NavMesh(dtNavMesh* mesh) : nav_(mesh), excluded_(DT_MAX_AREAS, false) {
     pathFilter_.setAreaCost(i, 1.0f);
   }
   polyBuf_.resize(kMaxPathPolys);
-  resetFlags();
   index();
+  resetFlags();
 }
 
 NavMesh::~NavMesh() {
@@ -270,6 +271,20 @@ void NavMesh::index() {
   std::partial_sum(triArea_.begin(), triArea_.end(), triCum_.begin());
   totalArea_ = triCum_.empty() ? 0.0 : triCum_.back();
   polyanya_.build(nav_, tileBase_);
+  // Level polygons: every corner and detail vertex at one height (to a micrometre).
+  polyLevel_.assign(static_cast<std::size_t>(numPolys_), false);
+  forEachGroundPoly(nav, [&](const dtMeshTile* tile, int i, int j) {
+    float lo = FLT_MAX, hi = -FLT_MAX;
+    for (int k = 0; k < tile->detailMeshes[j].triCount; ++k) {
+      const unsigned char* t = detailTri(tile, j, k);
+      for (int v = 0; v < 3; ++v) {
+        const float y = detailVertex(tile, j, t, v)[1];
+        lo = std::min(lo, y);
+        hi = std::max(hi, y);
+      }
+    }
+    polyLevel_[static_cast<std::size_t>(tileBase_[static_cast<std::size_t>(i)] + j)] = hi - lo <= 1e-6f;
+  });
 }
 
 double NavMesh::polyArea(const dtMeshTile* tile, int ip) const {
@@ -315,7 +330,9 @@ void NavMesh::resetFlags() {
     const dtPolyRef base = nav_->getPolyRefBase(tile);
     for (int j = 0; j < tile->header->polyCount; ++j) {
       const unsigned char area = tile->polys[j].getArea();
-      const unsigned short flags = kWalkFlag | (excluded_[area] ? kExcludedFlag : 0);
+      const bool level = polyLevel_[static_cast<std::size_t>(tileBase_[static_cast<std::size_t>(i)] + j)];
+      const unsigned short flags =
+          kWalkFlag | (excluded_[area] ? kExcludedFlag : 0) | (level ? kFlatFlag : 0);
       nav_->setPolyFlags(base | static_cast<dtPolyRef>(j), flags);
     }
   }
@@ -548,12 +565,15 @@ PathResult corridorPath(const dtNavMeshQuery* query, const dtQueryFilter* filter
     const float* a = &pts[3 * static_cast<std::size_t>(i)];
     const float* b = &pts[3 * static_cast<std::size_t>(i + 1)];
     const double flat = std::hypot(b[0] - a[0], b[2] - a[2]);
-    const int k = std::max(1, std::min(4096, static_cast<int>(std::ceil(flat / sampling.step))));
+    const dtPolyRef ref = refs[static_cast<std::size_t>(i)];
+    unsigned short polyFlags = 0;
+    const bool level = ref && dtStatusSucceed(query->getAttachedNavMesh()->getPolyFlags(ref, &polyFlags)) &&
+                       (polyFlags & kFlatFlag);
+    const int k = level ? 1 : std::max(1, std::min(4096, static_cast<int>(std::ceil(flat / sampling.step))));
     const double t0 = t.back();
     for (int j = 1; j <= k; ++j) {
       float p[3], q[3];
       dtVlerp(p, a, b, static_cast<float>(j) / static_cast<float>(k));
-      const dtPolyRef ref = refs[static_cast<std::size_t>(i)];
       if (j < k && ref && dtStatusSucceed(query->closestPointOnPoly(ref, p, q, nullptr))) p[1] = q[1];
       t.push_back(t0 + flat * j / k);
       y.push_back(p[1]);

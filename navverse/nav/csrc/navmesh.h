@@ -155,6 +155,7 @@ class NavMesh {
   mutable std::vector<dtPolyRef> polyBuf_;
   std::vector<int> tileBase_;    // per tile index: offset of its polygons in polyIsland_
   std::vector<int> polyIsland_;  // island of each polygon
+  std::vector<bool> polyLevel_;  // whether each polygon is level (flat index)
   std::vector<double> islandArea_;
   // Detail triangles sorted by island; cumulative areas for area-weighted sampling.
   struct TriRef {

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <queue>
 #include <utility>
 
 namespace navverse {
@@ -16,20 +15,21 @@ constexpr double kSide = 1e-9;    // |sine| below which three points count as co
 constexpr double kCornerGrid = 1e-3;  // m: hash cell of obstacle corners
 constexpr double kSame = 1e-7;        // m: path lengths closer than this are equal
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
 
 // ---------------------------------------------------------------- geometry
 
 inline Point2 sub(Point2 a, Point2 b) { return {a.x - b.x, a.y - b.y}; }
 inline double crossV(Point2 a, Point2 b) { return a.x * b.y - a.y * b.x; }
 inline double dotV(Point2 a, Point2 b) { return a.x * b.x + a.y * b.y; }
-inline double len(Point2 a) { return std::hypot(a.x, a.y); }
+inline double len(Point2 a) { return std::sqrt(a.x * a.x + a.y * a.y); }  // no overflow at map scales
 inline Point2 lerp(Point2 a, Point2 b, double s) { return {a.x + (b.x - a.x) * s, a.y + (b.y - a.y) * s}; }
 
 // Sine of the angle at `a` from `b` to `c`: > 0 when c is left of the ray a -> b.
 inline double side(Point2 a, Point2 b, Point2 c) {
   const Point2 u = sub(b, a), w = sub(c, a);
-  const double l = len(u) * len(w);
-  return l > 0 ? crossV(u, w) / l : 0.0;
+  const double l2 = dotV(u, u) * dotV(w, w);
+  return l2 > 0 ? crossV(u, w) / std::sqrt(l2) : 0.0;
 }
 
 inline bool same(Point2 a, Point2 b) { return len(sub(a, b)) < kTouch; }
@@ -71,7 +71,7 @@ int Polyanya::cornerId(const Point2& p) const {
       const auto it = cornerGrid_.find(gridKey(ix + dx, iy + dy));
       if (it == cornerGrid_.end()) continue;
       const Point2& c = corners_[static_cast<std::size_t>(it->second)];
-      if (std::hypot(c.x - p.x, c.y - p.y) < 2 * kCornerGrid) return it->second;
+      if (len(sub(c, p)) < 2 * kCornerGrid) return it->second;
     }
   return -1;
 }
@@ -183,16 +183,41 @@ void Polyanya::build(const dtNavMesh* nav, const std::vector<int>& tileBase) {
       pieces_.insert(pieces_.end(), own.begin(), own.end());
     }
   }
-  // Obstacle corners: the ends of wall pieces (a taut path bends only there).
+  // Obstacle corners: ends of wall pieces where the free space around the point spans more than a
+  // half turn (a taut path bends only around such reflex corners; room corners, straight walls and
+  // walls crossing a tile border never make it turn). The free angle is summed over every polygon
+  // touching the point; where levels overlap the sums add up, which can only keep extra corners.
+  std::unordered_map<std::int64_t, double> freeAngle;
+  auto key = [](const Point2& p) { return gridKey(std::llround(p.x / kCornerGrid), std::llround(p.y / kCornerGrid)); };
+  for (const Poly& poly : polys_) {
+    for (int k = 0; k < poly.count; ++k) {
+      const Piece& in = pieces_[static_cast<std::size_t>(poly.first + k)];
+      const Piece& out = pieces_[static_cast<std::size_t>(poly.first + (k + 1) % poly.count)];
+      const Point2 u = sub(in.b, in.a), w = sub(out.b, out.a);
+      freeAngle[key(in.b)] += kPi - std::atan2(crossV(u, w), dotV(u, w));  // interior angle at in.b
+    }
+  }
+  auto freeAround = [&](const Point2& p) {  // with the neighbouring hash cells (float rounding)
+    const long long ix = std::llround(p.x / kCornerGrid), iy = std::llround(p.y / kCornerGrid);
+    double sum = 0;
+    for (long long dx = -1; dx <= 1; ++dx)
+      for (long long dy = -1; dy <= 1; ++dy) {
+        const auto it = freeAngle.find(gridKey(ix + dx, iy + dy));
+        if (it != freeAngle.end()) sum += it->second;
+      }
+    return sum;
+  };
   for (const Piece& p : pieces_) {
     if (p.neighbor >= 0) continue;
     for (const Point2& c : {p.a, p.b}) {
-      if (cornerId(c) >= 0) continue;
+      if (cornerId(c) >= 0 || freeAround(c) <= kPi + 1e-6) continue;
       const int id = static_cast<int>(corners_.size());
       corners_.push_back(c);
-      cornerGrid_[gridKey(std::llround(c.x / kCornerGrid), std::llround(c.y / kCornerGrid))] = id;
+      cornerGrid_[key(c)] = id;
     }
   }
+  bestG_.assign(corners_.size(), kInf);
+  bestStamp_.assign(corners_.size(), 0);
 }
 
 // ---------------------------------------------------------------- search
@@ -200,26 +225,42 @@ void Polyanya::build(const dtNavMesh* nav, const std::vector<int>& tileBase) {
 struct Polyanya::Search {
   Point2 target;
   int targetPoly = -1;
-  std::vector<Root> roots;
-  std::vector<Node> nodes;
-  std::priority_queue<std::pair<double, int>, std::vector<std::pair<double, int>>, std::greater<>> open;
-  std::unordered_map<int, double> bestG;  // corner id -> shortest known path length to it
+  std::vector<Root>& roots;
+  std::vector<Node>& nodes;
+  std::vector<std::pair<double, int>>& heap;  // min-heap on f
+  std::vector<double>& bestG;                 // corner id -> shortest known path length to it...
+  std::vector<std::uint32_t>& bestStamp;      // ...valid when its stamp is this query's
+  std::uint32_t stamp;
 
+  double best(int id) const {
+    const auto i = static_cast<std::size_t>(id);
+    return bestStamp[i] == stamp ? bestG[i] : kInf;
+  }
   // A new root at corner `id` (at `p`, its canonical position) reached straight from root `prev`;
   // -1 if a shorter path to the corner is known. Equal paths give equal lengths to the bit, as
   // every polygon around a corner names the same canonical point.
   int addRoot(int id, const Point2& p, int prev) {
     const Root& from = roots[static_cast<std::size_t>(prev)];
-    const double g = from.g + std::hypot(p.x - from.p.x, p.y - from.p.y);
-    auto it = bestG.find(id);
-    if (it != bestG.end() && g > it->second + kSame) return -1;
-    if (it == bestG.end() || g < it->second) bestG[id] = g;
+    const double g = from.g + len(sub(p, from.p));
+    const double known = best(id);
+    if (g > known + kSame) return -1;
+    if (g < known) {
+      bestG[static_cast<std::size_t>(id)] = g;
+      bestStamp[static_cast<std::size_t>(id)] = stamp;
+    }
     roots.push_back(Root{p, id, prev, g});
     return static_cast<int>(roots.size()) - 1;
   }
   void push(const Node& n) {
     nodes.push_back(n);
-    open.emplace(n.f, static_cast<int>(nodes.size()) - 1);
+    heap.emplace_back(n.f, static_cast<int>(nodes.size()) - 1);
+    std::push_heap(heap.begin(), heap.end(), std::greater<>());
+  }
+  std::pair<double, int> pop() {
+    std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+    const auto top = heap.back();
+    heap.pop_back();
+    return top;
   }
 };
 
@@ -372,7 +413,14 @@ Polyanya::Outcome Polyanya::corridor(dtPolyRef sRef, const float* s, dtPolyRef t
     const double d = len(sub(c, x));
     return d > kTouch ? lerp(x, c, kTouch / d) : x;
   };
-  Search search;
+  roots_.clear();
+  nodes_.clear();
+  heap_.clear();
+  if (++stamp_ == 0) {  // the stamps wrapped around: forget every old value
+    std::fill(bestStamp_.begin(), bestStamp_.end(), 0);
+    stamp_ = 1;
+  }
+  Search search{{}, -1, roots_, nodes_, heap_, bestG_, bestStamp_, stamp_};
   search.target = inside(tp, t);
   search.targetPoly = tp;
   const Point2 start = inside(sp, s);
@@ -385,9 +433,8 @@ Polyanya::Outcome Polyanya::corridor(dtPolyRef sRef, const float* s, dtPolyRef t
     const Point2 a = q.a, b = q.b;
     search.push(Node{q.a, q.b, q.neighbor, sp, 0, 0, heuristic(start, a, b, search.target)});
   }
-  while (!search.open.empty()) {
-    const auto [f, index] = search.open.top();
-    search.open.pop();
+  while (!search.heap.empty()) {
+    const auto [f, index] = search.pop();
     const Node& node = search.nodes[static_cast<std::size_t>(index)];
     if (node.poly == -1) {  // the target: read the corridor back along the parents
       for (int n = node.parent; n >= 0; n = search.nodes[static_cast<std::size_t>(n)].parent)
@@ -396,7 +443,7 @@ Polyanya::Outcome Polyanya::corridor(dtPolyRef sRef, const float* s, dtPolyRef t
       return Outcome::kFound;
     }
     const Root& rt = search.roots[static_cast<std::size_t>(node.root)];
-    if (rt.corner >= 0 && search.bestG[rt.corner] < rt.g - kSame) continue;  // a shorter way to its root exists
+    if (rt.corner >= 0 && search.best(rt.corner) < rt.g - kSame) continue;  // a shorter way to its root exists
     if (search.nodes.size() > kMaxNodes) return Outcome::kGaveUp;
     expand(search, index);
   }

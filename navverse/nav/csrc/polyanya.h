@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace navverse {
@@ -82,6 +83,13 @@ class Polyanya {
   // Obstacle corners (ends of wall pieces), hashed on a 1 mm grid.
   std::unordered_map<std::int64_t, int> cornerGrid_;
   std::vector<Point2> corners_;
+  // Search buffers, kept between queries (so a Polyanya answers one query at a time).
+  mutable std::vector<Root> roots_;
+  mutable std::vector<Node> nodes_;
+  mutable std::vector<std::pair<double, int>> heap_;
+  mutable std::vector<double> bestG_;
+  mutable std::vector<std::uint32_t> bestStamp_;
+  mutable std::uint32_t stamp_ = 0;
 };
 
 }  // namespace navverse

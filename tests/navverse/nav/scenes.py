@@ -8,18 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.spatial import ConvexHull
 
-# Hexahedron faces over corners 0..3 (bottom, counter-clockwise from above) and 4..7 (top),
-# wound counter-clockwise seen from outside, so normals point out (the top faces +z).
-_HEX_FACES = np.array(
-    [
-        [4, 5, 6], [4, 6, 7],  # top
-        [0, 2, 1], [0, 3, 2],  # bottom
-        [0, 1, 5], [0, 5, 4],  # -y
-        [3, 7, 6], [3, 6, 2],  # +y
-        [0, 4, 7], [0, 7, 3],  # -x
-        [1, 2, 6], [1, 6, 5],  # +x
-    ]
-)  # fmt: skip
+from navverse.assets.primitives import HEXAHEDRON_FACES
 
 FLOOR = 1  # area types used by the tests
 WALL = 0  # never walkable
@@ -37,8 +26,8 @@ class MeshBuilder:
 
     def _add(self, corners: np.ndarray, area: int) -> MeshBuilder:
         self.vertices.append(corners)
-        self.faces.append(_HEX_FACES + self._count)
-        self.areas.append(np.full(len(_HEX_FACES), area, dtype=np.uint8))
+        self.faces.append(HEXAHEDRON_FACES + self._count)
+        self.areas.append(np.full(len(HEXAHEDRON_FACES), area, dtype=np.uint8))
         self._count += len(corners)
         return self
 

@@ -10,7 +10,7 @@ from navverse.nav import PathFinder
 from tests.navverse.nav import scenes
 from tests.navverse.nav.exact import ExactPaths
 
-TILE_SIZES = [0, 48, 32]
+TILE_SIZES = [0, 48, 32, 24, 16]
 
 
 def cluttered_hall() -> scenes.MeshBuilder:
