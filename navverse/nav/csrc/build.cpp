@@ -162,12 +162,24 @@ void fillSolidInteriors(rcContext* ctx, const Geometry& g, const std::vector<int
     long long key;  // height in 0.1 mm steps
     int dir;        // -1 entering a solid (underside), +1 leaving it (top)
     float h;
+    int next;       // the column's previous crossing in `pool`, -1 for none
   };
   const int n = static_cast<int>(tris.size() / 3);
   const float cs = hf.cs, ics = 1.0f / hf.cs, ich = 1.0f / hf.ch;
   const float probe[2] = {0.3183f * cs, 0.5772f * cs};  // off-center, away from round coordinates
-  std::vector<int> column(static_cast<std::size_t>(hf.width) * static_cast<std::size_t>(hf.height), -1);
-  std::vector<std::vector<Crossing>> crossings;
+  // Only columns with two or more spans can hold a surface inside a solid (a solid's own top is
+  // one of the spans): the others are skipped before any work.
+  const std::size_t columns = static_cast<std::size_t>(hf.width) * static_cast<std::size_t>(hf.height);
+  std::vector<unsigned char> layered(columns, 0);
+  bool anyLayered = false;
+  for (std::size_t c = 0; c < columns; ++c) {
+    layered[c] = hf.spans[c] != nullptr && hf.spans[c]->next != nullptr;
+    anyLayered = anyLayered || layered[c];
+  }
+  if (!anyLayered) return;
+  // Crossings of every column in one pool, chained per column (no allocation per column).
+  std::vector<int> head(columns, -1);
+  std::vector<Crossing> pool;
 
   auto visit = [&](int t, bool downward, bool onlyMarked) {
     const float* v0 = &g.verts[3 * static_cast<std::size_t>(tris[3 * t])];
@@ -185,19 +197,15 @@ void fillSolidInteriors(rcContext* ctx, const Geometry& g, const std::vector<int
       const double pz = hf.bmin[2] + z * cs + probe[1];
       for (int x = x0; x <= x1; ++x) {
         const std::size_t c = static_cast<std::size_t>(x) + static_cast<std::size_t>(z) * static_cast<std::size_t>(hf.width);
-        if (onlyMarked && column[c] < 0) continue;
+        if (!layered[c] || (onlyMarked && head[c] < 0)) continue;
         const double px = hf.bmin[0] + x * cs + probe[0];
         const double l0 = ((v1[2] - v2[2]) * (px - v2[0]) + (v2[0] - v1[0]) * (pz - v2[2])) / d;
         const double l1 = ((v2[2] - v0[2]) * (px - v2[0]) + (v0[0] - v2[0]) * (pz - v2[2])) / d;
         const double l2 = 1.0 - l0 - l1;
         if (l0 < 0 || l1 < 0 || l2 < 0) continue;
         const double h = l0 * v0[1] + l1 * v1[1] + l2 * v2[1];
-        if (column[c] < 0) {
-          column[c] = static_cast<int>(crossings.size());
-          crossings.emplace_back();
-        }
-        crossings[static_cast<std::size_t>(column[c])].push_back(
-            {std::llround(h * 1e4), downward ? -1 : +1, static_cast<float>(h)});
+        pool.push_back({std::llround(h * 1e4), downward ? -1 : +1, static_cast<float>(h), head[c]});
+        head[c] = static_cast<int>(pool.size()) - 1;
       }
     }
   };
@@ -216,16 +224,18 @@ void fillSolidInteriors(rcContext* ctx, const Geometry& g, const std::vector<int
   }
   for (int t = 0; t < n; ++t)
     if (facing[static_cast<std::size_t>(t)] < 0) visit(t, true, false);
-  if (crossings.empty()) return;
+  if (pool.empty()) return;
   for (int t = 0; t < n; ++t)
     if (facing[static_cast<std::size_t>(t)] > 0) visit(t, false, true);
 
   const float top = hf.bmax[1] - hf.bmin[1];
+  std::vector<Crossing> cr;
   for (int z = 0; z < hf.height; ++z) {
     for (int x = 0; x < hf.width; ++x) {
-      const int ci = column[static_cast<std::size_t>(x) + static_cast<std::size_t>(z) * static_cast<std::size_t>(hf.width)];
+      int ci = head[static_cast<std::size_t>(x) + static_cast<std::size_t>(z) * static_cast<std::size_t>(hf.width)];
       if (ci < 0) continue;
-      std::vector<Crossing>& cr = crossings[static_cast<std::size_t>(ci)];
+      cr.clear();
+      for (; ci >= 0; ci = pool[static_cast<std::size_t>(ci)].next) cr.push_back(pool[static_cast<std::size_t>(ci)]);
       // Upward through the column; at equal heights leave (tops) before entering (undersides), so
       // a box standing on a floor starts at the floor.
       std::sort(cr.begin(), cr.end(), [](const Crossing& a, const Crossing& b) {
