@@ -10,9 +10,9 @@ with ``nav.INDOOR``, and a 1 km x 1 km city built with ``nav.OUTDOOR``):
    ``PathFinder.find_path`` on each (the minimum over a few repetitions).
 3. Peer, on the same free space: scikit-image's ``MCP_Geometric`` (Dijkstra on a grid) on the
    navmesh's own top-down view at the navmesh cell size, cropped per query to the pair's bounding
-   box plus a margin, 8- and 16-connected. Reported: query times, the time ratio to the navmesh,
-   and how much longer the grid path is than the navmesh path, both measured horizontally (the
-   grid is 2-D; the navmesh geodesic also counts the rise over curbs and ramps).
+   box plus a margin, 8-, 16- and 32-connected (moves up to (3, 2) cells). Reported: query times,
+   the time ratio to the navmesh, and how much longer the grid path is than the navmesh path, both
+   measured horizontally (the grid is 2-D; the geodesic also counts the rise over curbs and ramps).
 
 Run ``python bench/navmesh.py`` (what ``make bench`` does); ``--quick`` builds small scenes,
 ``--json PATH`` also writes the results. Timings are measurements, never assertions.
@@ -51,9 +51,11 @@ MIN_GEODESIC = 5.0
 MAX_GEODESIC = 50.0
 KNIGHT_MOVES = [(-2, -1), (-2, 1), (-1, -2), (-1, 2), (1, -2), (1, 2), (2, -1), (2, 1)]
 KING_MOVES = [(-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1)]
+LONG_MOVES = [(a * i, b * j) for a, b in ((3, 1), (1, 3), (3, 2), (2, 3)) for i in (-1, 1) for j in (-1, 1)]
 GRID_VARIANTS: dict[str, list[tuple[int, int]] | None] = {
     "grid 8-conn": None,  # MCP's default, fully connected neighbourhood
     "grid 16-conn": KING_MOVES + KNIGHT_MOVES,
+    "grid 32-conn": KING_MOVES + KNIGHT_MOVES + LONG_MOVES,
 }
 
 
