@@ -1,0 +1,86 @@
+"""Category rules: regular expressions over prim (or node) names and paths that name object categories.
+
+Scene recipes use them to say which objects are goals and what they are called, as the paper's
+Appendix D.1 does for GRScenes: the first rule whose pattern matches wins; a rule with
+``category: null`` drops the object from the annotations (it stays as static geometry).
+
+>>> rules = [CategoryRule(pattern=r"^office_chair", category="chair"), CategoryRule(pattern=r"^plant_")]
+>>> assign_category(rules, name="office_chair_0003", path="/World/Objects/office_chair_0003", default="x")
+'chair'
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+__all__ = ["CATEGORY_PATTERN", "CategoryRule", "assign_category", "category_name"]
+
+CATEGORY_PATTERN = r"^[a-z][a-z0-9_]*$"
+"""Object categories are lower_snake_case names."""
+
+
+class CategoryRule(BaseModel):
+    """One rule: objects whose name (or path) matches ``pattern`` get ``category``.
+
+    Parameters
+    ----------
+    pattern : str
+        A Python regular expression, searched (``re.search``) in the name or the path.
+    on : {"name", "path"}
+        What the pattern is matched against: the prim/node name or its full path.
+    category : str or None
+        The category to assign (lower_snake_case); None drops matching objects from the
+        annotations.
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    pattern: str
+    on: Literal["name", "path"] = "name"
+    category: str | None = Field(default=None, pattern=CATEGORY_PATTERN)
+
+    @field_validator("pattern")
+    @classmethod
+    def _compiles(cls, value: str) -> str:
+        try:
+            re.compile(value)
+        except re.error as exc:
+            raise ValueError(f"invalid regular expression {value!r}: {exc}") from None
+        return value
+
+
+def assign_category(
+    rules: Sequence[CategoryRule], *, name: str, path: str, default: str | None
+) -> str | None:
+    """The category of an object by the first matching rule, else ``default``.
+
+    Parameters
+    ----------
+    rules : sequence of CategoryRule
+        Tried in order.
+    name, path : str
+        The object's prim (or node) name and full path.
+    default : str or None
+        What an object no rule matches gets (None: not an annotated object).
+
+    Returns
+    -------
+    str or None
+        The category, or None when the object is not annotated.
+    """
+    for rule in rules:
+        if re.search(rule.pattern, name if rule.on == "name" else path):
+            return rule.category
+    return default
+
+
+def category_name(text: str) -> str:
+    """A lower_snake_case category from free text (``"Office Chair"`` -> ``"office_chair"``)."""
+    name = re.sub(r"[^a-z0-9]+", "_", text.lower()).strip("_")
+    if not name or not name[0].isalpha():
+        name = f"c_{name}" if name else "object"
+    return name
