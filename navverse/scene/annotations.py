@@ -22,9 +22,11 @@ from navverse.scene.naming import OBJECTS_ROOT, is_identifier
 __all__ = [
     "SCENE_FORMAT_VERSION",
     "Bounds",
+    "DoorAnnotation",
     "ExitAnnotation",
     "ObjectAnnotation",
     "Regions",
+    "RoomAnnotation",
     "SceneAnnotations",
     "SceneSource",
     "SceneStatistics",
@@ -35,8 +37,9 @@ __all__ = [
     "save_annotations",
 ]
 
-SCENE_FORMAT_VERSION = "1.0"
-"""Version of the ``scene.json`` layout. A different major version cannot be read."""
+SCENE_FORMAT_VERSION = "1.1"
+"""Version of the ``scene.json`` layout. A different major version cannot be read; 1.1 added
+``regions.rooms`` and ``regions.doors``."""
 
 _MODEL_CONFIG = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 _VERSION = re.compile(r"^(\d+)\.(\d+)$")
@@ -147,14 +150,61 @@ class ExitAnnotation(BaseModel):
     facing: float
 
 
+class RoomAnnotation(BaseModel):
+    """A room of a building: its type (``kitchen``, ``corridor``, ``ward``...) and floor polygon (xy)."""
+
+    model_config = _MODEL_CONFIG
+
+    id: Annotated[int, Field(ge=1)]
+    room_type: Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*$")]
+    polygon: list[Vec2]
+    floor_height: float = 0.0
+
+    @field_validator("polygon")
+    @classmethod
+    def _polygon(cls, value: list[Vec2]) -> list[Vec2]:
+        if len(value) < 3:
+            raise ValueError(f"a room polygon needs at least 3 vertices, got {len(value)}")
+        return value
+
+
+class DoorAnnotation(BaseModel):
+    """A doorway between two rooms; ``facing`` is the yaw of its normal, from ``rooms[0]`` to ``rooms[1]``."""
+
+    model_config = _MODEL_CONFIG
+
+    id: Annotated[int, Field(ge=1)]
+    center: Vec3
+    width: PositiveFloat
+    facing: float
+    rooms: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]]
+
+
 class Regions(BaseModel):
-    """Indoor footprint polygons (xy), building exits and the indoor anchor point."""
+    """Indoor footprint polygons (xy), rooms and the doorways between them, building exits and the
+    indoor anchor point."""
 
     model_config = _MODEL_CONFIG
 
     indoor: list[list[Vec2]] = Field(default_factory=list)
+    rooms: list[RoomAnnotation] = Field(default_factory=list)
+    doors: list[DoorAnnotation] = Field(default_factory=list)
     exits: list[ExitAnnotation] = Field(default_factory=list)
     indoor_anchor: Vec3 | None = None
+
+    @model_validator(mode="after")
+    def _rooms_and_doors(self) -> Regions:
+        room_ids = [r.id for r in self.rooms]
+        dup = _duplicates(room_ids)
+        if dup:
+            raise ValueError(f"room ids must be unique; repeated: {dup}")
+        dup = _duplicates(d.id for d in self.doors)
+        if dup:
+            raise ValueError(f"door ids must be unique; repeated: {dup}")
+        unknown = sorted({r for d in self.doors for r in d.rooms} - set(room_ids))
+        if unknown:
+            raise ValueError(f"doors name rooms that do not exist: {unknown}")
+        return self
 
     @field_validator("indoor")
     @classmethod
@@ -351,6 +401,11 @@ def load_annotations(path: Path) -> SceneAnnotations:
     try:
         return SceneAnnotations.model_validate(raw)
     except ValidationError as exc:
+        if int(match.group(2)) > int(SCENE_FORMAT_VERSION.split(".")[1]):
+            raise SceneError(
+                f"{path} has scene format version {version}, newer than this toolkit's "
+                f"{SCENE_FORMAT_VERSION}, and fields this version does not know: update navverse"
+            ) from None
         problems = "; ".join(
             f"{'.'.join(str(p) for p in err['loc']) or '<root>'}: {err['msg']}" for err in exc.errors()
         )

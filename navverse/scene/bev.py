@@ -327,9 +327,38 @@ def _compound_path(polygons: Sequence[np.ndarray]) -> MplPath:
     return MplPath(vertices, codes)
 
 
+def _draw_rooms_and_doors(ax: Axes, ann: SceneAnnotations, handles: list[Artist]) -> None:
+    """Room outlines with their type at a point inside, and each doorway as a bar across its opening."""
+    from shapely.geometry import Polygon as ShapelyPolygon
+
+    for room in ann.regions.rooms:
+        ring = np.asarray(room.polygon)
+        ax.add_patch(
+            PolygonPatch(ring, closed=True, fill=False, edgecolor=(0.25, 0.25, 0.3), linestyle=(0, (4, 3)),
+                         linewidth=0.7, zorder=2)
+        )  # fmt: skip
+        inside = ShapelyPolygon(ring).representative_point()
+        ax.text(inside.x, inside.y, room.room_type.replace("_", " "), fontsize=7, ha="center", va="center",
+                zorder=8, bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "alpha": 0.75,
+                                "edgecolor": "none"})  # fmt: skip
+    if ann.regions.rooms:
+        handles.append(
+            Line2D([], [], color=(0.25, 0.25, 0.3), linestyle=(0, (4, 3)), linewidth=0.7, label="room")
+        )
+    if ann.regions.doors:
+        bars = []
+        for door in ann.regions.doors:
+            along = np.array([-math.sin(door.facing), math.cos(door.facing)]) * door.width / 2
+            center = np.asarray(door.center[:2])
+            bars.append([center - along, center + along])
+        ax.add_collection(LineCollection(bars, colors="tab:green", linewidths=3.0, zorder=6))
+        handles.append(Line2D([], [], color="tab:green", linewidth=3.0, label="doorway"))
+
+
 def _draw_annotations(ax: Axes, ann: SceneAnnotations, overlays: Sequence[BevOverlay]) -> list[Artist]:
     """Draw regions, objects, storefronts, exits, the anchor and overlays; return legend handles."""
     handles: list[Artist] = []
+    _draw_rooms_and_doors(ax, ann, handles)
     for polygon in ann.regions.indoor:
         ax.add_patch(
             PolygonPatch(np.asarray(polygon), closed=True, fill=False, edgecolor="tab:purple", linestyle="--",

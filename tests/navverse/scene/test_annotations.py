@@ -60,9 +60,38 @@ def test_models_are_frozen_and_forbid_unknown_keys(tiny_scene: Scene) -> None:
     with pytest.raises(ValidationError):
         tiny_scene.annotations.scene_id = "other"  # type: ignore[misc]
     data = tiny_scene.annotations.model_dump()
-    data["regions"]["doors"] = []
-    with pytest.raises(ValidationError, match="doors"):
+    data["regions"]["entrances"] = []
+    with pytest.raises(ValidationError, match="entrances"):
         SceneAnnotations.model_validate(data)
+
+
+def test_rooms_and_doors(tiny_scene: Scene) -> None:
+    data = tiny_scene.annotations.model_dump()
+    square = [(0.0, 0.0), (4.0, 0.0), (4.0, 4.0), (0.0, 4.0)]
+    data["regions"]["rooms"] = [
+        {"id": 1, "room_type": "kitchen", "polygon": square},
+        {"id": 2, "room_type": "hallway", "polygon": [(4.0, 0.0), (6.0, 0.0), (6.0, 4.0)]},
+    ]
+    door = {"id": 1, "center": (4.0, 2.0, 0.0), "width": 1.6, "facing": 0.0, "rooms": (1, 2)}
+    data["regions"]["doors"] = [door]
+    regions = SceneAnnotations.model_validate(data).regions
+    assert [r.room_type for r in regions.rooms] == ["kitchen", "hallway"]
+    assert regions.doors[0].rooms == (1, 2)
+    data["regions"]["doors"][0]["rooms"] = (1, 7)
+    with pytest.raises(ValidationError, match=r"doors name rooms that do not exist: \[7\]"):
+        SceneAnnotations.model_validate(data)
+    data["regions"]["rooms"][1]["room_type"] = "Living Room"
+    with pytest.raises(ValidationError):
+        SceneAnnotations.model_validate(data)
+
+
+def test_newer_minor_with_unknown_fields_asks_for_an_update(tiny_scene: Scene, tmp_path: Path) -> None:
+    data = tiny_scene.annotations.model_dump(mode="json")
+    major, minor = SCENE_FORMAT_VERSION.split(".")
+    data["format_version"] = f"{major}.{int(minor) + 1}"
+    data["lighting"] = {"sun": 1.0}
+    with pytest.raises(SceneError, match=r"newer than this toolkit's .* update navverse"):
+        load_annotations(_write_raw(tmp_path / "scene.json", data))
 
 
 def test_terrain_class_key_must_match_its_name(tiny_scene: Scene) -> None:
