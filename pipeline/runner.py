@@ -87,7 +87,10 @@ def describe_plan(graph: Graph, states: dict[str, NodeState], console: Console) 
     )
     table = Table(show_edge=False, pad_edge=False, box=None)
     for column in ("#", "target", "stage", "reads", "writes", "state", "key"):
-        table.add_column(column)
+        # Target ids and stage names are shown whole: they are what the user types next.
+        whole = column in ("target", "stage")
+        width = max((len(t) for t in targets), default=6) if column == "target" else None
+        table.add_column(column, no_wrap=whole, min_width=width, overflow="fold" if not whole else "ellipsis")
     for index, node_id in enumerate(graph.order, 1):
         node = graph.nodes[node_id]
         reads = ", ".join(

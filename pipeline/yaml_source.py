@@ -89,10 +89,12 @@ def _build(
         constructor.flatten_mapping(node)
         result: dict[Any, Any] = {}
         for key_node, value_node in node.value:
-            key = constructor.construct_object(key_node, deep=True)
-            if not isinstance(key, str | int | float | bool) or key is None:
-                raise YamlSyntaxError(file, key_node.start_mark.line + 1, f"unsupported key {key!r}")
-            key = str(key)
+            # Keys are names: keep a scalar key's source text, so `on:` or `yes:` stay the words
+            # they are rather than YAML 1.1 booleans.
+            if not isinstance(key_node, yaml.ScalarNode) or key_node.tag == "tag:yaml.org,2002:null":
+                shown = constructor.construct_object(key_node, deep=True)
+                raise YamlSyntaxError(file, key_node.start_mark.line + 1, f"unsupported key {shown!r}")
+            key = key_node.value
             if key in result:
                 raise YamlSyntaxError(file, key_node.start_mark.line + 1, f"duplicate key {key!r}")
             child = (*path, key)

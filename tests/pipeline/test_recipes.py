@@ -145,3 +145,10 @@ def test_select_targets(workspace, stages):
     assert [t.id for t in select_targets(targets, ["recipes/group/beta.yaml"])] == ["beta"]
     with pytest.raises(TargetError, match="no target or recipe matches 'gamma'"):
         select_targets(targets, ["gamma"])
+
+
+def test_keys_keep_their_text():
+    from pipeline.yaml_source import loads_located
+
+    data = loads_located("rule: {on: path, yes: 1, 3: x, 'true': y}", file="k.yaml").data
+    assert data == {"rule": {"on": "path", "yes": 1, "3": "x", "true": "y"}}

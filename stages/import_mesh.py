@@ -1,0 +1,305 @@
+"""Scenes imported from a user mesh file (OBJ, glTF/GLB, PLY, USD), its nodes labelled by recipe rules."""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import re
+from collections import Counter
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, Any, Literal
+
+from pydantic import AfterValidator, BeforeValidator, Field, ValidationInfo, field_validator, model_validator
+
+from pipeline import Params, SourceFile, StageContext, stage
+
+if TYPE_CHECKING:
+    from navverse.scene.mesh_import import MeshNode, NodeRole
+
+DROP = "drop"
+
+
+def _known_terrain(name: str) -> str:
+    from navverse.scene.terrain import DEFAULT_TERRAIN_CLASSES
+
+    if name not in DEFAULT_TERRAIN_CLASSES:
+        known = ", ".join(sorted(DEFAULT_TERRAIN_CLASSES))
+        raise ValueError(f"unknown terrain class {name!r} (known: {known})")
+    return name
+
+
+TerrainName = Annotated[str, AfterValidator(_known_terrain)]
+
+
+def _package_data_file(value: Any) -> Any:
+    """Turn ``{package_data: <package>, file: <relative path>}`` into the file's absolute path."""
+    if not isinstance(value, dict):
+        return value
+    keys = set(value)
+    if keys != {"package_data", "file"}:
+        extra = ", ".join(sorted(keys - {"package_data", "file"})) or "none"
+        raise ValueError(
+            "a package data source needs exactly the keys 'package_data' and 'file' "
+            f"(unknown keys: {extra}); or give a path to the mesh file"
+        )
+    package, file = value["package_data"], value["file"]
+    if not isinstance(package, str) or not isinstance(file, str) or not package or not file:
+        raise ValueError("'package_data' (a package name) and 'file' (a path inside it) must be strings")
+    try:
+        found = importlib.util.find_spec(package)
+    except (ImportError, ValueError):
+        found = None
+    if found is None:
+        raise ValueError(
+            f"unknown package {package!r} in 'package_data': it is not installed here; install it "
+            "or give a path to the mesh file"
+        )
+    try:
+        module = importlib.import_module(package)
+    except Exception as exc:  # a broken package is the environment's fault, not a traceback
+        raise ValueError(f"package {package!r} in 'package_data' cannot be imported: {exc}") from None
+    data_path = getattr(module, "getDataPath", None)
+    root = Path(data_path() if callable(data_path) else Path(module.__file__ or "").parent).resolve()
+    path = (root / file).resolve()
+    if not path.is_relative_to(root) or not path.is_file():
+        raise ValueError(f"package {package!r} has no data file {file!r} (looked in {root})")
+    return str(path)
+
+
+def _mesh_suffix(path: Path) -> Path:
+    from navverse.scene.mesh_import import MESH_SUFFIXES
+
+    if path.suffix.lower() not in MESH_SUFFIXES:
+        raise ValueError(
+            f"unsupported mesh format {path.suffix or '(no suffix)'!r} of {path.name}; use one of "
+            f"{', '.join(MESH_SUFFIXES)} (convert the file, e.g. with Blender)"
+        )
+    return path
+
+
+MeshSource = Annotated[SourceFile, BeforeValidator(_package_data_file), AfterValidator(_mesh_suffix)]
+"""A mesh file: a path relative to the recipe's folder, or ``{package_data: <package>, file: <path>}``
+(a data file of an installed package, e.g. ``pybullet_data``); content-hashed into the cache key."""
+
+
+class NodeRule(Params):
+    """What the nodes matching a pattern become: exactly one of ``object`` (an annotated object of
+    that category), ``surface`` (static geometry of that terrain class) or ``drop: true``.
+
+    ``pattern`` is a Python regular expression searched in the node's ``name`` (trimesh node name,
+    OBJ object/group/material name, USD prim name) or ``path`` (``/parent/.../name``; the USD prim
+    path). ``split: components`` makes one object (or surface) per connected piece of the node,
+    pieces whose bounding boxes come within ``join_gap`` meters of each other counting as one
+    (e.g. a lantern's stacked stones).
+    """
+
+    pattern: str
+    on: Literal["name", "path"] = "name"
+    object: str | None = None
+    surface: TerrainName | None = None
+    drop: bool = False
+    split: Literal["none", "components"] = "none"
+    join_gap: Annotated[float, Field(ge=0.0, le=10.0)] = 0.05
+
+    @field_validator("pattern")
+    @classmethod
+    def _compiles(cls, value: str) -> str:
+        try:
+            re.compile(value)
+        except re.error as exc:
+            raise ValueError(f"invalid regular expression {value!r}: {exc}") from None
+        return value
+
+    @field_validator("object")
+    @classmethod
+    def _category(cls, value: str | None) -> str | None:
+        from navverse.scene.categories import CATEGORY_PATTERN
+
+        if value is not None and not re.match(CATEGORY_PATTERN, value):
+            raise ValueError(f"object category {value!r} must be lower_snake_case, e.g. 'stone_lantern'")
+        return value
+
+    @model_validator(mode="after")
+    def _one_outcome(self) -> NodeRule:
+        given = [k for k in ("object", "surface") if getattr(self, k) is not None] + (
+            ["drop"] if self.drop else []
+        )
+        if len(given) != 1:
+            raise ValueError(
+                f"give exactly one of 'object: <category>', 'surface: <terrain class>' or 'drop: true' "
+                f"(got {', '.join(given) or 'none'})"
+            )
+        return self
+
+    def matches(self, *, name: str, path: str) -> bool:
+        """Whether the rule's pattern is found in the node's name (or path)."""
+        return re.search(self.pattern, name if self.on == "name" else path) is not None
+
+
+class ImportMeshParams(Params):
+    """Parameters of :func:`import_mesh`.
+
+    ``units`` (meters per file unit, or a unit name) and ``up_axis`` (the file's up axis) default
+    to what the file declares: a USD stage's ``metersPerUnit`` and ``upAxis``, glTF's meters and +y;
+    OBJ and PLY files declare no up axis, so their recipes must give it. Nodes take the first
+    matching rule; unmatched nodes become ``default`` (a terrain class, or ``drop``). ``friction``
+    overrides the friction of terrain classes the rules use. ``subdivide`` splits every triangle
+    into four that many times (same shape, 4^n faces: dense test meshes for ``decimate``).
+    """
+
+    source: MeshSource
+    units: Annotated[float, Field(gt=0.0)] | str | None = None
+    up_axis: Literal["y", "z"] | None = None
+    scene_type: Literal["indoor", "outdoor", "i2o"] = "indoor"
+    rules: list[NodeRule] = []
+    default: str = "obstacle"
+    friction: dict[TerrainName, Annotated[float, Field(ge=0, le=5)]] = {}
+    subdivide: Annotated[int, Field(ge=0, le=3)] = 0
+
+    @field_validator("units")
+    @classmethod
+    def _unit_name(cls, value: float | str | None) -> float | str | None:
+        from navverse.scene.mesh_import import UNIT_SCALES
+
+        if isinstance(value, str) and value not in UNIT_SCALES:
+            raise ValueError(
+                f"unknown unit {value!r}; give meters per unit as a number or one of {', '.join(UNIT_SCALES)}"
+            )
+        return value
+
+    @field_validator("up_axis")
+    @classmethod
+    def _axis_known(cls, value: str | None, info: ValidationInfo) -> str | None:
+        source = info.data.get("source")
+        if value is None and source is not None and source.suffix.lower() in (".obj", ".ply"):
+            raise ValueError(
+                f"{source.suffix} files do not say which axis is up; set 'up_axis: y' or 'up_axis: z'"
+            )
+        return value
+
+    @field_validator("default")
+    @classmethod
+    def _default_class(cls, value: str) -> str:
+        return value if value == DROP else _known_terrain(value)
+
+    @field_validator("friction")
+    @classmethod
+    def _friction_used(cls, value: dict[str, float], info: ValidationInfo) -> dict[str, float]:
+        used = {rule.surface for rule in info.data.get("rules", [])} | {info.data.get("default")}
+        unused = sorted(set(value) - used)
+        if unused:
+            raise ValueError(f"'friction' names classes no rule (nor 'default') uses: {', '.join(unused)}")
+        return value
+
+    @property
+    def meters_per_unit(self) -> float | None:
+        """Meters per file unit set by the recipe (None: the file's own)."""
+        from navverse.scene.mesh_import import UNIT_SCALES
+
+        if isinstance(self.units, str):
+            return UNIT_SCALES[self.units]
+        return self.units
+
+
+def _roles(params: ImportMeshParams, nodes: list[MeshNode]) -> tuple[list[NodeRole | None], list[int]]:
+    """The role of every node (first matching rule, else the default) and the matches per rule."""
+    from navverse.scene.mesh_import import NodeRole
+
+    hits = [0] * len(params.rules)
+    roles: list[NodeRole | None] = []
+    for node in nodes:
+        index = next(
+            (i for i, r in enumerate(params.rules) if r.matches(name=node.name, path=node.path)), None
+        )
+        if index is None:
+            role = None if params.default == DROP else NodeRole("surface", params.default)
+        else:
+            hits[index] += 1
+            rule = params.rules[index]
+            split, gap = rule.split == "components", rule.join_gap
+            if rule.object is not None:
+                role = NodeRole("object", rule.object, split=split, join_gap=gap)
+            elif rule.surface is not None:
+                role = NodeRole("surface", rule.surface, split=split, join_gap=gap)
+            else:
+                role = None
+        roles.append(role)
+    return roles, hits
+
+
+@stage(name="import_mesh", outputs=["raw_geometry"])
+def import_mesh(ctx: StageContext, params: ImportMeshParams) -> None:
+    """A scene directory (scene.usdc, scene.json, bev.png) of a mesh file's nodes as objects and surfaces."""
+    import numpy as np
+
+    import navverse
+    from navverse.scene import (
+        Bounds,
+        Scene,
+        SceneAnnotations,
+        SceneSource,
+        SceneStatistics,
+        terrain_classes,
+        write_scene_dir,
+    )
+    from navverse.scene.mesh_import import MeshImportError, MeshNode, read_mesh_nodes, scene_parts, to_z_up
+
+    nodes, frame = read_mesh_nodes(params.source, progress=ctx.progress)
+    up_axis = params.up_axis or frame.up_axis or "z"
+    meters_per_unit = params.meters_per_unit or frame.meters_per_unit or 1.0
+    nodes = [
+        MeshNode(n.name, n.path, to_z_up(n.mesh, up_axis=up_axis, meters_per_unit=meters_per_unit))
+        for n in nodes
+    ]
+    roles, hits = _roles(params, nodes)
+    for rule, count in zip(params.rules, hits, strict=True):
+        if count == 0:
+            ctx.log.warning(
+                "rule %r (on %s) matches no node of %s", rule.pattern, rule.on, params.source.name
+            )
+    surfaces, objects = scene_parts(nodes, roles, subdivisions=params.subdivide, progress=ctx.progress)
+    if not surfaces and not objects:
+        raise MeshImportError(
+            f"nothing of {params.source.name} is kept: every one of its {len(nodes)} nodes is dropped; "
+            "change the rules or set 'default' to a terrain class"
+        )
+
+    world = [s.mesh for s in surfaces] + [o.world_mesh() for o in objects]
+    lo = np.min([m.vertices.min(axis=0) for m in world], axis=0)
+    hi = np.max([m.vertices.max(axis=0) for m in world], axis=0)
+    faces = sum(m.num_faces for m in world)
+    categories = Counter(o.annotation.category for o in objects)
+    annotations = SceneAnnotations(
+        scene_id=ctx.target,
+        scene_type=params.scene_type,
+        bounds=Bounds(min=tuple(float(v) for v in lo), max=tuple(float(v) for v in hi)),
+        objects=[o.annotation for o in objects],
+        terrain_classes=terrain_classes(
+            sorted({s.terrain_class for s in surfaces}),
+            overrides={
+                k: v for k, v in params.friction.items() if any(s.terrain_class == k for s in surfaces)
+            },
+        ),
+        statistics=SceneStatistics(faces=faces, objects_per_category=dict(sorted(categories.items()))),
+        source=SceneSource(
+            recipe=ctx.recipe, recipe_hash=ctx.recipe_hash, toolkit_version=navverse.__version__
+        ),
+    )
+    write_scene_dir(
+        Scene(annotations=annotations, surfaces=tuple(surfaces), objects=tuple(objects)), ctx.output
+    )
+    ctx.record(
+        source=params.source.name,
+        up_axis=up_axis,
+        meters_per_unit=meters_per_unit,
+        nodes=len(nodes),
+        dropped_nodes=sum(role is None for role in roles),
+        rule_matches=hits,
+        faces=faces,
+        surfaces=len(surfaces),
+        objects=len(objects),
+    )
+    ctx.log.info(
+        "import_mesh %s: %d nodes of %s -> %d surfaces, %d objects, %d faces",
+        ctx.target, len(nodes), params.source.name, len(surfaces), len(objects), faces,
+    )  # fmt: skip
