@@ -1,0 +1,310 @@
+"""The agent-facing environment: a Gymnasium ``Env`` over the PyBullet simulator and the camera.
+
+>>> import gymnasium, navverse.env  # doctest: +SKIP
+>>> env = gymnasium.make("NavVerse-Discrete-v0", scene="data/built/targets/office-s1/scene")  # doctest: +SKIP
+>>> obs, info = env.reset(seed=0)  # doctest: +SKIP
+
+Registered ids: ``NavVerse-Discrete-v0`` (actions: an index into
+:data:`~navverse.sim.actions.DISCRETE_ACTIONS`), ``NavVerse-Waypoint-v0`` (``[x, y, yaw, stop]``: a
+world-frame waypoint appended to the path, executed for 0.1 s) and ``NavVerse-Velocity-v0``
+(``[vx, vy, wz, stop]`` in the body frame for 0.1 s). ``stop > 0.5`` (or the ``stop`` action) ends
+the episode. Observations: ``rgb`` (480x640x3 uint8), ``depth`` (480x640x1 float32, meters, 0 where
+nothing is within [0.1, 1000] m), ``semantic`` (480x640 int32 instance ids), ``pose``
+(``[x, y, z, qx, qy, qz, qw]``) and ``goal`` (the object or place category, or the instruction).
+
+``reset(options={"episode": {...}})`` takes an episode in the dataset's format (DESIGN.md §3:
+``start_position``, ``start_rotation``, ``goals``, ``object_category`` or ``instruction``...);
+without one, a start is drawn on the navmesh and an object category with instances as the goal. The
+reward is always 0: benchmarks are scored offline by ``navverse eval``. ``info`` holds the
+termination label (``stop``, ``fall``, ``timeout``, ``out_of_bounds``), the collisions so far, the
+surface under the robot and the simulated time; with ``privileged=True`` also the geodesic
+distance to the nearest goal, the goal positions and the episode's reference path.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import gymnasium
+import numpy as np
+from gymnasium import spaces
+
+from navverse.errors import NavverseError
+from navverse.sim.actions import DISCRETE_ACTIONS, ActionRunner, step_size
+from navverse.sim.camera import CameraIntrinsics
+from navverse.sim.controller import Waypoint
+from navverse.sim.embodiment import make_embodiment
+from navverse.sim.recorder import RolloutRecorder
+from navverse.sim.render import SceneRenderer
+from navverse.sim.simulator import Simulator
+from navverse.sim.terminations import TIMEOUT, TerminationMonitor
+from navverse.sim.world import World
+
+__all__ = ["ACTION_MODES", "EnvError", "NavVerseEnv"]
+
+ACTION_MODES = ("discrete", "waypoint", "velocity")
+POSE_MARGIN = 100.0
+"""The pose observation's box: the scene bounds grown by this much (m) on every side."""
+_TEXT = spaces.Text(max_length=2048, charset="".join(chr(c) for c in range(32, 127)))
+
+
+class EnvError(NavverseError):
+    """The environment was given something it cannot use (a scene, an episode, an action mode)."""
+
+
+def _yaw_of(quaternion) -> float:
+    x, y, z, w = (float(v) for v in quaternion)
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+class NavVerseEnv(gymnasium.Env):
+    """Navigate a built scene with a physically simulated robot.
+
+    Parameters
+    ----------
+    scene : path
+        A built scene directory (``data/built/targets/<id>/scene``).
+    embodiment : str
+        ``spot`` or ``turtlebot``.
+    action_mode : str
+        ``discrete``, ``waypoint`` or ``velocity``.
+    max_time : float
+        Episode time limit in simulated seconds (truncation).
+    privileged : bool
+        Whether ``info`` carries goal positions, the geodesic distance and the reference path.
+    render_mode : str, optional
+        ``rgb_array``: :meth:`render` returns the last camera image.
+    collision_cache : path, optional
+        Where convex decompositions of objects are cached (see :class:`~navverse.sim.world.World`).
+    """
+
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
+
+    def __init__(
+        self,
+        scene: str | os.PathLike[str],
+        *,
+        embodiment: str = "spot",
+        action_mode: str = "discrete",
+        max_time: float = TIMEOUT,
+        privileged: bool = False,
+        render_mode: str | None = None,
+        collision_cache: str | os.PathLike[str] | None = "default",
+    ) -> None:
+        if action_mode not in ACTION_MODES:
+            raise EnvError(f"unknown action mode {action_mode!r}; choose from: {', '.join(ACTION_MODES)}")
+        if render_mode not in (None, "rgb_array"):
+            raise EnvError(f"unsupported render mode {render_mode!r}; use 'rgb_array' or None")
+        self.scene_dir = Path(scene)
+        if not (self.scene_dir / "scene.json").is_file():
+            raise EnvError(
+                f"{self.scene_dir} is not a built scene directory (no scene.json); "
+                "build it with `navverse build`"
+            )
+        cache = collision_cache if collision_cache in (None, "default") else Path(collision_cache)
+        self.world = World(self.scene_dir, collision_cache=cache)
+        self.scene = self.world.scene
+        self.embodiment_name = embodiment
+        self.sim = Simulator(self.world, make_embodiment(embodiment))
+        self.runner = ActionRunner(self.sim, step=step_size(self.scene.annotations.scene_type))
+        self.intrinsics = CameraIntrinsics.from_hfov()
+        self.renderer = SceneRenderer(self.scene, intrinsics=self.intrinsics)
+        self.monitor = TerminationMonitor(timeout=max_time)
+        self.action_mode = action_mode
+        self.privileged = privileged
+        self.render_mode = render_mode
+        self._navmesh = None
+        self._episode: dict[str, Any] = {}
+        self._recorder: RolloutRecorder | None = None
+        self._last_rgb: np.ndarray | None = None
+        self._done = False
+
+        h, w = self.intrinsics.height, self.intrinsics.width
+        lo, hi = self.world.bounds
+        reach = np.array([POSE_MARGIN, POSE_MARGIN, POSE_MARGIN])
+        pose_low = np.concatenate([lo - reach, -np.ones(4)])
+        pose_high = np.concatenate([hi + reach, np.ones(4)])
+        self.observation_space = spaces.Dict(
+            {
+                "rgb": spaces.Box(0, 255, (h, w, 3), np.uint8),
+                "depth": spaces.Box(0.0, 1000.0, (h, w, 1), np.float32),
+                "semantic": spaces.Box(0, np.iinfo(np.int32).max, (h, w), np.int32),
+                "pose": spaces.Box(pose_low, pose_high, (7,), np.float64),
+                "goal": _TEXT,
+            }
+        )
+        if action_mode == "discrete":
+            self.action_space = spaces.Discrete(len(DISCRETE_ACTIONS))
+        elif action_mode == "waypoint":
+            self.action_space = spaces.Box(
+                np.array([lo[0] - 5.0, lo[1] - 5.0, -math.pi, 0.0], dtype=np.float32),
+                np.array([hi[0] + 5.0, hi[1] + 5.0, math.pi, 1.0], dtype=np.float32),
+            )
+        else:
+            vx, vy, wz = self.runner.follower.clip
+            self.action_space = spaces.Box(
+                np.array([-vx, -vy, -wz, 0.0], dtype=np.float32),
+                np.array([vx, vy, wz, 1.0], dtype=np.float32),
+            )
+
+    # ------------------------------------------------------------------ episodes
+
+    @property
+    def navmesh(self):
+        """The scene's navmesh (loaded on first use)."""
+        if self._navmesh is None:
+            from navverse.nav.scene_navmesh import load_scene_navmesh
+
+            self._navmesh = load_scene_navmesh(self.scene_dir)
+        return self._navmesh
+
+    def _default_episode(self) -> dict[str, Any]:
+        """A start on the navmesh's largest island and an object category with instances as the goal."""
+        finder = self.navmesh
+        start = finder.get_random_navigable_point(self.np_random, island=finder.largest_island)
+        objects = [o for o in self.scene.annotations.objects if o.category]
+        if not objects:
+            raise EnvError(f"scene {self.scene.scene_id} has no objects to use as goals")
+        category = sorted({o.category for o in objects})[
+            int(self.np_random.integers(len({o.category for o in objects})))
+        ]
+        yaw = float(self.np_random.uniform(-math.pi, math.pi))
+        return {
+            "episode_id": f"{self.scene.scene_id}-random",
+            "scene_id": self.scene.scene_id,
+            "task": "objnav",
+            "start_position": [float(v) for v in start],
+            "start_rotation": [0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2)],
+            "object_category": category,
+            "goals": [
+                {
+                    "object_id": o.id,
+                    "category": o.category,
+                    "position": list(o.center),
+                    "radius": o.goal_radius,
+                    "size": list(o.size),
+                }
+                for o in objects
+                if o.category == category
+            ],
+        }
+
+    def _goal_text(self) -> str:
+        ep = self._episode
+        if ep.get("instruction"):
+            text = (
+                ep["instruction"].get("instruction_text", "")
+                if isinstance(ep["instruction"], Mapping)
+                else ""
+            )
+            return str(text)[:2048]
+        return str(ep.get("object_category") or ep.get("place_category") or "")
+
+    # ------------------------------------------------------------------ gymnasium API
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        """Start an episode (``options={"episode": {...}}``, else a random ObjNav one)."""
+        super().reset(seed=seed)
+        episode = (options or {}).get("episode")
+        self._episode = dict(episode) if episode is not None else self._default_episode()
+        try:
+            start = [float(v) for v in self._episode["start_position"]]
+            yaw = _yaw_of(self._episode.get("start_rotation", [0.0, 0.0, 0.0, 1.0]))
+        except (KeyError, TypeError, ValueError) as exc:
+            raise EnvError(
+                f"episode needs start_position [x, y, z] and start_rotation [x, y, z, w] ({exc})"
+            ) from None
+        self.sim.spawn(start, yaw)
+        self.runner.follower.clear()
+        self.monitor.start(self.sim)
+        self._recorder = RolloutRecorder(str(self._episode.get("episode_id", "episode")))
+        self._recorder.attach(self.sim)
+        self._done = False
+        return self._observe(), self._info(None)
+
+    def step(self, action):
+        """Apply an action; returns ``(obs, reward, terminated, truncated, info)``."""
+        if self._done:
+            raise EnvError("the episode has ended: call reset() before step()")
+        stop = self._act(action)
+        label = "stop" if stop else self.monitor.check(self.sim)
+        terminated = label in ("stop", "fall", "out_of_bounds", "stuck")
+        truncated = label == "timeout"
+        self._done = terminated or truncated
+        info = self._info(label)
+        if self._done:
+            info["submission"] = self._recorder.finish(stop=stop, termination=label)
+        return self._observe(), 0.0, terminated, truncated, info
+
+    def _act(self, action) -> bool:
+        if self.action_mode == "discrete":
+            index = int(action)
+            if not 0 <= index < len(DISCRETE_ACTIONS):
+                raise EnvError(f"discrete action {action!r} out of range 0..{len(DISCRETE_ACTIONS) - 1}")
+            name = DISCRETE_ACTIONS[index]
+            self.runner.discrete(name)
+            return name == "stop"
+        values = np.asarray(action, dtype=float).reshape(-1)
+        if values.shape != (4,) or not np.isfinite(values).all():
+            raise EnvError(f"{self.action_mode} actions are 4 finite numbers, got {action!r}")
+        if values[3] > 0.5:
+            self.sim.tick(0.0, 0.0, 0.0)
+            return True
+        if self.action_mode == "waypoint":
+            self.runner.waypoints([Waypoint(float(values[0]), float(values[1]), float(values[2]))])
+        else:
+            self.runner.velocity(float(values[0]), float(values[1]), float(values[2]))
+        return False
+
+    def _observe(self) -> dict[str, Any]:
+        frame = self.renderer.render(self.sim.camera_to_world())
+        pose = self.sim.pose()
+        self._last_rgb = frame.rgb
+        return {
+            "rgb": frame.rgb,
+            "depth": frame.depth[..., None].astype(np.float32),
+            "semantic": frame.semantic.astype(np.int32),
+            "pose": np.concatenate([pose.position, pose.quaternion]).astype(np.float64),
+            "goal": self._goal_text(),
+        }
+
+    def _info(self, label: str | None) -> dict[str, Any]:
+        info: dict[str, Any] = {
+            "termination": label,
+            "time": self.monitor.elapsed(self.sim),
+            "collisions": len(self.sim.collisions),
+            "surface": self.sim.surface(),
+            "camera_intrinsics": self.intrinsics.matrix(),
+            "camera_to_base": np.array(self.sim.robot.camera_to_base, dtype=float),
+            "robot_size": np.array(self.sim.robot.size, dtype=float),
+            "robot_radius": self.sim.robot.radius,
+        }
+        if self.privileged:
+            goals = np.array([g["position"] for g in self._episode.get("goals", [])], dtype=float).reshape(
+                -1, 3
+            )
+            position = self.sim.pose().position
+            info["goal_positions"] = goals
+            info["distance_to_goal"] = (
+                float(self.navmesh.geodesic_distance(position, goals)) if len(goals) else math.inf
+            )
+            info["reference_path"] = np.asarray(self._episode.get("reference_path", []), dtype=float)
+        return info
+
+    def render(self):
+        """The last camera image (``render_mode="rgb_array"``)."""
+        return None if self.render_mode is None else self._last_rgb
+
+    def close(self) -> None:
+        """Release the physics client."""
+        self.world.close()
+
+
+for _mode in ACTION_MODES:
+    _id = f"NavVerse-{_mode.capitalize()}-v0"
+    if _id not in gymnasium.registry:
+        gymnasium.register(_id, entry_point="navverse.env:NavVerseEnv", kwargs={"action_mode": _mode})

@@ -1,0 +1,300 @@
+"""A Spot-sized legged robot as a reduced-order model: a rigid trunk on four ray-cast spring legs.
+
+Model
+-----
+The trunk is one rigid box (:data:`BODY_SIZE`, :data:`MASS`, the box's inertia) with a second box under
+it between the hips (:data:`LEG_ZONE`) that stands for the legs in collisions: walls, furniture and
+steps higher than :data:`MAX_STEP` stop the robot there. Each of the four legs is a ray cast down the
+trunk's -z axis from a hip at the trunk's bottom corners (:data:`HIPS`), every physics step, in one
+``rayTestBatch``, up to :data:`LEG_REACH`. A leg whose ray meets a static body is a spring-damper along
+the trunk's z axis::
+
+    N = clip(k * (L_i - d) - c * d_dot, 0, LEG_MAX_FORCE)
+
+with ``d`` the hip-to-ground distance, ``d_dot`` the hip's velocity along the leg and ``L_i`` the leg's
+rest length, which the stance sets so the trunk stays level over uneven ground (as a legged robot's
+locomotion controller does): ``L_i = LEG_REST + mean(g) - g_i``, clipped to [:data:`LEG_MIN`,
+:data:`LEG_REACH`], ``g_i`` the height of the ground under leg ``i`` and ``mean(g)`` over the legs that
+found ground. The same foot also pushes tangentially to the ground (the plane of the hit normal ``n``):
+towards the rigid-body velocity the command asks for at that foot (``v + w x r``, so one law gives
+forward, lateral and yaw motion), plus a feed-forward ``h`` that makes the foot's reaction vertical
+when the velocity is right, so the legs hold the robot on a slope::
+
+    f_t = (MASS / 4) * TRACTION_GAIN * (v_target(foot) - v(hip)) + h,
+    |f_t| <= min(mu * N_n, TRACTION_MAX)
+
+where ``mu`` is the friction of the body the ray hit (its terrain class's; 0.6 for objects) and
+``N_n`` the leg force along the ground normal. All leg forces act at the foot points (the ray hits)
+and are summed into one force and one torque per step. Nothing else holds the trunk up or level, so:
+
+- a curb or step up to :data:`MAX_STEP` (0.32 m) is climbed: the legs over it find the higher ground,
+  shorten, and the trunk rises level; a higher one meets the leg box and stops the robot;
+- stepping down, the legs over the lower level extend (up to :data:`LEG_REACH`) and take the load;
+- a ledge or hole deeper than a leg reaches leaves legs with nothing under them: the trunk pitches or
+  rolls over the supporting legs and falls (a tilt beyond :data:`~navverse.sim.embodiment.FALL_TILT`);
+- traction is friction-limited per foot, so low-friction ground slows acceleration, braking and turning,
+  and a slope steeper than the friction allows cannot be climbed or stood on (the robot slides down);
+- walls and furniture stop the trunk or the leg box (contacts of the base, reported by ``World.contacts``).
+
+Parameters (module constants): trunk 1.1 x 0.5 x 0.2 m, 32 kg; hips at (+-0.35, +-0.2) m at the trunk's
+bottom; rest leg length 0.48 m on level ground (0.15-0.72 m), standing compression 0.03 m (k = 2616 N/m
+per leg, c = 290 N s/m, about critical for heave); leg force <= 4x its standing load; traction gain
+8 /s (time constant 0.125 s); traction of one foot <= its standing load (so <= 1 g for the robot);
+trunk friction 0.5; leg box 0.8 x 0.5 m, from the trunk down to 0.32 m above the ground. Standing on
+flat ground the trunk's centre is 0.55 m and the camera 0.6 m above the ground.
+
+Limits
+------
+No gait, no swing legs: feet are always under the hips, so footholds are not chosen, a foot can find
+support on a surface a real foot could not reach (e.g. the top of a thin rail), and a step is climbed
+without lifting a leg. The legs stay perpendicular to the trunk, so on slopes beyond ~25 degrees the
+uphill legs unload and the robot slides or tips back (a real Spot manages about 30). Obstacles lower
+than :data:`MAX_STEP` are walked over as if stepped on. :meth:`Spot.is_ground_contact` is always False
+because every PyBullet contact of this robot is the trunk or the leg box touching something (the legs'
+support is given by :meth:`Spot.leg_forces`). Velocity is tracked without position hold: a zero command
+stops the robot but small pushes (or a slope's residual) move it a few centimetres.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from navverse.sim.bullet import pybullet
+from navverse.sim.embodiment import camera_mount, clip_command
+from navverse.sim.world import GRAVITY, OBJECT_FRICTION
+
+if TYPE_CHECKING:
+    from navverse.sim.world import Contact, World
+
+__all__ = ["BODY_SIZE", "HIPS", "LEG_MIN", "LEG_REACH", "LEG_REST", "LEG_ZONE", "MASS", "MAX_STEP", "Spot"]
+
+MASS = 32.0
+"""Mass of the robot (kg)."""
+BODY_SIZE = (1.1, 0.5, 0.2)
+"""Trunk box: length, width, height (m)."""
+HIPS = ((0.35, 0.2), (0.35, -0.2), (-0.35, 0.2), (-0.35, -0.2))
+"""Hip positions (x, y) in the base frame, at the trunk's bottom face (front left, FR, RL, RR)."""
+LEG_REST = 0.48
+"""Unloaded leg length from hip to foot on level ground (m)."""
+LEG_MIN = 0.15
+"""Shortest rest length of a leg (m): a fully folded leg."""
+LEG_REACH = 0.72
+"""Longest reach of a leg from the hip (m): ground farther below a hip gives that leg no support."""
+STANDING_COMPRESSION = 0.03
+"""Leg compression under the robot's own weight (m)."""
+LEG_STIFFNESS = MASS * GRAVITY / 4.0 / STANDING_COMPRESSION
+"""Spring constant per leg (N/m)."""
+LEG_DAMPING = 290.0
+"""Damping per leg (N s/m); near critical for heave."""
+LEG_MAX_FORCE = 4.0 * MASS * GRAVITY / 4.0
+"""Largest push of one leg (N)."""
+TRACTION_GAIN = 8.0
+"""Velocity-error gain of the foot traction (1/s)."""
+TRACTION_MAX = GRAVITY * MASS / 4.0
+"""Largest tangential force of one foot regardless of friction (N): the actuators' limit, its standing
+load."""
+MAX_STEP = 0.32
+"""Highest step (curb, obstacle) the legs climb (m)."""
+LEG_ZONE = (0.8, 0.5, LEG_REST - STANDING_COMPRESSION - MAX_STEP)
+"""Box under the trunk, between the hips, that stands for the legs in collisions (m): standing, its bottom
+is :data:`MAX_STEP` above the ground, so lower obstacles are stepped over or onto and higher ones stop
+the robot."""
+BODY_FRICTION = 0.5
+"""Friction of the trunk (multiplied by the other body's)."""
+
+_HALF_HEIGHT = BODY_SIZE[2] / 2.0
+_RAY_START = 0.005  # rays start this far below the trunk so they never hit it
+_RAY_LENGTH = LEG_REACH - _RAY_START
+_STAND_LEG = LEG_REST - STANDING_COMPRESSION
+_HIP_OFFSETS = tuple((x, y, -_HALF_HEIGHT) for x, y in HIPS)
+_TRUNK_INERTIA = tuple(
+    MASS / 12.0 * (BODY_SIZE[(k + 1) % 3] ** 2 + BODY_SIZE[(k + 2) % 3] ** 2) for k in range(3)
+)
+_SHARE = MASS / 4.0 * TRACTION_GAIN  # traction per unit velocity error of one foot (N s/m)
+
+
+class Spot:
+    """A Spot-sized legged robot (reduced-order model, see the module docstring).
+
+    The robot is created unspawned; :meth:`spawn` puts it in a world.
+    """
+
+    name = "spot"
+    radius = 0.6
+    size = (BODY_SIZE[0], BODY_SIZE[1], _STAND_LEG + BODY_SIZE[2])
+    max_velocity = (1.5, 0.5, 1.5)
+    standing_height = _STAND_LEG + _HALF_HEIGHT
+    """Height of the base origin (trunk centre) above flat ground when standing (m)."""
+
+    def __init__(self) -> None:
+        self.camera_to_base = camera_mount((BODY_SIZE[0] / 2.0 - 0.05, 0.0, 0.6 - self.standing_height))
+        self.body = -1
+        self._world: World | None = None
+        self._command = (0.0, 0.0, 0.0)
+        self._legs = [0.0] * 4
+        self._ray_from = [(x, y, -_HALF_HEIGHT - _RAY_START) for x, y in HIPS]
+        self._ray_to = [(x, y, -_HALF_HEIGHT - LEG_REACH) for x, y in HIPS]
+        self._friction: dict[int, float] = {}
+
+    # ------------------------------------------------------------------ lifecycle
+
+    def spawn(self, world: World, position: Sequence[float], yaw: float) -> None:
+        """Place the robot standing at rest above the ground point `position`, heading `yaw`.
+
+        The ground is probed below the four hips (where a hip finds none, the height of `position` is
+        used); the trunk is put level at the standing height above their mean, where the stance
+        (level-keeping leg lengths) holds it, so it starts in equilibrium on flat ground and on a
+        uniform slope. The command is reset to 0.
+        """
+        if self.body >= 0:
+            raise RuntimeError("this Spot is already spawned; remove() it first")
+        c = world.client
+        x, y, z = (float(v) for v in position)
+        cy, sy = math.cos(yaw), math.sin(yaw)
+        grounds = []
+        for hx, hy in HIPS:
+            px, py = x + cy * hx - sy * hy, y + sy * hx + cy * hy
+            info, height = world.surface_below((px, py, z + 0.3), depth=0.8)
+            grounds.append(height if info is not None else z)
+        ground = sum(grounds) / len(grounds)
+        shape = c.createCollisionShapeArray(
+            [pybullet.GEOM_BOX, pybullet.GEOM_BOX],
+            halfExtents=[[s / 2.0 for s in BODY_SIZE], [s / 2.0 for s in LEG_ZONE]],
+            collisionFramePositions=[[0.0, 0.0, 0.0], [0.0, 0.0, -_HALF_HEIGHT - LEG_ZONE[2] / 2.0]],
+        )
+        self.body = c.createMultiBody(
+            baseMass=MASS,
+            baseCollisionShapeIndex=shape,
+            basePosition=(x, y, ground + self.standing_height),
+            baseOrientation=(0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0)),
+        )
+        c.changeDynamics(
+            self.body,
+            -1,
+            lateralFriction=BODY_FRICTION,
+            restitution=0.0,
+            linearDamping=0.0,
+            angularDamping=0.0,
+            localInertiaDiagonal=_TRUNK_INERTIA,  # the trunk box's (the leg zone has no mass of its own)
+        )
+        self._world = world
+        self._friction = {body: info.friction for body, info in world.bodies.items()}
+        self._command = (0.0, 0.0, 0.0)
+        self._legs = [0.0] * 4
+        # Bound client methods: the BulletClient builds a partial on every attribute access.
+        self._state = c.getBasePositionAndOrientation
+        self._velocity = c.getBaseVelocity
+        self._rays = c.rayTestBatch
+        self._force = c.applyExternalForce
+        self._torque = c.applyExternalTorque
+
+    def remove(self) -> None:
+        """Remove the robot from its world (it can be spawned again)."""
+        if self._world is not None and self.body >= 0 and self._world.client is not None:
+            self._world.client.removeBody(self.body)
+        self.body = -1
+        self._world = None
+
+    # ------------------------------------------------------------------ control
+
+    def set_command(self, vx: float, vy: float, wz: float) -> None:
+        """Set the body-frame velocity target, clipped to :attr:`max_velocity`; held until the next call."""
+        self._command = clip_command(vx, vy, wz, self.max_velocity)
+
+    @property
+    def command(self) -> tuple[float, float, float]:
+        """The current (clipped) velocity target."""
+        return self._command
+
+    def before_step(self) -> None:
+        """Cast the leg rays and apply the legs' spring, damping and traction forces for one step."""
+        body = self.body
+        (px, py, pz), (qx, qy, qz, qw) = self._state(body)
+        (vx, vy, vz), (wx, wy, wz) = self._velocity(body)
+        # The rotation matrix (body to world); its last column (r02, r12, r22) is the legs' axis.
+        xx, yy, zz = qx * qx, qy * qy, qz * qz
+        xy, xz, yz, wxq, wyq, wzq = qx * qy, qx * qz, qy * qz, qw * qx, qw * qy, qw * qz
+        r00, r01, r02 = 1.0 - 2.0 * (yy + zz), 2.0 * (xy - wzq), 2.0 * (xz + wyq)
+        r10, r11, r12 = 2.0 * (xy + wzq), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wxq)
+        r20, r21, r22 = 2.0 * (xz - wyq), 2.0 * (yz + wxq), 1.0 - 2.0 * (xx + yy)
+        # Commanded velocity field: heading from the body x axis projected on the ground plane.
+        cvx, cvy, cwz = self._command
+        hn = math.hypot(r00, r10) or 1.0
+        hx, hy = r00 / hn, r10 / hn
+        tvx, tvy = cvx * hx - cvy * hy, cvx * hy + cvy * hx
+        share, stiffness, damping, max_push = _SHARE, LEG_STIFFNESS, LEG_DAMPING, LEG_MAX_FORCE
+        friction, legs = self._friction, self._legs
+        fx = fy = fz = tx = ty = tz = 0.0
+        hits = self._rays(self._ray_from, self._ray_to, parentObjectUniqueId=body, parentLinkIndex=-1)
+        # Stance: each leg's rest length keeps the trunk level over the mean height of the ground found.
+        grounds = [hit[3][2] for hit in hits if hit[0] >= 0 and hit[0] != body]
+        mean_ground = sum(grounds) / len(grounds) if grounds else 0.0
+        for i, (hit_body, _, fraction, hp, (nx, ny, nz)) in enumerate(hits):
+            if hit_body < 0 or hit_body == body:
+                legs[i] = 0.0
+                continue
+            rest = LEG_REST + mean_ground - hp[2]
+            rest = LEG_MIN if rest < LEG_MIN else (LEG_REACH if rest > LEG_REACH else rest)
+            lx, ly, lz = _HIP_OFFSETS[i]
+            # Hip offset from the base origin (world) and the hip's velocity.
+            ox = r00 * lx + r01 * ly + r02 * lz
+            oy = r10 * lx + r11 * ly + r12 * lz
+            oz = r20 * lx + r21 * ly + r22 * lz
+            hvx, hvy, hvz = vx + wy * oz - wz * oy, vy + wz * ox - wx * oz, vz + wx * oy - wy * ox
+            length = _RAY_START + fraction * _RAY_LENGTH
+            push = stiffness * (rest - length) - damping * (hvx * r02 + hvy * r12 + hvz * r22)
+            push = 0.0 if push < 0.0 else (max_push if push > max_push else push)
+            legs[i] = push
+            along = r02 * nx + r12 * ny + r22 * nz  # leg axis . ground normal
+            normal_load = push * along if along > 0.0 else 0.0
+            # Traction: towards the commanded rigid-body velocity at this foot, in the ground plane.
+            ex, ey, ez = tvx - cwz * oy - hvx, tvy + cwz * ox - hvy, -hvz
+            en = ex * nx + ey * ny + ez * nz
+            gx, gy, gz = share * (ex - en * nx), share * (ey - en * ny), share * (ez - en * nz)
+            if nz > 0.5:
+                # Feed-forward: the tangential force that makes this foot's reaction vertical, so the
+                # legs hold the robot on a slope (and cancel their own push along a tilted leg axis).
+                hold = normal_load / nz
+                gx -= hold * nz * nx + push * (r02 - along * nx)
+                gy -= hold * nz * ny + push * (r12 - along * ny)
+                gz += hold * (1.0 - nz * nz) - push * (r22 - along * nz)
+            limit = friction.get(hit_body, OBJECT_FRICTION) * normal_load
+            if limit > TRACTION_MAX:
+                limit = TRACTION_MAX
+            magnitude = math.sqrt(gx * gx + gy * gy + gz * gz)
+            if magnitude > limit:
+                scale = limit / magnitude
+                gx, gy, gz = gx * scale, gy * scale, gz * scale
+            # The foot's force, applied at the foot point (the ray hit).
+            ffx, ffy, ffz = push * r02 + gx, push * r12 + gy, push * r22 + gz
+            rx, ry, rz = hp[0] - px, hp[1] - py, hp[2] - pz
+            fx, fy, fz = fx + ffx, fy + ffy, fz + ffz
+            tx += ry * ffz - rz * ffy
+            ty += rz * ffx - rx * ffz
+            tz += rx * ffy - ry * ffx
+        self._force(body, -1, (fx, fy, fz), (px, py, pz), pybullet.WORLD_FRAME)
+        self._torque(body, -1, (tx, ty, tz), pybullet.WORLD_FRAME)
+
+    # ------------------------------------------------------------------ state
+
+    def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """Trunk centre (3,) and orientation quaternion ``[x, y, z, w]`` (4,) in the world frame."""
+        position, orientation = self._state(self.body)
+        return np.array(position), np.array(orientation)
+
+    def base_velocity(self) -> tuple[np.ndarray, np.ndarray]:
+        """Trunk linear (3,) and angular (3,) velocity in the world frame."""
+        linear, angular = self._velocity(self.body)
+        return np.array(linear), np.array(angular)
+
+    def leg_forces(self) -> np.ndarray:
+        """Push (N) of each leg (FL, FR, RL, RR) at the last :meth:`before_step`; 0 for a leg in the air."""
+        return np.array(self._legs)
+
+    def is_ground_contact(self, contact: Contact) -> bool:
+        """Always False: the legs have no collision geometry, so every contact is the trunk colliding."""
+        return False

@@ -1,0 +1,248 @@
+"""A built scene in PyBullet: static terrain per class with its friction, static objects, contacts.
+
+Every terrain class is one static body (a concave triangle mesh of all its surfaces) with the class's
+friction, so a contact tells which surface it is on. The objects are together one static body, a
+compound of the convex pieces of every object (:mod:`navverse.sim.collision`); contacts and ray hits
+on it are attributed to the object whose box holds the point (:meth:`World.object_at`). PyBullet
+multiplies the frictions of two touching bodies, so robots use friction 1 on their feet and wheels:
+the terrain's value is the contact's.
+
+The world runs in its own DIRECT client (several worlds can live in one process) at
+:data:`PHYSICS_HZ`; :meth:`World.step` advances one physics step.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from navverse.scene import Scene, read_scene
+from navverse.scene.geometry import MeshData
+from navverse.sim.bullet import connect, pybullet
+from navverse.sim.collision import convex_parts, default_cache_dir, hulls_file
+
+__all__ = ["CONTROL_HZ", "GRAVITY", "OBJECT_FRICTION", "PHYSICS_HZ", "BodyInfo", "Contact", "World"]
+
+PHYSICS_HZ = 200
+"""Physics steps per simulated second."""
+CONTROL_HZ = 50
+"""Controller updates per simulated second (every PHYSICS_HZ // CONTROL_HZ physics steps)."""
+GRAVITY = 9.81
+OBJECT_FRICTION = 0.6
+"""Friction of objects (furniture); terrain classes carry their own."""
+
+
+@dataclass(frozen=True)
+class BodyInfo:
+    """What a static body of the world is: a terrain class or an object."""
+
+    kind: str  # "terrain" or "object"
+    terrain_class: str | None = None
+    object_id: int | None = None
+    category: str | None = None
+    navigable: bool = False
+    friction: float = OBJECT_FRICTION
+
+
+@dataclass(frozen=True)
+class Contact:
+    """A contact between a robot link and a static body of the world."""
+
+    link: int  # the robot's link index (-1: base)
+    body: BodyInfo
+    position: tuple[float, float, float]  # on the world body
+    normal: tuple[float, float, float]  # from the world body towards the robot
+    force: float  # normal force (N)
+
+
+class World:
+    """A scene loaded into its own PyBullet client.
+
+    Parameters
+    ----------
+    scene : Scene or path
+        The scene, or a built scene directory.
+    collision_cache : Path or None, optional
+        Directory where convex decompositions of concave object parts are cached (default
+        :func:`~navverse.sim.collision.default_cache_dir`; None keeps them in memory only).
+
+    Attributes
+    ----------
+    bodies : dict of int to BodyInfo
+        The static bodies: one per terrain class, and the objects' compound (``kind="object"``
+        without an id; :meth:`contacts` and :meth:`surface_below` name the object itself).
+    objects : list of BodyInfo
+        One per scene object, in the scene's order.
+    object_body : int
+        The objects' compound body, -1 when the scene has no objects.
+    """
+
+    def __init__(
+        self, scene: Scene | str | os.PathLike[str], *, collision_cache: Path | str | None = "default"
+    ) -> None:
+        self.scene = scene if isinstance(scene, Scene) else read_scene(Path(scene))
+        self.client = connect()
+        c = self.client
+        c.setGravity(0.0, 0.0, -GRAVITY)
+        c.setTimeStep(1.0 / PHYSICS_HZ)
+        c.setPhysicsEngineParameter(deterministicOverlappingPairs=1, numSolverIterations=20)
+        # Bound client functions: the client builds a new partial on every attribute access.
+        self._step_simulation = c.stepSimulation
+        self._contact_points = c.getContactPoints
+        self.bodies: dict[int, BodyInfo] = {}
+        self.time = 0.0
+        self.steps = 0
+        self._load_terrain()
+        self._load_objects(default_cache_dir() if collision_cache == "default" else collision_cache)
+        bounds = self.scene.annotations.bounds
+        self.bounds = (np.asarray(bounds.min, dtype=float), np.asarray(bounds.max, dtype=float))
+
+    # ------------------------------------------------------------------ loading
+
+    def _static_mesh_body(self, mesh: MeshData, info: BodyInfo) -> int:
+        c = self.client
+        shape = c.createCollisionShape(
+            pybullet.GEOM_MESH,
+            vertices=mesh.vertices.tolist(),
+            indices=mesh.faces.reshape(-1).tolist(),
+            flags=pybullet.GEOM_FORCE_CONCAVE_TRIMESH,
+        )
+        body = c.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=shape)
+        c.changeDynamics(body, -1, lateralFriction=info.friction, restitution=0.0, rollingFriction=0.0,
+                         spinningFriction=0.0)  # fmt: skip
+        self.bodies[body] = info
+        return body
+
+    def _load_terrain(self) -> None:
+        classes = self.scene.annotations.terrain_classes
+        by_class: dict[str, list[MeshData]] = {}
+        for surface in self.scene.surfaces:
+            by_class.setdefault(surface.terrain_class, []).append(surface.mesh)
+        for name, meshes in by_class.items():
+            tc = classes[name]
+            mesh = MeshData.concatenate(meshes)
+            if mesh.num_faces == 0:
+                continue
+            self._static_mesh_body(
+                mesh, BodyInfo("terrain", terrain_class=name, navigable=tc.navigable, friction=tc.friction)
+            )
+
+    def _load_objects(self, cache: Path | None) -> None:
+        # All objects are one static body, a compound of every convex piece in world coordinates:
+        # Bullet refreshes the bounds of every body each step, static ones included, so a body per
+        # object would cost more than the robot's own physics in a furnished building. Which object a
+        # contact or a ray touches is found from the objects' boxes (:meth:`object_at`).
+        annotations = [obj.annotation for obj in self.scene.objects]
+        self.objects = [BodyInfo("object", object_id=a.id, category=a.category) for a in annotations]
+        self._object_center = np.array([a.center for a in annotations], dtype=float).reshape(-1, 3)
+        self._object_half = np.array([a.size for a in annotations], dtype=float).reshape(-1, 3) / 2.0
+        self._object_yaw = np.array([a.yaw for a in annotations], dtype=float)
+        self.object_body = -1
+        hulls: list[np.ndarray] = []
+        for obj, center, yaw in zip(self.scene.objects, self._object_center, self._object_yaw, strict=True):
+            c, s = math.cos(yaw), math.sin(yaw)
+            rotation_t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])  # row vectors @ R.T
+            hulls.extend(part @ rotation_t + center for part in convex_parts(obj.mesh, cache_dir=cache))
+        if not hulls:
+            return
+        if cache is None:
+            self._scratch = tempfile.TemporaryDirectory(prefix="navverse-hulls-")
+            directory = Path(self._scratch.name)
+        else:
+            directory = cache / "hulls"
+        shape = self.client.createCollisionShape(
+            pybullet.GEOM_MESH, fileName=str(hulls_file(hulls, directory))
+        )
+        self.object_body = self.client.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=shape)
+        self.client.changeDynamics(self.object_body, -1, lateralFriction=OBJECT_FRICTION, restitution=0.0)
+        self.bodies[self.object_body] = BodyInfo("object", friction=OBJECT_FRICTION)
+
+    def object_at(self, point: Sequence[float]) -> BodyInfo:
+        """The object whose box contains (or, failing that, is nearest to) a point on the objects' body."""
+        offset = np.asarray(point, dtype=float) - self._object_center
+        c, s = np.cos(self._object_yaw), np.sin(self._object_yaw)
+        x, y = offset[:, 0], offset[:, 1]
+        local = np.stack([c * x + s * y, -s * x + c * y, offset[:, 2]], axis=1)
+        outside = np.maximum(np.abs(local) - self._object_half, 0.0)
+        return self.objects[int(np.argmin(np.einsum("ij,ij->i", outside, outside)))]
+
+    def _resolve(self, body: int, point: Sequence[float]) -> BodyInfo | None:
+        """What a static body is at a point of it (for the objects' body: the object there)."""
+        if body == self.object_body:
+            return self.object_at(point)
+        return self.bodies.get(body)
+
+    # ------------------------------------------------------------------ stepping and queries
+
+    def step(self) -> None:
+        """Advance the simulation by one physics step."""
+        self._step_simulation()
+        self.steps += 1
+        self.time = self.steps / PHYSICS_HZ
+
+    def contacts(self, robot: int) -> list[Contact]:
+        """Contacts of a robot body (every link) with the world's static bodies."""
+        found = []
+        for point in self._contact_points(bodyA=robot):
+            info = self._resolve(point[2], point[6])
+            if info is not None:
+                found.append(Contact(point[3], info, point[6], point[7], point[9]))
+        return found
+
+    def surface_below(
+        self, position: Sequence[float], *, depth: float = 2.0
+    ) -> tuple[BodyInfo | None, float]:
+        """The static body straight below ``position`` (within ``depth``) and the height of its surface.
+
+        Robots and other bodies that are not part of the scene are looked through.
+        """
+        x, y, z = (float(v) for v in position)
+        top, bottom = z + 0.05, z - depth
+        while top > bottom:  # look through robots and other dynamic bodies
+            hit = self.client.rayTest((x, y, top), (x, y, bottom))[0]
+            if hit[0] < 0:
+                break
+            info = self._resolve(hit[0], hit[3])
+            if info is not None:
+                return info, float(hit[3][2])
+            top = float(hit[3][2]) - 1e-4
+        return None, math.nan
+
+    def ray_batch(self, starts: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Cast rays: (hit fraction (K,) with 1 for no hit, hit points (K, 3), hit body ids (K,) or -1)."""
+        hits = self.client.rayTestBatch(starts.tolist(), ends.tolist())
+        fraction = np.array([h[2] if h[0] >= 0 else 1.0 for h in hits])
+        points = np.array([h[3] for h in hits], dtype=float)
+        bodies = np.array([h[0] for h in hits], dtype=np.int64)
+        return fraction, points, bodies
+
+    def inside_bounds(self, position: Sequence[float], *, margin: float = 2.0) -> bool:
+        """Whether a point is within the scene's bounds (plus ``margin`` m horizontally, any height above)."""
+        p = np.asarray(position, dtype=float)
+        lo, hi = self.bounds
+        return bool(
+            lo[0] - margin <= p[0] <= hi[0] + margin
+            and lo[1] - margin <= p[1] <= hi[1] + margin
+            and p[2] >= lo[2] - margin
+        )
+
+    def close(self) -> None:
+        """Disconnect the physics client (and drop temporary hull files)."""
+        if self.client is not None:
+            self.client.disconnect()
+            self.client = None  # type: ignore[assignment]
+        scratch = getattr(self, "_scratch", None)
+        if scratch is not None:
+            scratch.cleanup()
+
+    def __enter__(self) -> World:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
