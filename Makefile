@@ -29,12 +29,8 @@ $(STAMP): pyproject.toml setup.py scripts/system-deps.sh
 scenes: $(STAMP)  ## build every scene recipe in recipes/scenes
 	$(NAVVERSE) build scenes --jobs $(JOBS)
 
-episodes: $(STAMP)  ## build every dataset recipe in recipes/datasets
-	@if ls recipes/datasets/*.yaml >/dev/null 2>&1; then \
-		$(NAVVERSE) build datasets --jobs $(JOBS); \
-	else \
-		echo "recipes/datasets/ has no dataset recipe yet: no episodes to build"; \
-	fi
+episodes: $(STAMP)  ## build the dataset recipes in recipes/datasets (navverse-mini; manual ones by name)
+	$(NAVVERSE) build datasets --jobs $(JOBS)
 
 eval: $(STAMP)  ## score a submission: make eval SUBMISSION=file.jsonl [DATASET=...] [SPLIT=eval]
 	@test -n "$(SUBMISSION)" || { echo "usage: make eval SUBMISSION=path/to/submission.jsonl [DATASET=$(DATASET)] [SPLIT=$(SPLIT)]"; exit 1; }

@@ -34,14 +34,14 @@ def _load_targets(workspace, files: Sequence[Path] | None = None):
     return RecipeLoader(workspace, stages=stages).load(files)
 
 
-def _graph_for(selectors: Sequence[str]):
+def _graph_for(selectors: Sequence[str], *, every_target: bool = False):
     from pipeline.dag import build_graph
     from pipeline.recipes import select_targets
     from pipeline.store import ArtifactStore
 
     workspace = _workspace()
     targets = _load_targets(workspace)
-    chosen = select_targets(targets, selectors)
+    chosen = list(targets) if every_target else select_targets(targets, selectors)
     graph = build_graph(chosen, universe=targets)
     return workspace, chosen, graph, ArtifactStore(workspace.built_dir)
 
@@ -57,7 +57,38 @@ def cmd_build(args: argparse.Namespace, console: Console) -> int:
         describe_plan(graph, plan(graph, store, force=force), console)
         return 0
     report = run_build(graph, store, lambda: make_executor(args.jobs), force=force, console=console)
-    return 0 if report.ok else 1
+    if not report.ok:
+        return 1
+    _publish_datasets(chosen, store, console)
+    return 0
+
+
+def _publish_datasets(targets, store, console: Console) -> None:
+    """Copy the built dataset versions into ``episodes/`` (a published version never changes)."""
+    from navverse.dataset import built_version, publish
+
+    episodes_dir = _workspace().root / "episodes"
+    for target in targets:
+        if not any("dataset" in call.spec.outputs for call in target.stages):
+            continue
+        built = store.target_output(target.id, "dataset")
+        if built is None:
+            continue
+        path, written = publish(built_version(built), episodes_dir)
+        shown = path.relative_to(episodes_dir.parent)
+        console.print(f"{'published' if written else 'up to date'}: {shown}")
+
+
+def _scene_dir(store, scene_id: str) -> Path:
+    """A built scene's directory (with its navmesh when built), or a SceneError saying how to build it."""
+    found = (store.target_output(scene_id, artifact) for artifact in SCENE_ARTIFACTS)
+    scene_dir = next((path for path in found if path is not None), None)
+    if scene_dir is None:
+        raise SceneError(
+            f"scene {scene_id!r} is not built: run 'navverse build {scene_id}' "
+            "('navverse status' lists the scenes)"
+        )
+    return scene_dir
 
 
 def cmd_status(args: argparse.Namespace, console: Console) -> int:
@@ -92,7 +123,7 @@ def cmd_clean(args: argparse.Namespace, console: Console) -> int:
             shutil.rmtree(child, ignore_errors=True)
         console.print(f"removed every build output in {workspace.built_dir}")
         return 0
-    _, _, graph, store = _graph_for([])
+    _, _, graph, store = _graph_for([], every_target=True)  # manual targets' artifacts are kept too
     keep = {
         store.artifact_path(node.stage, out, key)
         for node in graph.nodes.values()
@@ -129,19 +160,104 @@ def cmd_show_scene(args: argparse.Namespace, console: Console) -> int:
 
     workspace = _workspace()
     store = ArtifactStore(workspace.built_dir)
-    found = (store.target_output(args.scene_id, artifact) for artifact in SCENE_ARTIFACTS)
-    scene_dir = next((path for path in found if path is not None), None)
-    if scene_dir is None:
-        raise SceneError(
-            f"scene {args.scene_id!r} is not built: run 'navverse build {args.scene_id}' "
-            "('navverse status' lists the scenes)"
-        )
+    scene_dir = _scene_dir(store, args.scene_id)
     out = Path(args.output or f"{args.scene_id}-bev.png")
     has_navmesh = SceneFiles(scene_dir).navmesh.is_file()
     overlays = [navmesh_overlay(load_scene_navmesh(scene_dir))] if has_navmesh else []
     render_bev(read_scene(scene_dir), out, meters_per_pixel=args.meters_per_pixel, overlays=overlays)
     console.print(f"wrote {out}")
     return 0
+
+
+def cmd_show_dataset(args: argparse.Namespace, console: Console) -> int:
+    """Print a dataset's episode counts and goal categories."""
+    from navverse.dataset import Dataset
+    from navverse.episodes.inspect import category_table, counts_table
+
+    dataset = Dataset(args.dataset)
+    manifest = dataset.manifest
+    console.print(counts_table(dataset))
+    console.print(category_table(dataset, top=args.top))
+    for task, (low, high) in manifest.difficulty_thresholds.items():
+        console.print(f"{task}: easy < {low:.2f} m <= medium < {high:.2f} m <= hard (geodesic length)")
+    splits = "; ".join(f"{name}: {', '.join(scenes)}" for name, scenes in manifest.splits.items())
+    console.print(f"splits (scene-disjoint): {splits}", highlight=False)
+    return 0
+
+
+def cmd_show_episode(args: argparse.Namespace, console: Console) -> int:
+    """Draw one episode on its scene's bird's-eye view."""
+    from navverse.dataset import Dataset
+    from navverse.episodes.inspect import draw_episode
+    from pipeline.store import ArtifactStore
+
+    dataset = Dataset(args.dataset)
+    episode = dataset.episode(args.episode_id)
+    scene_dir = _scene_dir(ArtifactStore(_workspace().built_dir), episode.scene_id)
+    out = draw_episode(
+        scene_dir, episode, dataset.rollout(episode), Path(args.output or f"{args.episode_id}.png")
+    )
+    text = episode.instruction.instruction_text if episode.instruction else episode.goal_category
+    console.print(f"{episode.episode_id} ({episode.task}, {episode.info.geodesic_distance:.1f} m): {text}")
+    console.print(f"wrote {out}")
+    return 0
+
+
+def cmd_validate_dataset(args: argparse.Namespace, console: Console) -> int:
+    """Check a dataset: format, checksums, bounds, and (with --replay) its oracle rollouts under physics."""
+    import numpy as np
+    from rich.progress import Progress
+
+    from navverse.dataset import Dataset, DatasetError, scene_hash
+    from navverse.episodes.inspect import check_bounds, replay
+    from pipeline.store import ArtifactStore
+
+    dataset = Dataset(args.dataset)
+    bad = dataset.verify_checksums()
+    if bad:
+        raise DatasetError(f"{dataset.root}: files differ from the manifest's checksums: {', '.join(bad)}")
+    episodes = list(dataset.episodes())
+    violations = [(e.episode_id, r) for e in episodes if (r := check_bounds(e)) is not None]
+    console.print(
+        f"{dataset.root}: format {dataset.manifest.format_version}, {len(episodes)} episodes, checksums ok"
+    )
+    console.print(
+        f"distance and duration bounds: {len(episodes) - len(violations)} of {len(episodes)} keep them"
+    )
+    for episode_id, reason in violations[:10]:
+        console.print(f"  {episode_id}: {reason}", highlight=False)
+    failures = bool(violations)
+    if args.replay:
+        chosen = episodes
+        if args.replay != "all":
+            count = int(args.replay)
+            rng = np.random.default_rng(args.seed)
+            chosen = [
+                episodes[i]
+                for i in sorted(rng.choice(len(episodes), min(count, len(episodes)), replace=False))
+            ]
+        store = ArtifactStore(_workspace().built_dir)
+        scene_dirs = {scene: _scene_dir(store, scene) for scene in sorted({e.scene_id for e in chosen})}
+        changed = [s for s, d in scene_dirs.items() if scene_hash(d) != dataset.manifest.scene_hashes.get(s)]
+        if changed:
+            console.print(
+                f"[yellow]warning:[/] built scenes differ from the dataset's: {', '.join(changed)} "
+                "(rebuilt since packaging?); replaying in the scenes as built now"
+            )
+        with Progress(console=console, transient=True) as bar:
+            task = bar.add_task("replaying (scenes)", total=len(scene_dirs))
+            report = replay(
+                chosen,
+                scene_dirs,
+                embodiment=dataset.manifest.embodiment,
+                jobs=args.jobs,
+                progress=lambda done, total: bar.update(task, completed=done),
+            )
+        console.print(f"replayed oracle rollouts: {report.reached} of {report.replayed} reach a goal")
+        for episode_id, reason in report.failures[:10]:
+            console.print(f"  {episode_id}: {reason}", highlight=False)
+        failures = failures or bool(report.failures)
+    return 1 if failures else 0
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -183,6 +299,16 @@ def build_parser() -> argparse.ArgumentParser:
     recipe = vsub.add_parser("recipe", help="validate recipe files (all when none given)")
     recipe.add_argument("files", nargs="*", metavar="FILE")
     recipe.set_defaults(func=cmd_validate_recipe)
+    vdataset = vsub.add_parser(
+        "dataset", help="check a dataset version (format, checksums, bounds, rollouts)"
+    )
+    vdataset.add_argument("dataset", help="episodes/<name>/v<version> (or episodes/<name>: the newest)")
+    vdataset.add_argument(
+        "--replay", metavar="N|all", help="run the oracle rollouts of N sampled episodes (or all) again"
+    )
+    vdataset.add_argument("--seed", type=int, default=0, help="which episodes --replay N samples")
+    vdataset.add_argument("--jobs", "-j", type=int, default=None, help="processes for --replay")
+    vdataset.set_defaults(func=cmd_validate_dataset)
 
     show = sub.add_parser("show", help="draw or print what was built")
     ssub = show.add_subparsers(dest="what", required=True, metavar="WHAT")
@@ -191,6 +317,15 @@ def build_parser() -> argparse.ArgumentParser:
     scene.add_argument("-o", "--output", help="PNG path (default: <scene_id>-bev.png)")
     scene.add_argument("--meters-per-pixel", type=float, default=None)
     scene.set_defaults(func=cmd_show_scene)
+    dataset = ssub.add_parser("dataset", help="episode counts and goal categories of a dataset")
+    dataset.add_argument("dataset", help="episodes/<name>/v<version> (or episodes/<name>: the newest)")
+    dataset.add_argument("--top", type=int, default=25, help="goal categories listed")
+    dataset.set_defaults(func=cmd_show_dataset)
+    episode = ssub.add_parser("episode", help="draw an episode on its scene's bird's-eye view")
+    episode.add_argument("dataset")
+    episode.add_argument("episode_id")
+    episode.add_argument("-o", "--output", help="PNG path (default: <episode_id>.png)")
+    episode.set_defaults(func=cmd_show_episode)
     return parser
 
 

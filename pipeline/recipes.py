@@ -47,6 +47,7 @@ class RecipeModel(BaseModel):
     count: Annotated[int, Field(ge=1, le=100_000)] | None = None
     stages: dict[str, dict[str, Any]]
     links: dict[str, list[str]] = {}
+    manual: bool = False
 
     @field_validator("stages", mode="before")
     @classmethod
@@ -98,6 +99,9 @@ class Target:
         ``{artifact: target-id patterns}`` for artifacts taken from other targets.
     description : str
         The recipe's description.
+    manual : bool
+        Built only when selected by its id or its recipe file, never by a folder or by building
+        everything (a large configuration that needs a cluster, say).
     """
 
     id: str
@@ -107,6 +111,7 @@ class Target:
     stages: tuple[StageCall, ...]
     links: dict[str, tuple[str, ...]]
     description: str = ""
+    manual: bool = False
 
 
 def _merge(base: Located, over: Located) -> Located:
@@ -319,6 +324,7 @@ class RecipeLoader:
                     stages=tuple(calls),
                     links=links,
                     description=model.description,
+                    manual=model.manual,
                 )
             )
         return targets
@@ -402,7 +408,8 @@ def select_targets(targets: Sequence[Target], selectors: Sequence[str]) -> list[
     """Targets matching any selector: a target id (glob allowed) or a recipe path prefix.
 
     ``scenes`` selects every recipe under ``recipes/scenes``; ``scenes/indoor/office.yaml`` one file;
-    ``office-*`` the targets whose id matches. No selector selects everything.
+    ``office-*`` the targets whose id matches. No selector selects everything. Targets of a ``manual``
+    recipe are only selected by their exact id or their recipe file.
 
     Raises
     ------
@@ -410,7 +417,7 @@ def select_targets(targets: Sequence[Target], selectors: Sequence[str]) -> list[
         If a selector matches nothing.
     """
     if not selectors:
-        return list(targets)
+        return [t for t in targets if not t.manual]
     chosen: dict[str, Target] = {}
     for selector in selectors:
         key = selector.strip().removeprefix("recipes/").rstrip("/")
@@ -418,7 +425,9 @@ def select_targets(targets: Sequence[Target], selectors: Sequence[str]) -> list[
         matched = [
             t
             for t in targets
-            if fnmatch.fnmatchcase(t.id, key) or t.recipe == f"{stem}.yaml" or t.recipe.startswith(f"{stem}/")
+            if t.id == key
+            or t.recipe == f"{stem}.yaml"
+            or (not t.manual and (fnmatch.fnmatchcase(t.id, key) or t.recipe.startswith(f"{stem}/")))
         ]
         if not matched:
             some = ", ".join(sorted(t.id for t in targets)[:12])

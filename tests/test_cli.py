@@ -26,10 +26,11 @@ def run(root: Path, *args: str, timeout: float = 600) -> subprocess.CompletedPro
 
 def copy_recipes(root: Path, *, only: str | None = None) -> Path:
     shutil.copytree(REPO / "recipes", root / "recipes")
-    if only is not None:
+    if only is not None:  # these scene recipes, and no dataset (its scenes are gone)
         for path in (root / "recipes" / "scenes").rglob("*.yaml"):
             if not path.match(only):
                 path.unlink()
+        shutil.rmtree(root / "recipes" / "datasets")
     return root
 
 

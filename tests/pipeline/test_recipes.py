@@ -147,6 +147,18 @@ def test_select_targets(workspace, stages):
         select_targets(targets, ["gamma"])
 
 
+def test_manual_targets_are_built_only_when_named(workspace, stages):
+    write(workspace.recipes_dir / "group" / "huge.yaml", "extends: base\nmanual: true\ncount: 2\n")
+    targets = RecipeLoader(workspace, stages=stages).load()
+    everything = [t.id for t in select_targets(targets, [])]
+    assert "huge-00" not in everything and "beta" in everything  # not by building everything...
+    assert "huge-00" not in [t.id for t in select_targets(targets, ["group"])]  # ...nor by folder
+    with pytest.raises(TargetError, match=r"no target or recipe matches 'huge-\*'"):
+        select_targets(targets, ["huge-*"])  # ...nor by a glob
+    assert [t.id for t in select_targets(targets, ["huge-01"])] == ["huge-01"]  # by id
+    assert [t.id for t in select_targets(targets, ["group/huge.yaml"])] == ["huge-00", "huge-01"]  # by file
+
+
 def test_keys_keep_their_text():
     from pipeline.yaml_source import loads_located
 

@@ -1,0 +1,1 @@
+"""Building episodes: sampling on the navmesh, physics verification, VLN instructions, packaging."""

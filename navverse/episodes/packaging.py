@@ -1,0 +1,137 @@
+"""Packaging verified episodes as a dataset version: scene-disjoint splits, difficulty, files and manifest."""
+
+from __future__ import annotations
+
+import fnmatch
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from navverse.dataset import (
+    FORMAT_VERSION,
+    DatasetError,
+    DatasetManifest,
+    Episode,
+    EpisodeFile,
+    Goal,
+    counts_table,
+    file_sha256,
+    write_json_gz,
+)
+
+__all__ = ["assign_splits", "difficulty_of", "difficulty_thresholds", "write_dataset"]
+
+
+def assign_splits(scene_ids: Sequence[str], patterns: Mapping[str, Sequence[str]]) -> dict[str, list[str]]:
+    """Scenes of each split, by glob patterns over scene ids: every scene in exactly one split.
+
+    Raises
+    ------
+    DatasetError
+        If a scene matches no split or several, or a split gets no scene.
+    """
+    splits: dict[str, list[str]] = {name: [] for name in patterns}
+    problems = []
+    for scene in sorted(scene_ids):
+        matched = [
+            name for name, globs in patterns.items() if any(fnmatch.fnmatchcase(scene, g) for g in globs)
+        ]
+        if len(matched) != 1:
+            where = "no split" if not matched else f"the splits {', '.join(matched)}"
+            problems.append(f"scene {scene!r} matches {where}")
+            continue
+        splits[matched[0]].append(scene)
+    for name, scenes in splits.items():
+        if not scenes and not problems:
+            problems.append(f"split {name!r} ({', '.join(patterns[name])}) gets no scene")
+    if problems:
+        raise DatasetError(
+            "splits must put every scene in exactly one split (scene-disjoint): "
+            + "; ".join(problems)
+            + ". Fix the patterns under package_dataset: splits"
+        )
+    return splits
+
+
+def difficulty_thresholds(episodes: Sequence[Episode]) -> dict[str, tuple[float, float]]:
+    """Per task, the 1/3 and 2/3 quantiles of the geodesic path length (m): Easy / Medium / Hard."""
+    lengths: dict[str, list[float]] = {}
+    for episode in episodes:
+        lengths.setdefault(episode.task, []).append(episode.info.geodesic_distance)
+    return {
+        task: (round(float(np.quantile(values, 1 / 3)), 3), round(float(np.quantile(values, 2 / 3)), 3))
+        for task, values in sorted(lengths.items())
+    }
+
+
+def difficulty_of(length: float, thresholds: tuple[float, float]) -> str:
+    """``easy`` below the first threshold, ``medium`` below the second, else ``hard``."""
+    return "easy" if length < thresholds[0] else ("medium" if length < thresholds[1] else "hard")
+
+
+def write_dataset(
+    out: Path,
+    episodes: Sequence[Episode],
+    rollouts: Mapping[str, list[list[float]]],
+    *,
+    name: str,
+    version: str,
+    splits: Mapping[str, Sequence[str]],
+    embodiment: str,
+    recipe: str,
+    recipe_hash: str,
+    scene_hashes: Mapping[str, str],
+    toolkit_version: str,
+) -> DatasetManifest:
+    """Write ``<split>/<task>.json.gz``, ``<split>/<task>.rollouts.json.gz`` and ``manifest.json``.
+
+    Episodes get their difficulty label; files list episodes by id; the manifest holds the counts per
+    split, task and scene type, the difficulty thresholds and the SHA-256 of every file.
+    """
+    if not episodes:
+        raise DatasetError(f"dataset {name!r} has no episode to package: see the verification's rejections")
+    thresholds = difficulty_thresholds(episodes)
+    labelled = []
+    for e in episodes:
+        difficulty = difficulty_of(e.info.geodesic_distance, thresholds[e.task])
+        labelled.append(e.model_copy(update={"info": e.info.model_copy(update={"difficulty": difficulty})}))
+    split_of = {scene: split for split, scenes in splits.items() for scene in scenes}
+    files: dict[str, str] = {}
+    groups: dict[tuple[str, str], list[Episode]] = {}
+    for episode in sorted(labelled, key=lambda e: e.episode_id):
+        groups.setdefault((split_of[episode.scene_id], episode.task), []).append(episode)
+    for (split, task), group in sorted(groups.items()):
+        goals: dict[str, dict[int, Goal]] = {}
+        for episode in group:
+            for goal in episode.goals:
+                goals.setdefault(f"{episode.scene_id}_{goal.category}", {})[goal.object_id] = goal
+        categories = sorted({e.goal_category for e in group})
+        content = EpisodeFile(
+            episodes=group,
+            goals_by_category={
+                key: [by_id[k] for k in sorted(by_id)] for key, by_id in sorted(goals.items())
+            },
+            category_to_task_category_id={c: i for i, c in enumerate(categories)},
+        )
+        for relative, data in (
+            (f"{split}/{task}.json.gz", content.model_dump(mode="json")),
+            (f"{split}/{task}.rollouts.json.gz", {e.episode_id: rollouts[e.episode_id] for e in group}),
+        ):
+            files[relative] = file_sha256(write_json_gz(data, out / relative))
+    manifest = DatasetManifest(
+        format_version=FORMAT_VERSION,
+        name=name,
+        version=version,
+        toolkit_version=toolkit_version,
+        recipe=recipe,
+        recipe_hash=recipe_hash,
+        embodiment=embodiment,
+        scene_hashes=dict(sorted(scene_hashes.items())),
+        splits={k: sorted(v) for k, v in sorted(splits.items())},
+        counts=counts_table(labelled, splits),
+        difficulty_thresholds=thresholds,
+        files=files,
+    )
+    (out / "manifest.json").write_text(manifest.model_dump_json(indent=2) + "\n")
+    return manifest

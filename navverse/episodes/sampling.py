@@ -1,0 +1,311 @@
+"""Episode candidates sampled on a scene's navmesh (paper Appendix D.1).
+
+For a scene:
+
+1. **Goals.** Objects are grouped into goal categories by the recipe's rules (regular expressions over
+   prim names or paths, :class:`~navverse.scene.categories.CategoryRule`; the first match wins, a rule
+   without a category drops the object), else by their own category, kept when the category is in the
+   recipe's list. Storefronts are the PlaceNav goals, by place category.
+2. **Goal regions.** An instance is reached where the goal distance (:func:`navverse.dataset.goal_distance`)
+   is within the success distance ``1.0 + r_robot``: its region is the navmesh points there, found by
+   snapping rings of points around the instance onto the navmesh.
+3. **Episodes.** A goal category is drawn uniformly among those with a reachable instance, a start
+   uniformly on the island that holds the goal regions (inside the indoor region for indoor-to-outdoor
+   scenes), and the shortest path from the start to every instance's region is computed; instances
+   whose path is 5-50 m long are kept, and an episode needs one. The reference path is the one to the
+   closest kept instance; the start faces its next corner, turned by a uniform ±30°.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from navverse.dataset import Episode, EpisodeInfo, Goal, success_distance
+from navverse.nav.pathfinder import PathFinder
+from navverse.scene.annotations import SceneAnnotations
+from navverse.scene.categories import CategoryRule, assign_category
+
+__all__ = [
+    "GoalRegion",
+    "SamplingSettings",
+    "SceneSample",
+    "goal_regions",
+    "object_goals",
+    "place_goals",
+    "sample_scene_episodes",
+]
+
+_RING_STEP = 0.2  # m between rings of candidate region points
+_RING_POINTS = 24
+
+
+@dataclass(frozen=True)
+class SamplingSettings:
+    """How candidates are drawn.
+
+    Parameters
+    ----------
+    robot_radius : float
+        ``r_robot`` of the embodiment: the success distance is ``1.0 + r_robot``.
+    min_length, max_length : float
+        Accepted shortest-path lengths from the start to a goal instance's region (m).
+    yaw_jitter_deg : float
+        The start faces the reference path's next corner, plus a uniform turn within ± this.
+    attempts : int
+        Starts drawn per episode before the episode is given up.
+    start_region : {"auto", "anywhere", "indoor"}
+        Where starts may be: ``indoor`` inside the scene's indoor region; ``auto`` is ``indoor`` for
+        indoor-to-outdoor scenes, else ``anywhere``.
+    """
+
+    robot_radius: float = 0.6
+    min_length: float = 5.0
+    max_length: float = 50.0
+    yaw_jitter_deg: float = 30.0
+    attempts: int = 50
+    start_region: str = "auto"
+
+    @property
+    def success_distance(self) -> float:
+        """Goal distance counted as success (m)."""
+        return success_distance(self.robot_radius)
+
+
+@dataclass(frozen=True)
+class GoalRegion:
+    """A goal instance and the navmesh points from which it counts as reached."""
+
+    goal: Goal
+    points: np.ndarray  # (K, 3) snapped navmesh points within the success distance
+    island: int
+
+
+@dataclass
+class SceneSample:
+    """The candidates of one scene and what happened while drawing them."""
+
+    episodes: list[Episode]
+    categories: dict[str, int]  # reachable instances per goal category
+    attempts: int = 0
+    given_up: int = 0
+
+
+def object_goals(
+    annotations: SceneAnnotations,
+    *,
+    rules: Sequence[CategoryRule] = (),
+    categories: Sequence[str] | None = None,
+) -> dict[str, list[Goal]]:
+    """Object goal instances by goal category.
+
+    Parameters
+    ----------
+    annotations : SceneAnnotations
+        The scene's objects.
+    rules : sequence of CategoryRule
+        Tried in order on each object's prim name and path; the first match names (or, with no
+        category, drops) the object; objects no rule matches keep their own category.
+    categories : sequence of str, optional
+        Goal categories kept (default: all).
+    """
+    keep = None if categories is None else set(categories)
+    goals: dict[str, list[Goal]] = {}
+    for obj in annotations.objects:
+        name = obj.prim_path.rsplit("/", 1)[-1]
+        category = assign_category(rules, name=name, path=obj.prim_path, default=obj.category)
+        if category is None or (keep is not None and category not in keep):
+            continue
+        goals.setdefault(category, []).append(
+            Goal(
+                object_id=obj.id,
+                category=category,
+                position=_round3(obj.center),
+                radius=round(obj.goal_radius, 4),
+                size=_round3(obj.size),
+            )
+        )
+    return dict(sorted(goals.items()))
+
+
+def place_goals(
+    annotations: SceneAnnotations, *, categories: Sequence[str] | None = None
+) -> dict[str, list[Goal]]:
+    """Storefront goal instances by place category: the entrance, with half the storefront's width."""
+    keep = None if categories is None else set(categories)
+    goals: dict[str, list[Goal]] = {}
+    for store in annotations.storefronts:
+        if keep is not None and store.place_category not in keep:
+            continue
+        goals.setdefault(store.place_category, []).append(
+            Goal(
+                object_id=store.id,
+                category=store.place_category,
+                position=_round3(store.entrance),
+                radius=round(0.5 * store.size[0], 4),
+                size=_round3(store.size),
+            )
+        )
+    return dict(sorted(goals.items()))
+
+
+def goal_regions(finder: PathFinder, goals: Sequence[Goal], *, success: float) -> list[GoalRegion]:
+    """The navmesh points within the success distance of each goal (goals with none are left out)."""
+    regions = []
+    for goal in goals:
+        cx, cy, cz = goal.position
+        bottom = cz - goal.size[2] / 2.0
+        radii = np.arange(max(goal.radius, 0.05), goal.radius + success, _RING_STEP)
+        angles = np.linspace(0.0, 2.0 * math.pi, _RING_POINTS, endpoint=False)
+        ring = np.array([[cx + r * math.cos(a), cy + r * math.sin(a), bottom] for r in radii for a in angles])
+        # Down to the floor under furniture tops (a laptop on a desk), up a little for raised floors.
+        snapped = finder.snap_point(ring, max_horizontal=_RING_STEP, max_vertical=1.5)
+        snapped = snapped[np.isfinite(snapped).all(axis=1)]
+        if len(snapped) == 0:
+            continue
+        distance = np.maximum(np.hypot(snapped[:, 0] - cx, snapped[:, 1] - cy) - goal.radius, 0.0)
+        snapped = snapped[(distance <= success - 0.05) & finder.is_navigable(snapped)]  # not on a border
+        if len(snapped) == 0:
+            continue
+        snapped = np.unique(snapped, axis=0)
+        islands = finder.island_of(snapped)
+        island = int(np.bincount(islands[islands >= 0]).argmax()) if (islands >= 0).any() else -1
+        if island < 0:
+            continue
+        regions.append(GoalRegion(goal, snapped[islands == island], island))
+    return regions
+
+
+def _round3(values: Sequence[float]) -> tuple[float, float, float]:
+    return (round(float(values[0]), 4), round(float(values[1]), 4), round(float(values[2]), 4))
+
+
+def _inside_indoor(annotations: SceneAnnotations, point: np.ndarray) -> bool:
+    from shapely.geometry import Point, Polygon
+
+    p = Point(float(point[0]), float(point[1]))
+    return any(Polygon(polygon).contains(p) for polygon in annotations.regions.indoor)
+
+
+def sample_scene_episodes(
+    finder: PathFinder,
+    annotations: SceneAnnotations,
+    goals_by_category: dict[str, list[Goal]],
+    *,
+    task: str,
+    count: int,
+    rng: np.random.Generator,
+    settings: SamplingSettings = SamplingSettings(),
+    id_offset: int = 0,
+) -> SceneSample:
+    """Draw up to ``count`` candidate episodes of one task in one scene.
+
+    Parameters
+    ----------
+    finder : PathFinder
+        The scene's navmesh.
+    annotations : SceneAnnotations
+        The scene's annotations (id, type, indoor region).
+    goals_by_category : dict
+        Goal instances by category (:func:`object_goals` or :func:`place_goals`).
+    task : str
+        ``objnav``, ``vln`` or ``placenav``.
+    count : int
+        Episodes wanted.
+    rng : numpy.random.Generator
+        All randomness.
+    settings : SamplingSettings
+        Path lengths, start yaw, attempts, start region.
+    id_offset : int
+        First episode number (ids are ``<scene_id>-<task>-<number:04d>``).
+
+    Returns
+    -------
+    SceneSample
+        Fewer than ``count`` episodes when the scene cannot give more (every category's attempts used).
+    """
+    success = settings.success_distance
+    regions_by_category: dict[str, list[GoalRegion]] = {}
+    for category, goals in goals_by_category.items():
+        regions = goal_regions(finder, goals, success=success)
+        if regions:
+            regions_by_category[category] = regions
+    sample = SceneSample(episodes=[], categories={c: len(r) for c, r in regions_by_category.items()})
+    if not regions_by_category or count <= 0:
+        return sample
+    # Starts come from the island that holds the most goal regions (the building's floor).
+    islands = np.bincount([r.island for rs in regions_by_category.values() for r in rs])
+    island = int(islands.argmax())
+    categories = sorted(c for c, rs in regions_by_category.items() if any(r.island == island for r in rs))
+    indoor_only = settings.start_region == "indoor" or (
+        settings.start_region == "auto" and annotations.scene_type == "i2o"
+    )
+    number = id_offset
+    for _ in range(count):
+        category = categories[int(rng.integers(len(categories)))]
+        regions = [r for r in regions_by_category[category] if r.island == island]
+        episode = None
+        for _ in range(settings.attempts):
+            sample.attempts += 1
+            start = finder.get_random_navigable_point(rng, island=island)
+            if indoor_only and not _inside_indoor(annotations, start):
+                continue
+            episode = _episode(finder, annotations, start, regions, task, number, rng, settings)
+            if episode is not None:
+                break
+        if episode is None:
+            sample.given_up += 1
+            continue
+        sample.episodes.append(episode)
+        number += 1
+    return sample
+
+
+def _episode(
+    finder: PathFinder,
+    annotations: SceneAnnotations,
+    start: np.ndarray,
+    regions: Sequence[GoalRegion],
+    task: str,
+    number: int,
+    rng: np.random.Generator,
+    settings: SamplingSettings,
+) -> Episode | None:
+    """The episode from ``start`` to the instances of a category; None when no instance is in range."""
+    kept: list[tuple[float, GoalRegion, np.ndarray]] = []
+    for region in regions:
+        path = finder.find_path_multi(start, region.points)
+        if path.found and settings.min_length <= path.geodesic_distance <= settings.max_length:
+            kept.append((path.geodesic_distance, region, path.points))
+    if not kept:
+        return None
+    kept.sort(key=lambda item: (item[0], item[1].goal.object_id))
+    length, closest, points = kept[0]
+    heading = points[1, :2] - points[0, :2]
+    yaw = math.atan2(heading[1], heading[0]) + math.radians(
+        float(rng.uniform(-settings.yaw_jitter_deg, settings.yaw_jitter_deg))
+    )
+    category = closest.goal.category
+    place = task == "placenav"
+    goal_xy = np.asarray(closest.goal.position[:2])
+    return Episode(
+        episode_id=f"{annotations.scene_id}-{task}-{number:04d}",
+        scene_id=annotations.scene_id,
+        scene_type=annotations.scene_type,
+        task=task,
+        start_position=_round3(points[0]),
+        start_rotation=(0.0, 0.0, round(math.sin(yaw / 2.0), 6), round(math.cos(yaw / 2.0), 6)),
+        object_category=None if place else category,
+        place_category=category if place else None,
+        goals=[region.goal for _, region, _ in sorted(kept, key=lambda item: item[1].goal.object_id)],
+        reference_path=[_round3(p) for p in points],
+        info=EpisodeInfo(
+            geodesic_distance=round(length, 4),
+            euclidean_distance=round(float(np.linalg.norm(goal_xy - points[0, :2])), 4),
+            closest_goal_object_id=closest.goal.object_id,
+            success_distance=settings.success_distance,
+        ),
+    )

@@ -1,0 +1,256 @@
+"""Physics verification of episode candidates (paper Appendix D.2).
+
+Each candidate is executed in PyBullet: the robot is spawned at the start, facing the start yaw, and
+follows the reference path's corners with the shared waypoint follower under full physics
+(:func:`navverse.sim.rollout.follow_path`). It is accepted only if
+
+* the robot came within the success distance of at least one goal instance at some time (oracle
+  success; :func:`navverse.dataset.goal_distance` of the robot base);
+* the rollout lasted more than 5 s and at most 100 s (the timeout of generation);
+* the robot traveled more than 5 m and less than 50 m;
+* no termination ended it (fall, stuck, out of bounds, timeout).
+
+The first unmet condition is the rejection reason. Scenes are verified in parallel processes, each
+scene's candidates in order in one world, so results do not depend on the number of processes.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import multiprocessing
+import os
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from navverse.dataset import Episode, Verification, goal_distance
+
+__all__ = ["REASONS", "VerificationResult", "VerificationSettings", "verify_episodes", "verify_scene"]
+
+REASONS = (
+    "fall",
+    "stuck",
+    "out_of_bounds",
+    "timeout",
+    "no_oracle_success",
+    "too_short_duration",
+    "too_long_duration",
+    "too_short_distance",
+    "too_long_distance",
+)
+"""Rejection reasons, in the order they are checked."""
+
+
+@dataclass(frozen=True)
+class VerificationSettings:
+    """Acceptance bounds of a rollout (Appendix D.2) and what to keep of it.
+
+    Parameters
+    ----------
+    timeout_s : float
+        Longest rollout (s of simulated time); longer ones end as ``timeout``.
+    min_duration_s : float
+        A rollout must last longer than this (s).
+    min_traveled_m, max_traveled_m : float
+        The executed path must be longer than the first and shorter than the second (m).
+    keyframes : int
+        RGB frames rendered along each accepted rollout (0: none).
+    keyframe_size : tuple of int
+        Width and height of keyframes (pixels).
+    """
+
+    timeout_s: float = 100.0
+    min_duration_s: float = 5.0
+    min_traveled_m: float = 5.0
+    max_traveled_m: float = 50.0
+    keyframes: int = 0
+    keyframe_size: tuple[int, int] = (320, 240)
+
+
+@dataclass(frozen=True, eq=False)
+class VerificationResult:
+    """The outcome of one candidate's rollout."""
+
+    episode_id: str
+    reason: str | None  # None: accepted
+    verification: Verification
+    trajectory: np.ndarray  # (K, 8) rows [t, x, y, z, qx, qy, qz, qw] at 10 Hz
+    keyframes: tuple[np.ndarray, ...] = ()
+
+    @property
+    def accepted(self) -> bool:
+        """Whether the episode passed every check."""
+        return self.reason is None
+
+
+def _oracle_success_time(episode: Episode, trajectory: np.ndarray) -> float | None:
+    """First time (s) the base is within the success distance of any goal, None if never."""
+    tolerance = episode.info.success_distance
+    for row in trajectory:
+        if any(goal_distance(row[1:3], goal) <= tolerance for goal in episode.goals):
+            return float(row[0])
+    return None
+
+
+def _judge(episode: Episode, termination: str | None, duration: float, traveled: float,
+           success_time: float | None, settings: VerificationSettings) -> str | None:  # fmt: skip
+    if termination is not None:
+        return termination
+    if success_time is None:
+        return "no_oracle_success"
+    if duration <= settings.min_duration_s:
+        return "too_short_duration"
+    if duration > settings.timeout_s:
+        return "too_long_duration"
+    if traveled <= settings.min_traveled_m:
+        return "too_short_distance"
+    if traveled >= settings.max_traveled_m:
+        return "too_long_distance"
+    return None
+
+
+def verify_scene(
+    scene_dir: str | os.PathLike[str],
+    episodes: Sequence[Episode],
+    *,
+    embodiment: str,
+    settings: VerificationSettings = VerificationSettings(),
+    collision_cache: str | Path | None = "default",
+    progress: Callable[[int], None] | None = None,
+) -> list[VerificationResult]:
+    """Roll out the episodes of one scene, in order, in one world.
+
+    Parameters
+    ----------
+    scene_dir : path
+        The built scene directory.
+    episodes : sequence of Episode
+        Candidates of this scene.
+    embodiment : str
+        The robot (``spot``, ``turtlebot``...).
+    settings : VerificationSettings
+        Bounds and keyframes.
+    collision_cache : path, "default" or None
+        Where convex decompositions are cached (see :class:`~navverse.sim.world.World`).
+    progress : callable, optional
+        Called with 1 after each episode.
+    """
+    from navverse.sim.embodiment import make_embodiment
+    from navverse.sim.rollout import follow_path
+    from navverse.sim.simulator import Simulator
+    from navverse.sim.terminations import TerminationMonitor
+    from navverse.sim.world import World
+
+    results = []
+    with World(scene_dir, collision_cache=collision_cache) as world:
+        sim = Simulator(world, make_embodiment(embodiment))
+        renderer = None
+        for episode in episodes:
+            sim.spawn(episode.start_position, episode.start_yaw)
+            monitor = TerminationMonitor(timeout=settings.timeout_s, detect_stuck=True)
+            rollout = follow_path(sim, np.asarray(episode.reference_path), monitor=monitor)
+            trajectory = rollout.trajectory
+            success_time = _oracle_success_time(episode, trajectory)
+            reason = _judge(
+                episode, rollout.termination, rollout.duration, rollout.traveled, success_time, settings
+            )
+            keyframes: tuple[np.ndarray, ...] = ()
+            if reason is None and settings.keyframes > 0:
+                if renderer is None:
+                    from navverse.sim.camera import CameraIntrinsics
+                    from navverse.sim.render import SceneRenderer
+
+                    renderer = SceneRenderer(
+                        world.scene, intrinsics=CameraIntrinsics.from_hfov(*settings.keyframe_size, 90.0)
+                    )
+                keyframes = _keyframes(renderer, trajectory, sim.robot.camera_to_base, settings.keyframes)
+            results.append(
+                VerificationResult(
+                    episode_id=episode.episode_id,
+                    reason=reason,
+                    verification=Verification(
+                        embodiment=embodiment,
+                        duration_s=round(rollout.duration, 3),
+                        traveled_m=round(rollout.traveled, 3),
+                        oracle_success_time_s=round(success_time, 3) if success_time is not None else -1.0,
+                    ),
+                    trajectory=trajectory,
+                    keyframes=keyframes,
+                )
+            )
+            if progress is not None:
+                progress(1)
+        sim.robot.remove()
+    return results
+
+
+def _keyframes(
+    renderer, trajectory: np.ndarray, camera_to_base: np.ndarray, count: int
+) -> tuple[np.ndarray, ...]:
+    """RGB frames at ``count`` evenly spaced rows of the trajectory."""
+    from navverse.sim.simulator import Pose
+
+    rows = np.linspace(0, len(trajectory) - 1, count).round().astype(int)
+    frames = []
+    for row in trajectory[rows]:
+        base = Pose(row[1:4], row[4:8]).matrix()
+        frames.append(renderer.render(base @ camera_to_base).rgb)
+    return tuple(frames)
+
+
+def _verify_task(args: tuple) -> list[VerificationResult]:
+    scene_dir, episodes, embodiment, settings = args
+    return verify_scene(scene_dir, episodes, embodiment=embodiment, settings=settings)
+
+
+def verify_episodes(
+    episodes: Sequence[Episode],
+    scene_dirs: dict[str, Path],
+    *,
+    embodiment: str,
+    settings: VerificationSettings = VerificationSettings(),
+    jobs: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> list[VerificationResult]:
+    """Verify candidates of many scenes, a process per scene at a time; results in the candidates' order.
+
+    Parameters
+    ----------
+    episodes : sequence of Episode
+        Candidates.
+    scene_dirs : dict
+        Built scene directory by scene id; every candidate's scene must be there.
+    embodiment : str
+        The robot.
+    settings : VerificationSettings
+        Bounds and keyframes.
+    jobs : int, optional
+        Processes (default: the number of CPUs; 0 or 1 verifies in this process).
+    progress : callable, optional
+        Called with (scenes done, scenes) as scenes finish.
+    """
+    by_scene: dict[str, list[Episode]] = {}
+    for episode in episodes:
+        by_scene.setdefault(episode.scene_id, []).append(episode)
+    tasks = [(scene_dirs[scene], eps, embodiment, settings) for scene, eps in sorted(by_scene.items())]
+    jobs = min(len(tasks), os.cpu_count() or 1) if jobs is None else jobs
+    results: dict[str, VerificationResult] = {}
+    done = 0
+    if jobs <= 1:
+        for task in tasks:
+            results.update((r.episode_id, r) for r in _verify_task(task))
+            done += 1
+            if progress is not None:
+                progress(done, len(tasks))
+    else:
+        context = multiprocessing.get_context("spawn")
+        with cf.ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
+            futures = [pool.submit(_verify_task, task) for task in tasks]
+            for future in cf.as_completed(futures):
+                results.update((r.episode_id, r) for r in future.result())
+                done += 1
+                if progress is not None:
+                    progress(done, len(tasks))
+    return [results[e.episode_id] for e in episodes]

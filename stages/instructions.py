@@ -1,0 +1,90 @@
+"""The instructions stage: landmark-grounded VLN instructions for the verified VLN episodes."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from pydantic import Field
+
+from pipeline import Input, Params, StageContext, stage
+
+
+class InstructionsParams(Params):
+    """Parameters of :func:`instructions` (Appendix D.3).
+
+    Each verified VLN episode gets a template (turns and distances along the simplified reference path,
+    aligned to its rollout) and a rewrite naming landmarks, objects seen by the robot's camera near each
+    turn, by colour and category, without distances. Episodes naming fewer than ``min_landmarks``
+    landmarks are dropped. ``max_landmark_distance`` bounds how far (m) a landmark may be from the
+    camera and from its turn. ``refiner`` (``"package.module:function"``) names an optional callable,
+    for instance wrapping a vision-language model, that receives the keyframes, the template, the
+    landmark text and the episode and returns the final text (None drops the episode).
+    """
+
+    min_landmarks: Annotated[int, Field(ge=0, le=16)] = 2
+    max_landmark_distance: Annotated[float, Field(gt=0.0, le=20.0)] = 3.5
+    refiner: Annotated[str, Field(pattern=r"^[A-Za-z_][\w.]*:[A-Za-z_][\w.]*$")] | None = None
+
+
+@stage(name="instructions", inputs=["verified", Input("scene", many=True)], outputs=["instructions"])
+def instructions(ctx: StageContext, params: InstructionsParams) -> None:
+    """instructions.json.gz (instruction per VLN episode id) and dropped.json.gz (episode id -> reason)."""
+    import zlib
+    from collections import Counter
+
+    import numpy as np
+
+    from navverse.dataset import Episode, read_json_gz, write_json_gz
+    from navverse.episodes import files
+    from navverse.episodes.instructions import InstructionSettings, InstructionWriter, load_refiner
+    from navverse.scene import read_annotations, read_scene
+    from navverse.sim.embodiment import make_embodiment
+
+    refiner = load_refiner(params.refiner) if params.refiner else None
+    verified = read_json_gz(ctx.input("verified") / files.EPISODES)
+    rollouts = read_json_gz(ctx.input("verified") / files.ROLLOUTS)
+    by_scene: dict[str, list[Episode]] = {}
+    for raw in verified["episodes"]:
+        episode = Episode.model_validate(raw)
+        if episode.task == "vln":
+            by_scene.setdefault(episode.scene_id, []).append(episode)
+    scene_dirs = {read_annotations(path).scene_id: path for path in ctx.inputs["scene"]}
+    missing = sorted(set(by_scene) - set(scene_dirs))
+    if missing:
+        raise RuntimeError(f"VLN episodes of scenes that are not linked: {', '.join(missing)}")
+    settings = InstructionSettings(
+        min_landmarks=params.min_landmarks, max_distance=params.max_landmark_distance
+    )
+    camera_to_base = make_embodiment(verified["embodiment"]).camera_to_base
+    written, dropped = {}, {}
+    total, done = sum(map(len, by_scene.values())), 0
+    for scene_id, episodes in sorted(by_scene.items()):
+        ctx.progress(done, total, scene_id)
+        writer = InstructionWriter(
+            read_scene(scene_dirs[scene_id]),
+            camera_to_base=camera_to_base,
+            settings=settings,
+            refiner=refiner,
+        )
+        for episode in episodes:
+            rng = np.random.default_rng([ctx.seed, zlib.crc32(episode.episode_id.encode())])
+            instruction, reason = writer.write(episode, np.asarray(rollouts[episode.episode_id]), rng)
+            if instruction is None:
+                dropped[episode.episode_id] = reason
+            else:
+                written[episode.episode_id] = instruction.model_dump(mode="json")
+        done += len(episodes)
+    ctx.progress(total, total, "written")
+    write_json_gz(written, ctx.output / files.INSTRUCTIONS)
+    write_json_gz(dropped, ctx.output / files.DROPPED)
+    why = Counter(reason.split(":")[0] for reason in dropped.values())
+    ctx.record(
+        vln_episodes=total,
+        written=len(written),
+        dropped=len(dropped),
+        dropped_by_reason=dict(sorted(why.items())),
+        landmarks_per_instruction=round(
+            float(np.mean([len(i["landmarks"]) for i in written.values()])) if written else 0.0, 3
+        ),
+    )
+    ctx.log.info("%d of %d VLN episodes have an instruction; %d dropped", len(written), total, len(dropped))

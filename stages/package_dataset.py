@@ -1,0 +1,83 @@
+"""The package_dataset stage: the versioned dataset of verified episodes, with scene-disjoint splits."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from pydantic import Field, field_validator
+
+from pipeline import Input, Params, StageContext, stage
+
+
+class PackageDatasetParams(Params):
+    """Parameters of :func:`package_dataset`.
+
+    ``version`` (``MAJOR.MINOR``) names the published directory ``episodes/<name>/v<version>``; a
+    published version never changes, so bump it when the content changes. ``name`` defaults to the
+    target id. ``splits`` maps split names to glob patterns over scene ids; every scene must fall in
+    exactly one split (splits are scene-disjoint).
+    """
+
+    version: Annotated[str, Field(pattern=r"^\d+\.\d+$")]
+    name: Annotated[str, Field(pattern=r"^[a-z0-9][a-z0-9._-]*$")] | None = None
+    splits: dict[Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*$")], list[str]]
+
+    @field_validator("splits")
+    @classmethod
+    def _some(cls, value: dict[str, list[str]]) -> dict[str, list[str]]:
+        if not value or any(not globs for globs in value.values()):
+            raise ValueError(
+                "give every split a list of scene id patterns, e.g. {train: ['*-s0'], eval: ['*-s1']}"
+            )
+        return value
+
+
+@stage(
+    name="package_dataset",
+    inputs=["verified", "instructions", Input("scene", many=True)],
+    outputs=["dataset"],
+)
+def package_dataset(ctx: StageContext, params: PackageDatasetParams) -> None:
+    """<name>/v<version>/: <split>/<task>.json.gz, the rollouts beside them, and manifest.json."""
+    from navverse import __version__
+    from navverse.dataset import Episode, Instruction, read_json_gz, scene_hash
+    from navverse.episodes import files
+    from navverse.episodes.packaging import assign_splits, write_dataset
+    from navverse.scene import read_annotations
+
+    verified = read_json_gz(ctx.input("verified") / files.EPISODES)
+    rollouts = read_json_gz(ctx.input("verified") / files.ROLLOUTS)
+    instructions = read_json_gz(ctx.input("instructions") / files.INSTRUCTIONS)
+    episodes = []
+    for raw in verified["episodes"]:
+        episode = Episode.model_validate(raw)
+        if episode.task == "vln":
+            if episode.episode_id not in instructions:
+                continue  # dropped for want of landmarks
+            instruction = Instruction.model_validate(instructions[episode.episode_id])
+            episode = episode.model_copy(update={"instruction": instruction})
+        episodes.append(episode)
+    scene_dirs = {read_annotations(path).scene_id: path for path in ctx.inputs["scene"]}
+    splits = assign_splits(sorted(scene_dirs), params.splits)
+    name = params.name or ctx.target
+    manifest = write_dataset(
+        ctx.output / name / f"v{params.version}",  # laid out as published under episodes/
+        episodes,
+        rollouts,
+        name=name,
+        version=params.version,
+        splits=splits,
+        embodiment=verified["embodiment"],
+        recipe=f"recipes/{ctx.recipe}",
+        recipe_hash=ctx.recipe_hash,
+        scene_hashes={scene: scene_hash(path) for scene, path in scene_dirs.items()},
+        toolkit_version=__version__,
+    )
+    ctx.record(
+        episodes=len(episodes),
+        counts=manifest.counts,
+        difficulty_thresholds={k: list(v) for k, v in manifest.difficulty_thresholds.items()},
+    )
+    ctx.log.info(
+        "dataset %s v%s: %d episodes in %s", manifest.name, manifest.version, len(episodes), ", ".join(splits)
+    )

@@ -1,0 +1,121 @@
+"""The sample_episodes stage: episode candidates drawn on the navmeshes of a dataset's scenes."""
+
+from __future__ import annotations
+
+import zlib
+from typing import Annotated, Literal
+
+from pydantic import AfterValidator, Field, model_validator
+
+from navverse.scene.categories import CATEGORY_PATTERN, CategoryRule
+from pipeline import Input, Params, StageContext, stage
+
+
+def _known_embodiment(name: str) -> str:
+    from navverse.sim.embodiment import EMBODIMENTS
+
+    if name not in EMBODIMENTS:
+        raise ValueError(f"unknown embodiment {name!r} (known: {', '.join(sorted(EMBODIMENTS))})")
+    return name
+
+
+class TaskParams(Params):
+    """How many candidates of a task to draw per scene."""
+
+    episodes_per_scene: Annotated[int, Field(ge=0, le=10_000)]
+
+
+class SampleEpisodesParams(Params):
+    """Parameters of :func:`sample_episodes`.
+
+    ``tasks`` maps ``objnav``, ``vln`` and ``placenav`` to the candidates wanted per scene. Object goals
+    are the objects whose category (after ``goal_rules``: regular expressions over prim names or paths,
+    the first match wins, ``category: null`` drops the object) is in ``categories`` (all when omitted);
+    PlaceNav goals are storefronts of ``place_categories``. ``embodiment`` fixes r_robot and so the
+    success distance (1.0 + r_robot); the verification stage uses the same robot. Paths to a goal
+    instance must be ``path_length`` long (m); the start faces the path, turned by up to
+    ``yaw_jitter_deg``. ``start_region: auto`` starts indoor-to-outdoor episodes inside the building.
+    """
+
+    tasks: dict[Literal["objnav", "vln", "placenav"], TaskParams]
+    categories: list[Annotated[str, Field(pattern=CATEGORY_PATTERN)]] | None = None
+    place_categories: list[str] | None = None
+    goal_rules: list[CategoryRule] = []
+    embodiment: Annotated[str, AfterValidator(_known_embodiment)] = "spot"
+    path_length: tuple[Annotated[float, Field(gt=0.0)], Annotated[float, Field(gt=0.0)]] = (5.0, 50.0)
+    yaw_jitter_deg: Annotated[float, Field(ge=0.0, le=180.0)] = 30.0
+    attempts: Annotated[int, Field(ge=1, le=10_000)] = 50
+    start_region: Literal["auto", "anywhere", "indoor"] = "auto"
+
+    @model_validator(mode="after")
+    def _ranges(self) -> SampleEpisodesParams:
+        if self.path_length[0] >= self.path_length[1]:
+            raise ValueError(f"path_length must be [shortest, longest], got {list(self.path_length)}")
+        if not self.tasks:
+            raise ValueError("name at least one task under 'tasks' (objnav, vln, placenav)")
+        return self
+
+
+@stage(name="sample_episodes", inputs=[Input("scene", many=True)], outputs=["candidates"])
+def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
+    """candidates.json.gz: episode candidates of every task in every linked scene, with their statistics."""
+    import numpy as np
+
+    from navverse.dataset import write_json_gz
+    from navverse.episodes import files
+    from navverse.episodes.sampling import SamplingSettings, object_goals, place_goals, sample_scene_episodes
+    from navverse.nav.scene_navmesh import load_scene_navmesh
+    from navverse.scene import read_annotations
+    from navverse.sim.embodiment import make_embodiment
+
+    robot = make_embodiment(params.embodiment)
+    settings = SamplingSettings(
+        robot_radius=robot.radius,
+        min_length=params.path_length[0],
+        max_length=params.path_length[1],
+        yaw_jitter_deg=params.yaw_jitter_deg,
+        attempts=params.attempts,
+        start_region=params.start_region,
+    )
+    scenes = sorted((read_annotations(path).scene_id, path) for path in ctx.inputs["scene"])
+    episodes = []
+    per_scene: dict[str, dict[str, int]] = {}
+    for done, (scene_id, path) in enumerate(scenes):
+        ctx.progress(done, len(scenes), scene_id)
+        annotations = read_annotations(path)
+        finder = load_scene_navmesh(path)
+        counts = per_scene.setdefault(scene_id, {})
+        for task_index, (task, spec) in enumerate(sorted(params.tasks.items())):
+            if task == "placenav":
+                goals = place_goals(annotations, categories=params.place_categories)
+            else:
+                goals = object_goals(annotations, rules=params.goal_rules, categories=params.categories)
+            rng = np.random.default_rng([ctx.seed, zlib.crc32(scene_id.encode()), task_index])
+            sample = sample_scene_episodes(
+                finder,
+                annotations,
+                goals,
+                task=task,
+                count=spec.episodes_per_scene,
+                rng=rng,
+                settings=settings,
+            )
+            episodes.extend(sample.episodes)
+            counts[task] = len(sample.episodes)
+            if len(sample.episodes) < spec.episodes_per_scene:
+                why = "no reachable goal category" if not sample.categories else "attempts used up"
+                ctx.log.warning(
+                    "%s: %d of %d %s candidates (%s)",
+                    scene_id, len(sample.episodes), spec.episodes_per_scene, task, why,
+                )  # fmt: skip
+    ctx.progress(len(scenes), len(scenes), "written")
+    write_json_gz(
+        {
+            "embodiment": params.embodiment,
+            "robot_radius": robot.radius,
+            "episodes": [e.model_dump(mode="json") for e in episodes],
+        },
+        ctx.output / files.CANDIDATES,
+    )
+    ctx.record(candidates=len(episodes), scenes=len(scenes), per_scene=per_scene)
+    ctx.log.info("%d candidates in %d scenes", len(episodes), len(scenes))

@@ -1,0 +1,108 @@
+"""The verify_episodes stage: every candidate run under full physics; those that pass, and why others fail."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from pydantic import Field, model_validator
+
+from pipeline import Input, Params, StageContext, stage
+
+
+class VerifyEpisodesParams(Params):
+    """Parameters of :func:`verify_episodes` (Appendix D.2; the robot is the candidates' own).
+
+    A rollout must reach a goal instance (oracle success), last more than ``duration_s[0]`` and at most
+    ``duration_s[1]`` seconds, travel more than ``traveled_m[0]`` and less than ``traveled_m[1]``
+    meters, and end without a fall, getting stuck or leaving the scene. ``keyframes`` RGB frames are
+    rendered along each accepted rollout and kept (0: none).
+    """
+
+    duration_s: tuple[Annotated[float, Field(ge=0.0)], Annotated[float, Field(gt=0.0, le=3600.0)]] = (
+        5.0,
+        100.0,
+    )
+    traveled_m: tuple[Annotated[float, Field(ge=0.0)], Annotated[float, Field(gt=0.0)]] = (5.0, 50.0)
+    keyframes: Annotated[int, Field(ge=0, le=64)] = 0
+
+    @model_validator(mode="after")
+    def _ranges(self) -> VerifyEpisodesParams:
+        for name in ("duration_s", "traveled_m"):
+            low, high = getattr(self, name)
+            if low >= high:
+                raise ValueError(f"{name} must be [lowest, highest], got {[low, high]}")
+        return self
+
+
+@stage(name="verify_episodes", inputs=["candidates", Input("scene", many=True)], outputs=["verified"])
+def verify_episodes(ctx: StageContext, params: VerifyEpisodesParams) -> None:
+    """episodes.json.gz (accepted, with their verification), rollouts, rejections with reasons, keyframes."""
+    from collections import Counter
+
+    from PIL import Image
+
+    from navverse.dataset import Episode, read_json_gz, write_json_gz
+    from navverse.episodes import files
+    from navverse.episodes.verification import VerificationSettings
+    from navverse.episodes.verification import verify_episodes as run
+    from navverse.scene import read_annotations
+
+    candidates = read_json_gz(ctx.input("candidates") / files.CANDIDATES)
+    episodes = [Episode.model_validate(e) for e in candidates["episodes"]]
+    scene_dirs = {read_annotations(path).scene_id: path for path in ctx.inputs["scene"]}
+    missing = sorted({e.scene_id for e in episodes} - set(scene_dirs))
+    if missing:
+        raise RuntimeError(f"candidates of scenes that are not linked: {', '.join(missing)}")
+    settings = VerificationSettings(
+        timeout_s=params.duration_s[1],
+        min_duration_s=params.duration_s[0],
+        min_traveled_m=params.traveled_m[0],
+        max_traveled_m=params.traveled_m[1],
+        keyframes=params.keyframes,
+    )
+    ctx.progress(0, len(scene_dirs), "verifying")
+    results = run(
+        episodes,
+        scene_dirs,
+        embodiment=candidates["embodiment"],
+        settings=settings,
+        progress=lambda done, total: ctx.progress(done, total, "verifying"),
+    )
+    accepted, rollouts, rejections = [], {}, []
+    for episode, result in zip(episodes, results, strict=True):
+        if result.accepted:
+            info = episode.info.model_copy(update={"verification": result.verification})
+            accepted.append(episode.model_copy(update={"info": info}).model_dump(mode="json"))
+            rollouts[episode.episode_id] = [[round(float(v), 4) for v in row] for row in result.trajectory]
+            for k, frame in enumerate(result.keyframes):
+                path = ctx.output / files.KEYFRAMES / episode.episode_id / f"{k:02d}.png"
+                path.parent.mkdir(parents=True, exist_ok=True)
+                Image.fromarray(frame).save(path)
+        else:
+            rejections.append(
+                {
+                    "episode_id": episode.episode_id,
+                    "scene_id": episode.scene_id,
+                    "task": episode.task,
+                    "reason": result.reason,
+                    "duration_s": result.verification.duration_s,
+                    "traveled_m": result.verification.traveled_m,
+                }
+            )
+    write_json_gz({"embodiment": candidates["embodiment"], "episodes": accepted}, ctx.output / files.EPISODES)
+    write_json_gz(rollouts, ctx.output / files.ROLLOUTS)
+    write_json_gz(rejections, ctx.output / files.REJECTIONS)
+    reasons = Counter(r["reason"] for r in rejections)
+    by_task = Counter(e["task"] for e in accepted)
+    rate = len(accepted) / len(episodes) if episodes else 0.0
+    ctx.record(
+        candidates=len(episodes),
+        accepted=len(accepted),
+        acceptance_rate=round(rate, 4),
+        accepted_by_task=dict(sorted(by_task.items())),
+        rejected_by_reason=dict(sorted(reasons.items())),
+    )
+    ctx.log.info(
+        "accepted %d of %d candidates (%.1f%%); rejected: %s", len(accepted), len(episodes), 100 * rate,
+        ", ".join(f"{k} {v}" for k, v in sorted(reasons.items())) or "none",
+    )  # fmt: skip

@@ -1,0 +1,124 @@
+"""Candidates on the navmesh (Appendix D.1): goal categories, goal regions, path lengths, start yaw."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from navverse.dataset import goal_distance
+from navverse.episodes.sampling import SamplingSettings, goal_regions, object_goals, sample_scene_episodes
+from navverse.nav.scene_navmesh import load_scene_navmesh
+from navverse.scene import Scene
+from navverse.scene.categories import CategoryRule
+
+CATEGORIES = ["bed", "sofa", "toilet", "fridge", "chair", "armchair", "sink", "desk"]
+
+
+@pytest.fixture(scope="module")
+def sample(apartment: Scene, scene_dirs: dict[str, Path]):
+    finder = load_scene_navmesh(scene_dirs["apartment-s0"])
+    goals = object_goals(apartment.annotations, categories=CATEGORIES)
+    return (
+        finder,
+        goals,
+        sample_scene_episodes(
+            finder, apartment.annotations, goals, task="objnav", count=25, rng=np.random.default_rng(4)
+        ),
+    )
+
+
+def test_goal_rules_and_categories_choose_the_goals(apartment: Scene):
+    rules = [
+        CategoryRule(pattern=r"^armchair", category="sofa"),
+        CategoryRule(pattern=r"^sink", category=None),
+    ]
+    goals = object_goals(apartment.annotations, rules=rules, categories=["sofa", "sink", "bed"])
+    assert set(goals) <= {"sofa", "bed"}  # sinks dropped by the rule, the rest not listed
+    objects = {o.id: o for o in apartment.annotations.objects}
+    assert {objects[g.object_id].category for g in goals["sofa"]} == {"sofa", "armchair"}
+    for goal in goals["bed"]:
+        obj = objects[goal.object_id]
+        assert goal.position == pytest.approx(obj.center, abs=1e-4)
+        assert goal.radius == pytest.approx(obj.goal_radius, abs=1e-4)
+
+
+def test_goal_regions_are_navigable_points_within_the_success_distance(sample):
+    finder, goals, _ = sample
+    for region in goal_regions(finder, goals["bed"], success=1.6):
+        assert len(region.points) > 5
+        assert all(goal_distance(p, region.goal) <= 1.6 for p in region.points)
+        assert finder.is_navigable(region.points).all()
+
+
+def test_episodes_keep_the_papers_rules(sample):
+    finder, _, drawn = sample
+    episodes = drawn.episodes
+    assert len(episodes) == 25 and len({e.episode_id for e in episodes}) == 25
+    assert {e.object_category for e in episodes} <= set(CATEGORIES)
+    assert len({e.object_category for e in episodes}) >= 4  # categories drawn uniformly, not one
+    for e in episodes:
+        assert 5.0 <= e.info.geodesic_distance <= 50.0
+        path = np.asarray(e.reference_path)
+        assert path[0] == pytest.approx(e.start_position, abs=1e-3)
+        closest = next(g for g in e.goals if g.object_id == e.info.closest_goal_object_id)
+        assert goal_distance(path[-1], closest) <= e.info.success_distance  # ends in its goal region
+        # Every goal instance kept is 5-50 m away; the reference path goes to the nearest one.
+        for goal in e.goals:
+            (region,) = goal_regions(finder, [goal], success=e.info.success_distance)
+            length = finder.find_path_multi(e.start_position, region.points).geodesic_distance
+            assert 5.0 - 1e-3 <= length <= 50.0 + 1e-3
+            assert length >= e.info.geodesic_distance - 1e-3
+        # The start faces the next corner, within the 30 degree perturbation.
+        heading = math.atan2(path[1, 1] - path[0, 1], path[1, 0] - path[0, 0])
+        assert abs(math.remainder(e.start_yaw - heading, math.tau)) <= math.radians(30) + 1e-4
+        assert finder.island_of(e.start_position) == finder.largest_island
+
+
+def test_same_seed_same_episodes_and_other_seeds_others(sample, apartment: Scene):
+    finder, goals, drawn = sample
+    again = sample_scene_episodes(
+        finder, apartment.annotations, goals, task="objnav", count=25, rng=np.random.default_rng(4)
+    )
+    assert [e.model_dump() for e in again.episodes] == [e.model_dump() for e in drawn.episodes]
+    other = sample_scene_episodes(
+        finder, apartment.annotations, goals, task="objnav", count=25, rng=np.random.default_rng(5)
+    )
+    assert [e.start_position for e in other.episodes] != [e.start_position for e in drawn.episodes]
+
+
+def test_indoor_to_outdoor_scenes_start_inside_the_building(sample, apartment: Scene):
+    from shapely.geometry import Point, Polygon
+
+    finder, goals, _ = sample
+    indoor = [Polygon(p) for p in apartment.annotations.regions.indoor]
+    assert indoor, "the apartment has an indoor region"
+    settings = SamplingSettings(start_region="indoor")
+    drawn = sample_scene_episodes(
+        finder,
+        apartment.annotations,
+        goals,
+        task="objnav",
+        count=10,
+        rng=np.random.default_rng(1),
+        settings=settings,
+    )
+    assert drawn.episodes
+    assert all(any(p.contains(Point(e.start_position[:2])) for p in indoor) for e in drawn.episodes)
+
+
+def test_impossible_lengths_give_up_and_say_how_often(sample, apartment: Scene):
+    finder, goals, _ = sample
+    settings = SamplingSettings(min_length=200.0, max_length=300.0, attempts=5)
+    drawn = sample_scene_episodes(
+        finder,
+        apartment.annotations,
+        goals,
+        task="objnav",
+        count=3,
+        rng=np.random.default_rng(0),
+        settings=settings,
+    )
+    assert drawn.episodes == [] and drawn.given_up == 3 and drawn.attempts == 15

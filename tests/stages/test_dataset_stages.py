@@ -1,0 +1,262 @@
+"""The dataset stages through the engine: sample, verify, instructions, package; replay, bytes, errors."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from navverse.dataset import FORMAT_VERSION, Dataset, DatasetError, built_version, read_json_gz
+from navverse.episodes import files
+from navverse.episodes.inspect import check_bounds, replay
+from navverse.episodes.verification import REASONS
+from pipeline.errors import RecipeError
+from pipeline.recipes import RecipeLoader
+from pipeline.stage import discover
+from tests.stages.conftest import Built, build_all, workspace_with
+
+NAVVERSE = str(Path(sys.executable).with_name("navverse"))
+SCENES = "scenes/indoor/apartment.yaml"
+DATASET = """\
+extends: dataset
+seed: 3
+links:
+  scene: [apartment-s*]
+stages:
+  sample_episodes:
+    tasks:
+      objnav: {episodes_per_scene: 6}
+      vln: {episodes_per_scene: 6}
+    categories: [bed, sofa, toilet, fridge, oven, bathtub, bench, desk, wardrobe, sink, armchair]
+  verify_episodes:
+    keyframes: 2
+  package_dataset:
+    version: "1.0"
+    splits: {train: ["*-s0"], eval: ["*-s1"]}
+"""
+
+
+def _digests(root: Path) -> dict[str, str]:
+    return {
+        str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest()
+        for p in sorted(root.rglob("*"))
+        if p.is_file()
+    }
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory: pytest.TempPathFactory) -> Built:
+    workspace = workspace_with(tmp_path_factory.mktemp("ds"), [SCENES], {"datasets/tiny.yaml": DATASET})
+    result = build_all(workspace)
+    assert result.report.ok, result.report
+    return result
+
+
+@pytest.fixture(scope="module")
+def dataset(built: Built) -> Dataset:
+    return Dataset(built_version(built.output("tiny", "dataset")))
+
+
+def _scene_dirs(built: Built) -> dict[str, Path]:
+    return {s: built.output(s, "scene") for s in ("apartment-s0", "apartment-s1")}
+
+
+def test_the_dataset_has_scene_disjoint_splits_counts_and_checksums(built: Built, dataset: Dataset):
+    manifest = dataset.manifest
+    assert manifest.format_version == FORMAT_VERSION and manifest.version == "1.0" and manifest.name == "tiny"
+    assert dataset.root.parts[-2:] == ("tiny", "v1.0")
+    assert manifest.splits == {"train": ["apartment-s0"], "eval": ["apartment-s1"]}
+    assert set(manifest.scene_hashes) == {"apartment-s0", "apartment-s1"}
+    assert manifest.recipe == "recipes/datasets/tiny.yaml" and len(manifest.recipe_hash) == 64
+    assert dataset.verify_checksums() == []
+    for split, scenes in manifest.splits.items():
+        for task in dataset.tasks(split):
+            episodes = list(dataset.episodes(split=split, task=task))
+            assert {e.scene_id for e in episodes} <= set(scenes)
+            assert manifest.counts[split][task]["indoor"] == len(episodes) > 0
+    everything = list(dataset.episodes())
+    assert len({e.episode_id for e in everything}) == len(everything)
+    # Difficulty: per-task tertiles of the geodesic distance, recorded in the manifest.
+    for task, (easy, hard) in manifest.difficulty_thresholds.items():
+        for e in (e for e in everything if e.task == task):
+            d = e.info.geodesic_distance
+            assert e.info.difficulty == ("easy" if d < easy else "medium" if d < hard else "hard")
+
+
+def test_verification_records_every_candidate(built: Built, dataset: Dataset):
+    stats = built.manifest("tiny", "verified")["stats"]
+    rejected = read_json_gz(built.output("tiny", "verified") / files.REJECTIONS)
+    candidates = read_json_gz(built.output("tiny", "candidates") / files.CANDIDATES)["episodes"]
+    assert stats["candidates"] == len(candidates) == 24
+    assert stats["accepted"] + len(rejected) == len(candidates)
+    assert sum(stats["rejected_by_reason"].values()) == len(rejected)
+    assert {r["reason"] for r in rejected} <= set(REASONS)
+    keyframes = built.output("tiny", "verified") / files.KEYFRAMES
+    assert len(list(keyframes.glob("*/*.png"))) == 2 * stats["accepted"]
+    # The dataset holds the accepted ones, less VLN episodes dropped for want of landmarks.
+    dropped = read_json_gz(built.output("tiny", "instructions") / files.DROPPED)
+    assert len(list(dataset.episodes())) == stats["accepted"] - len(dropped)
+
+
+def test_vln_episodes_carry_grounded_instructions(built: Built, dataset: Dataset):
+    vln = [e for e in dataset.episodes() if e.task == "vln"]
+    assert len(vln) >= 3
+    for episode in vln:
+        instruction = episode.instruction
+        assert instruction is not None and len(instruction.landmarks) >= 2
+        assert not re.search(r"\d|meter", instruction.instruction_text)
+        assert len(instruction.directive_times) >= 2
+        duration = episode.info.verification.duration_s
+        assert instruction.directive_times == sorted(instruction.directive_times)
+        assert instruction.directive_times[0] >= 0.0 and instruction.directive_times[-1] <= duration + 1e-6
+    assert all(e.instruction is None for e in dataset.episodes() if e.task == "objnav")
+
+
+def test_every_episode_keeps_the_bounds_and_a_sample_replays_to_the_goal(built: Built, dataset: Dataset):
+    episodes = list(dataset.episodes())
+    assert [check_bounds(e) for e in episodes] == [None] * len(episodes)
+    sample = [episodes[i] for i in np.random.default_rng(0).choice(len(episodes), 6, replace=False)]
+    report = replay(sample, _scene_dirs(built), embodiment=dataset.manifest.embodiment, jobs=1)
+    assert report.replayed == report.reached == 6 and report.failures == []
+
+
+def test_same_recipes_and_seeds_give_byte_identical_datasets(built: Built, tmp_path: Path):
+    again = workspace_with(tmp_path / "again", [SCENES], {"datasets/tiny.yaml": DATASET})
+    # Reuse the built scenes (their bytes are the scene stages' tests' concern); rebuild the dataset.
+    shutil.copytree(built.workspace.built_dir, again.built_dir, symlinks=True)
+    for stage in ("sample_episodes", "verify_episodes", "instructions", "package_dataset"):
+        shutil.rmtree(again.built_dir / "artifacts" / stage)
+    shutil.rmtree(again.built_dir / "targets" / "tiny")
+    rebuilt = build_all(again)
+    assert rebuilt.report.ok
+    first, second = (built_version(b.output("tiny", "dataset")) for b in (built, rebuilt))
+    assert first != second and rebuilt.report.built  # really built again
+    assert _digests(first) == _digests(second)
+
+
+def test_a_wrong_format_version_is_refused(dataset: Dataset, tmp_path: Path):
+    copy = tmp_path / "copy"
+    shutil.copytree(dataset.root, copy)
+    manifest = copy / "manifest.json"
+    manifest.write_text(
+        manifest.read_text().replace(f'"format_version": "{FORMAT_VERSION}"', '"format_version": "9.0"')
+    )
+    with pytest.raises(DatasetError, match=r"format 9\.0"):
+        Dataset(copy)
+
+
+@pytest.mark.parametrize(
+    ("section", "message"),
+    [
+        ("  sample_episodes:\n    tasks: {objnav: {episodes_per_scene: 4}}\n    embodiment: hexapod\n",
+         "unknown embodiment 'hexapod'"),
+        ("  sample_episodes:\n    tasks: {pointnav: {episodes_per_scene: 4}}\n", "pointnav"),
+        ("  sample_episodes:\n    tasks: {objnav: {episodes_per_scene: 4}}\n    path_length: [9, 5]\n",
+         r"path_length must be \[shortest, longest\]"),
+        ("  verify_episodes:\n    duration_s: [100, 5]\n", r"duration_s must be \[lowest, highest\]"),
+        ("  instructions:\n    refiner: my_vlm\n", "refiner"),
+        ("  instructions:\n    min_landmark: 2\n", "min_landmark"),
+        ("  package_dataset:\n    version: one\n    splits: {train: ['*']}\n", "version"),
+        ("  package_dataset:\n    version: '1.0'\n    splits: {train: []}\n", "give every split a list"),
+    ],
+)  # fmt: skip
+def test_recipe_mistakes_fail_validation(tmp_path: Path, section: str, message: str):
+    text = "extends: dataset\nlinks:\n  scene: [apartment-s*]\nstages:\n" + section
+    workspace = workspace_with(tmp_path, [SCENES], {"datasets/bad.yaml": text})
+    with pytest.raises(RecipeError, match=message):
+        RecipeLoader(workspace, stages=discover("stages")).load()
+
+
+def test_splits_that_miss_a_scene_fail_the_build_with_what_to_change(built: Built, tmp_path: Path):
+    text = DATASET.replace('splits: {train: ["*-s0"], eval: ["*-s1"]}', 'splits: {train: ["*-s0"]}')
+    workspace = workspace_with(tmp_path / "w", [SCENES], {"datasets/tiny.yaml": text})
+    shutil.copytree(built.workspace.built_dir, workspace.built_dir, symlinks=True)
+    shutil.rmtree(workspace.built_dir / "artifacts" / "package_dataset")
+    report = build_all(workspace).report
+    assert not report.ok
+    assert "apartment-s1" in str(report) and "split" in str(report)
+
+
+# ---------------------------------------------------------------------------------------------- command line
+
+
+def _navverse(root: Path, *args: str) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "NAVVERSE_ROOT": str(root)}
+    return subprocess.run([NAVVERSE, *args], env=env, capture_output=True, text=True, cwd=root, timeout=600)
+
+
+def test_show_and_validate_a_dataset_from_the_command_line(built: Built, dataset: Dataset, tmp_path: Path):
+    root = built.workspace.root
+    shown = _navverse(root, "show", "dataset", str(dataset.root))
+    assert shown.returncode == 0, shown.stderr
+    total = len(list(dataset.episodes()))
+    assert re.search(rf"all\s.*\s{total}\s", shown.stdout) and "goal categories" in shown.stdout
+    episode = next(e for e in dataset.episodes() if e.task == "vln")
+    picture = tmp_path / "ep.png"
+    drawn = _navverse(root, "show", "episode", str(dataset.root), episode.episode_id, "-o", str(picture))
+    assert drawn.returncode == 0, drawn.stderr
+    assert picture.stat().st_size > 10_000 and episode.instruction.instruction_text[:30] in " ".join(
+        drawn.stdout.split()
+    )
+    checked = _navverse(root, "validate", "dataset", str(dataset.root), "--replay", "3", "--jobs", "1")
+    assert checked.returncode == 0, checked.stdout + checked.stderr
+    assert f"{total} of {total} keep them" in checked.stdout and "3 of 3 reach a goal" in checked.stdout
+
+
+@pytest.mark.parametrize("problem", ["missing", "format", "tampered", "no such episode"])
+def test_dataset_commands_refuse_bad_datasets_cleanly(dataset: Dataset, tmp_path: Path, problem: str):
+    copy = tmp_path / "copy"
+    shutil.copytree(dataset.root, copy)
+    args, message = ["validate", "dataset", str(copy)], ""
+    if problem == "missing":
+        args, message = ["show", "dataset", str(tmp_path / "nowhere")], "is not a dataset version"
+    elif problem == "format":
+        manifest = copy / "manifest.json"
+        manifest.write_text(
+            manifest.read_text().replace(f'"format_version": "{FORMAT_VERSION}"', '"format_version": "2.0"')
+        )
+        message = "has dataset format 2.0"
+    elif problem == "tampered":
+        (copy / "train" / "objnav.json.gz").write_bytes(b"\x1f\x8b not really")
+        message = "differ from the manifest's checksums: train/objnav.json.gz"
+    else:
+        args, message = (
+            ["show", "episode", str(copy), "nope-objnav-0000", "-o", str(tmp_path / "x.png")],
+            "nope-objnav-0000",
+        )
+    result = _navverse(tmp_path, *args)
+    assert result.returncode == 1 and message in result.stderr and "Traceback" not in result.stderr
+
+
+def test_building_a_published_version_with_other_content_is_refused(built: Built, tmp_path: Path):
+    root = tmp_path / "w"
+    workspace = workspace_with(root, [SCENES], {"datasets/tiny.yaml": DATASET})
+    shutil.copytree(built.workspace.built_dir, workspace.built_dir, symlinks=True)
+    first = _navverse(root, "build", "tiny", "--jobs", "1")
+    assert first.returncode == 0, first.stderr
+    assert "published: episodes/tiny/v1.0" in first.stdout
+    published = Dataset(root / "episodes" / "tiny" / "v1.0")
+    again = _navverse(root, "build", "tiny", "--jobs", "1")
+    assert again.returncode == 0 and "up to date: episodes/tiny/v1.0" in again.stdout
+    # Other seeds, same version: refused, and the published files are untouched.
+    (workspace.recipes_dir / "datasets" / "tiny.yaml").write_text(DATASET.replace("seed: 3", "seed: 4"))
+    changed = _navverse(root, "build", "tiny", "--jobs", "1")
+    assert changed.returncode == 1 and "Traceback" not in changed.stderr
+    assert (
+        "already published with different content" in changed.stderr
+        and "bump the dataset version" in changed.stderr
+    )
+    assert published.verify_checksums() == []
+    # A new version is published beside it.
+    (workspace.recipes_dir / "datasets" / "tiny.yaml").write_text(
+        DATASET.replace("seed: 3", "seed: 4").replace('version: "1.0"', 'version: "1.1"')
+    )
+    bumped = _navverse(root, "build", "tiny", "--jobs", "1")
+    assert bumped.returncode == 0 and "published: episodes/tiny/v1.1" in bumped.stdout
