@@ -201,13 +201,13 @@ def success_distance(robot_radius: float) -> float:
 
 
 def goal_distance(position: Sequence[float], goal: Goal) -> float:
-    """Distance to a goal: ``max(0, |p - p_goal| - r_goal)``, measured horizontally (m).
+    """Distance to a goal (paper Appendix A.5): ``max(0, ||p - p_goal||_2 - r_goal)`` in 3-D (m).
 
-    Horizontal, so that the height of a robot's base (0.55 m for Spot, 0.07 m for the TurtleBot) or of
-    the object (a laptop on a desk) does not change whether a position reaches it.
+    ``p`` is the robot's base position (x, y, z), ``p_goal`` the goal's centre and ``r_goal`` its radius,
+    half its larger horizontal extent.
     """
-    dx, dy = float(position[0]) - goal.position[0], float(position[1]) - goal.position[1]
-    return max(0.0, math.hypot(dx, dy) - goal.radius)
+    d = math.dist((float(position[0]), float(position[1]), float(position[2])), goal.position)
+    return max(0.0, d - goal.radius)
 
 
 # ---------------------------------------------------------------------------------------------- files

@@ -71,6 +71,7 @@ def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
     robot = make_embodiment(params.embodiment)
     settings = SamplingSettings(
         robot_radius=robot.radius,
+        base_height=robot.standing_height,
         min_length=params.path_length[0],
         max_length=params.path_length[1],
         yaw_jitter_deg=params.yaw_jitter_deg,

@@ -6,9 +6,9 @@ For a scene:
    prim names or paths, :class:`~navverse.scene.categories.CategoryRule`; the first match wins, a rule
    without a category drops the object), else by their own category, kept when the category is in the
    recipe's list. Storefronts are the PlaceNav goals, by place category.
-2. **Goal regions.** An instance is reached where the goal distance (:func:`navverse.dataset.goal_distance`)
-   is within the success distance ``1.0 + r_robot``: its region is the navmesh points there, found by
-   snapping rings of points around the instance onto the navmesh.
+2. **Goal regions.** An instance is reached where the goal distance (:func:`navverse.dataset.goal_distance`,
+   3-D, of the robot's base standing there) is within the success distance ``1.0 + r_robot``: its region
+   is the navmesh points there, found by snapping rings of points around the instance onto the navmesh.
 3. **Episodes.** A goal category is drawn uniformly among those with a reachable instance, a start
    uniformly on the island that holds the goal regions (inside the indoor region for indoor-to-outdoor
    scenes), and the shortest path from the start to every instance's region is computed; instances
@@ -51,6 +51,9 @@ class SamplingSettings:
     ----------
     robot_radius : float
         ``r_robot`` of the embodiment: the success distance is ``1.0 + r_robot``.
+    base_height : float
+        Height of the embodiment's base above the ground when standing (m): goal distances are
+        measured from the base.
     min_length, max_length : float
         Accepted shortest-path lengths from the start to a goal instance's region (m).
     yaw_jitter_deg : float
@@ -63,6 +66,7 @@ class SamplingSettings:
     """
 
     robot_radius: float = 0.6
+    base_height: float = 0.55
     min_length: float = 5.0
     max_length: float = 50.0
     yaw_jitter_deg: float = 30.0
@@ -152,8 +156,11 @@ def place_goals(
     return dict(sorted(goals.items()))
 
 
-def goal_regions(finder: PathFinder, goals: Sequence[Goal], *, success: float) -> list[GoalRegion]:
-    """The navmesh points within the success distance of each goal (goals with none are left out)."""
+def goal_regions(
+    finder: PathFinder, goals: Sequence[Goal], *, success: float, base_height: float = 0.55
+) -> list[GoalRegion]:
+    """The navmesh points from which a robot base ``base_height`` above them is within the success
+    distance of each goal (goals with none are left out)."""
     regions = []
     for goal in goals:
         cx, cy, cz = goal.position
@@ -166,7 +173,8 @@ def goal_regions(finder: PathFinder, goals: Sequence[Goal], *, success: float) -
         snapped = snapped[np.isfinite(snapped).all(axis=1)]
         if len(snapped) == 0:
             continue
-        distance = np.maximum(np.hypot(snapped[:, 0] - cx, snapped[:, 1] - cy) - goal.radius, 0.0)
+        base = snapped + (0.0, 0.0, base_height)
+        distance = np.maximum(np.linalg.norm(base - goal.position, axis=1) - goal.radius, 0.0)
         snapped = snapped[(distance <= success - 0.05) & finder.is_navigable(snapped)]  # not on a border
         if len(snapped) == 0:
             continue
@@ -230,7 +238,7 @@ def sample_scene_episodes(
     success = settings.success_distance
     regions_by_category: dict[str, list[GoalRegion]] = {}
     for category, goals in goals_by_category.items():
-        regions = goal_regions(finder, goals, success=success)
+        regions = goal_regions(finder, goals, success=success, base_height=settings.base_height)
         if regions:
             regions_by_category[category] = regions
     sample = SceneSample(episodes=[], categories={c: len(r) for c, r in regions_by_category.items()})

@@ -5,7 +5,7 @@ follows the reference path's corners with the shared waypoint follower under ful
 (:func:`navverse.sim.rollout.follow_path`). It is accepted only if
 
 * the robot came within the success distance of at least one goal instance at some time (oracle
-  success; :func:`navverse.dataset.goal_distance` of the robot base);
+  success; :func:`navverse.dataset.goal_distance` of the robot base, in 3-D);
 * the rollout lasted more than 5 s and at most 100 s (the timeout of generation);
 * the robot traveled more than 5 m and less than 50 m;
 * no termination ended it (fall, stuck, out of bounds, timeout).
@@ -89,7 +89,7 @@ def _oracle_success_time(episode: Episode, trajectory: np.ndarray) -> float | No
     """First time (s) the base is within the success distance of any goal, None if never."""
     tolerance = episode.info.success_distance
     for row in trajectory:
-        if any(goal_distance(row[1:3], goal) <= tolerance for goal in episode.goals):
+        if any(goal_distance(row[1:4], goal) <= tolerance for goal in episode.goals):
             return float(row[0])
     return None
 

@@ -72,6 +72,8 @@ class Embodiment(Protocol):
         Largest ``|vx|``, ``|vy|`` (m/s) and ``|wz|`` (rad/s) the robot can be commanded.
     camera_to_base : ndarray, shape (4, 4)
         Pose of the camera's optical frame (x right, y down, z forward) in the base frame.
+    standing_height : float
+        Height of the base origin above level ground when standing (m).
     body : int
         PyBullet body id once spawned (-1 before).
     """
@@ -81,6 +83,7 @@ class Embodiment(Protocol):
     size: tuple[float, float, float]
     max_velocity: tuple[float, float, float]
     camera_to_base: np.ndarray
+    standing_height: float
     body: int
 
     def spawn(self, world: World, position: Sequence[float], yaw: float) -> None:

@@ -71,10 +71,11 @@ def test_json_gz_is_deterministic_and_round_trips(tmp_path: Path):
         read_json_gz(tmp_path / "bad.json.gz")
 
 
-def test_goal_distance_is_horizontal_and_measured_from_the_goal_edge():
+def test_goal_distance_is_3d_from_the_base_to_the_goal_edge():
     goal = Goal(object_id=1, category="bed", position=(5.0, 2.0, 0.3), radius=1.0, size=(2.0, 1.6, 0.6))
-    assert goal_distance((8.0, 6.0, 0.55), goal) == pytest.approx(4.0)  # 5 m to the centre, minus 1 m
-    assert goal_distance((5.5, 2.0, 9.0), goal) == 0.0  # within the radius, at any height
+    assert goal_distance((8.0, 6.0, 0.3), goal) == pytest.approx(4.0)  # 5 m to the centre, minus 1 m
+    assert goal_distance((8.0, 2.0, 4.3), goal) == pytest.approx(4.0)  # 3 m across and 4 m up
+    assert goal_distance((5.5, 2.0, 0.8), goal) == 0.0  # within the radius
 
 
 def test_written_datasets_read_back_by_split_task_and_type(tmp_path: Path):

@@ -28,7 +28,7 @@ def test_accepted_rollouts_reach_a_goal_within_the_bounds(verified_vln):
         inside = [
             row[0]
             for row in trajectory
-            if min(goal_distance(row[1:3], g) for g in episode.goals) <= episode.info.success_distance
+            if min(goal_distance(row[1:4], g) for g in episode.goals) <= episode.info.success_distance
         ]
         assert inside and v.oracle_success_time_s == pytest.approx(inside[0], abs=1e-3)
         # The rollout started where the episode starts and traveled its own poses' length.
