@@ -208,8 +208,9 @@ def cmd_validate_dataset(args: argparse.Namespace, console: Console) -> int:
     import numpy as np
     from rich.progress import Progress
 
-    from navverse.dataset import Dataset, DatasetError, scene_hash
+    from navverse.dataset import Dataset, DatasetError
     from navverse.episodes.inspect import check_bounds, replay
+    from navverse.scene.directory import scene_hash
     from pipeline.store import ArtifactStore
 
     dataset = Dataset(args.dataset)
@@ -258,6 +259,97 @@ def cmd_validate_dataset(args: argparse.Namespace, console: Console) -> int:
             console.print(f"  {episode_id}: {reason}", highlight=False)
         failures = failures or bool(report.failures)
     return 1 if failures else 0
+
+
+def _split_of(dataset, split: str) -> list[str]:
+    """The episode ids of a split, or a DatasetError naming the splits there are."""
+    from navverse.dataset import DatasetError
+
+    if split not in dataset.splits:
+        raise DatasetError(f"{dataset.root} has no split {split!r}; it has: {', '.join(dataset.splits)}")
+    return [e.episode_id for e in dataset.episodes(split=split)]
+
+
+def cmd_validate_submission(args: argparse.Namespace, console: Console) -> int:
+    """Report every problem of a submission against a dataset split."""
+    from navverse.dataset import Dataset
+    from navverse.eval.submission import read_submission
+
+    dataset = Dataset(args.dataset)
+    ids = _split_of(dataset, args.split)
+    submission = read_submission(args.submission, episode_ids=ids)
+    missing = sorted(set(ids) - set(submission.records) - {p.episode_id for p in submission.problems})
+    for problem in submission.problems:
+        console.print(str(problem), highlight=False, markup=False)
+    for episode_id in missing[:20]:
+        console.print(f"missing: {episode_id}", highlight=False, markup=False)
+    if len(missing) > 20:
+        console.print(f"missing: ... and {len(missing) - 20} more episodes")
+    console.print(
+        f"{args.submission}: {len(submission.records)} of {len(ids)} episodes of {args.split} valid; "
+        f"{len(submission.problems)} problems, {len(missing)} episodes missing"
+    )
+    return 1 if submission.problems or missing else 0
+
+
+def cmd_eval(args: argparse.Namespace, console: Console) -> int:
+    """Score a submission: metrics.json, tables (md, csv), and the headline table."""
+    from rich.progress import Progress
+    from rich.table import Table
+
+    from navverse import __version__
+    from navverse.dataset import Dataset
+    from navverse.eval.scoring import score
+    from navverse.eval.submission import read_submission
+    from navverse.eval.tables import table_rows, write_outputs
+    from pipeline.store import ArtifactStore
+
+    dataset = Dataset(args.dataset)
+    ids = _split_of(dataset, args.split)
+    submission = read_submission(args.submission, episode_ids=ids)
+    store = ArtifactStore(_workspace().built_dir)
+    scenes = sorted({e.scene_id for e in dataset.episodes(split=args.split)})
+    scene_dirs = {scene: _scene_dir(store, scene) for scene in scenes}
+    with Progress(console=console, transient=True) as bar:
+        task = bar.add_task("scoring", total=len(submission.records) or 1)
+        result = score(
+            dataset,
+            submission,
+            split=args.split,
+            scene_dirs=scene_dirs,
+            embodiment=args.embodiment,
+            progress=lambda done, total: bar.update(task, completed=done),
+        )
+    meta = {
+        "dataset": str(dataset.root),
+        "dataset_version": dataset.manifest.version,
+        "split": args.split,
+        "submission": str(args.submission),
+        "embodiment": args.embodiment or dataset.manifest.embodiment,
+        "toolkit_version": __version__,
+    }
+    out = write_outputs(result, args.out, meta=meta)
+    if submission.problems:
+        console.print(f"[yellow]{len(submission.problems)} submission problems[/] (listed in metrics.json):")
+        for problem in submission.problems[:10]:
+            console.print(f"  {problem}", highlight=False, markup=False)
+    invalid = [row["episode_id"] for row in result.episodes if row["label"] == "invalid"]
+    if invalid:
+        console.print(
+            f"[yellow]{len(invalid)} episodes have no valid trajectory, scored as failures:[/] "
+            + ", ".join(invalid[:10])
+            + (f" ... ({len(invalid) - 10} more)" if len(invalid) > 10 else ""),
+            highlight=False,
+        )
+    header, rows = table_rows(result, "task_scene")
+    table = Table(title=f"{dataset.manifest.name} v{dataset.manifest.version} / {args.split}")
+    for column in header:
+        table.add_column(column, justify="left" if column == header[0] else "right")
+    for row in rows:
+        table.add_row(*row)
+    console.print(table)
+    console.print(f"wrote {out}/metrics.json, tables.md, *.csv")
+    return 0
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -309,6 +401,21 @@ def build_parser() -> argparse.ArgumentParser:
     vdataset.add_argument("--seed", type=int, default=0, help="which episodes --replay N samples")
     vdataset.add_argument("--jobs", "-j", type=int, default=None, help="processes for --replay")
     vdataset.set_defaults(func=cmd_validate_dataset)
+    vsubmission = vsub.add_parser(
+        "submission", help="report every problem of a submission, with line numbers"
+    )
+    vsubmission.add_argument("submission", help="JSONL file (optionally .gz), one episode per line")
+    vsubmission.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
+    vsubmission.add_argument("--split", default="eval", help="the split it answers (default: eval)")
+    vsubmission.set_defaults(func=cmd_validate_submission)
+
+    evaluate = sub.add_parser("eval", help="score a submission against a dataset split")
+    evaluate.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
+    evaluate.add_argument("--submission", required=True, help="JSONL file (optionally .gz)")
+    evaluate.add_argument("--split", default="eval", help="split scored (default: eval)")
+    evaluate.add_argument("--embodiment", default=None, help="robot scored (default: the dataset's)")
+    evaluate.add_argument("--out", default="eval-out", help="output folder (default: eval-out)")
+    evaluate.set_defaults(func=cmd_eval)
 
     show = sub.add_parser("show", help="draw or print what was built")
     ssub = show.add_subparsers(dest="what", required=True, metavar="WHAT")

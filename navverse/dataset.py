@@ -51,7 +51,6 @@ __all__ = [
     "goal_distance",
     "publish",
     "read_json_gz",
-    "scene_hash",
     "success_distance",
     "write_json_gz",
 ]
@@ -245,18 +244,6 @@ def file_sha256(path: str | os.PathLike[str]) -> str:
     with open(path, "rb") as handle:
         for block in iter(lambda: handle.read(1 << 20), b""):
             digest.update(block)
-    return digest.hexdigest()
-
-
-def scene_hash(scene_dir: str | os.PathLike[str]) -> str:
-    """SHA-256 over a built scene directory's ``scene.json``, ``navmesh.bin`` and ``scene.usdc``: the
-    ``scene_hashes`` of a dataset manifest."""
-    digest = hashlib.sha256()
-    for name in ("scene.json", "navmesh.bin", "scene.usdc"):
-        file = Path(scene_dir) / name
-        if file.is_file():
-            digest.update(name.encode())
-            digest.update(file.read_bytes())
     return digest.hexdigest()
 
 

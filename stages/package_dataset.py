@@ -40,10 +40,11 @@ class PackageDatasetParams(Params):
 def package_dataset(ctx: StageContext, params: PackageDatasetParams) -> None:
     """<name>/v<version>/: <split>/<task>.json.gz, the rollouts beside them, and manifest.json."""
     from navverse import __version__
-    from navverse.dataset import Episode, Instruction, read_json_gz, scene_hash
+    from navverse.dataset import Episode, Instruction, read_json_gz
     from navverse.episodes import files
     from navverse.episodes.packaging import assign_splits, write_dataset
     from navverse.scene import read_annotations
+    from navverse.scene.directory import scene_hash
 
     verified = read_json_gz(ctx.input("verified") / files.EPISODES)
     rollouts = read_json_gz(ctx.input("verified") / files.ROLLOUTS)

@@ -8,6 +8,7 @@ statistics). File names are defined here and nowhere else.
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -26,6 +27,7 @@ __all__ = [
     "SceneFiles",
     "read_annotations",
     "read_scene",
+    "scene_hash",
     "write_scene_dir",
 ]
 
@@ -138,3 +140,15 @@ def read_scene(scene_dir: Path) -> Scene:
     annotations = read_annotations(files.root)
     _require(files.usd, files.root)
     return scene_from_usd(files.usd, annotations)
+
+
+def scene_hash(scene_dir: str | Path) -> str:
+    """SHA-256 over a built scene directory's ``scene.json``, ``navmesh.bin`` and ``scene.usdc``: the
+    ``scene_hashes`` of a dataset manifest."""
+    digest = hashlib.sha256()
+    for name in (SCENE_JSON, NAVMESH_BIN, SCENE_USD):
+        file = Path(scene_dir) / name
+        if file.is_file():
+            digest.update(name.encode())
+            digest.update(file.read_bytes())
+    return digest.hexdigest()

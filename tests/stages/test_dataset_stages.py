@@ -260,3 +260,68 @@ def test_building_a_published_version_with_other_content_is_refused(built: Built
     )
     bumped = _navverse(root, "build", "tiny", "--jobs", "1")
     assert bumped.returncode == 0 and "published: episodes/tiny/v1.1" in bumped.stdout
+
+
+def _oracle_lines(dataset: Dataset, split: str) -> list[dict]:
+    """A submission of the packaged verification rollouts (the oracle) of a split."""
+    return [
+        {"episode_id": e.episode_id, "trajectory": dataset.rollout(e), "stop": True}
+        for e in dataset.episodes(split=split)
+    ]
+
+
+def test_eval_scores_the_oracle_and_counts_bad_records_as_failures(
+    built: Built, dataset: Dataset, tmp_path: Path
+):
+    import json
+
+    lines = _oracle_lines(dataset, "eval")
+    assert len(lines) >= 4
+    missing = lines.pop(0)["episode_id"]
+    lines[0]["trajectory"][1][2] = float("nan")
+    nan_id = lines[0]["episode_id"]
+    lines.append(dict(lines[1]))  # a duplicate
+    dup_id = lines[1]["episode_id"]
+    submission = tmp_path / "oracle.jsonl"
+    submission.write_text("".join(json.dumps(line) + "\n" for line in lines))
+    root = built.workspace.root
+    checked = _navverse(root, "validate", "submission", str(submission), "--dataset", str(dataset.root))
+    assert checked.returncode == 1
+    assert f"line 1 ({nan_id}): trajectory row 1 holds NaN" in checked.stdout
+    assert (
+        f"duplicate episode id (lines 2, {len(lines)})" in checked.stdout
+        and f"missing: {missing}" in checked.stdout
+    )
+    out = tmp_path / "out"
+    scored = _navverse(
+        root, "eval", "--dataset", str(dataset.root), "--submission", str(submission), "--out", str(out)
+    )
+    assert scored.returncode == 0, scored.stderr
+    metrics = json.loads((out / "metrics.json").read_text())
+    labels = {row["episode_id"]: row["label"] for row in metrics["episodes"]}
+    assert len(labels) == len(list(dataset.episodes(split="eval")))
+    assert {labels[i] for i in (missing, nan_id, dup_id)} == {"invalid"}
+    others = [row for row in metrics["episodes"] if row["episode_id"] not in (missing, nan_id, dup_id)]
+    assert all(row["label"] == "success" for row in others)  # the oracle reaches every goal
+    overall = metrics["overall"]
+    assert overall["success"] == pytest.approx(len(others) / len(labels)) and overall["failures"] == 3
+    assert len(metrics["problems"]) == 3
+    for name in (
+        "tables.md",
+        "task_scene.csv",
+        "safety_efficiency.csv",
+        "failures.csv",
+        "difficulty.csv",
+        "episodes.csv",
+    ):
+        assert (out / name).is_file()
+    assert "SR (%)" in scored.stdout and "3 episodes have no valid trajectory" in " ".join(
+        scored.stdout.split()
+    )
+    (tmp_path / "bad.jsonl.gz").write_bytes(b"not gzip at all")
+    broken = _navverse(
+        root, "eval", "--dataset", str(dataset.root), "--submission", str(tmp_path / "bad.jsonl.gz")
+    )
+    assert (
+        broken.returncode == 1 and "not gzip-compressed" in broken.stderr and "Traceback" not in broken.stderr
+    )

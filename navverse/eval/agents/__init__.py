@@ -1,0 +1,1 @@
+"""Agents for ``navverse run-agent``: the interface (:mod:`.base`) and the built-in agents."""

@@ -1,0 +1,81 @@
+"""The agent interface of ``navverse run-agent``: what an agent is told, what it returns.
+
+An agent is any object with an ``action_mode`` (``"discrete"``, ``"waypoint"`` or ``"velocity"``:
+the Gymnasium environment it is run in, :mod:`navverse.env`), a ``privileged`` flag, and two
+methods::
+
+    class MyAgent:
+        action_mode = "discrete"
+        privileged = False          # True: info carries goal positions and the reference path
+
+        def reset(self, task: AgentTask) -> None: ...
+        def act(self, observation: dict, info: dict) -> int | np.ndarray: ...
+
+``reset`` is called at the start of every episode with an :class:`AgentTask`; ``act`` with the
+environment's observation (``rgb``, ``depth``, ``semantic``, ``pose``, ``goal``) and ``info``
+(``time``, ``collisions``, ``surface``, ``camera_intrinsics``, ``camera_to_base``, ``robot_radius``;
+privileged agents also get ``goal_positions``, ``distance_to_goal`` and ``reference_path``), and
+returns one action of its mode: an index into :data:`~navverse.sim.actions.DISCRETE_ACTIONS`, or
+``[x, y, yaw, stop]`` (waypoint, world frame), or ``[vx, vy, wz, stop]`` (velocity, body frame).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+
+__all__ = ["Agent", "AgentTask"]
+
+
+@dataclass(frozen=True)
+class AgentTask:
+    """What an agent is told at the start of an episode.
+
+    Attributes
+    ----------
+    episode_id : str
+        The dataset episode.
+    task : str
+        ``objnav``, ``placenav`` or ``vln``.
+    goal : str
+        The object or place category sought, or the VLN instruction.
+    goal_category : str
+        The category sought (VLN episodes have one too: the instruction's destination).
+    scene_type : str
+        ``indoor``, ``outdoor`` or ``i2o``.
+    embodiment : str
+        ``spot`` or ``turtlebot``.
+    robot_radius : float
+        ``r_robot``: the success distance is ``1.0 + r_robot`` from the goal's edge.
+    semantic_categories : dict
+        Category of each instance id of the semantic channel (the scene's semantic annotation, as
+        a simulator's semantic sensor provides it); not the goals' positions.
+    seed : int
+        Seed for the agent's own randomness in this episode.
+    """
+
+    episode_id: str
+    task: str
+    goal: str
+    goal_category: str
+    scene_type: str
+    embodiment: str
+    robot_radius: float
+    semantic_categories: dict[int, str] = field(default_factory=dict)
+    seed: int = 0
+
+
+@runtime_checkable
+class Agent(Protocol):
+    """A navigation agent (see the module docstring)."""
+
+    action_mode: str
+    privileged: bool
+
+    def reset(self, task: AgentTask) -> None:
+        """Start an episode."""
+
+    def act(self, observation: dict[str, Any], info: dict[str, Any]) -> int | np.ndarray:
+        """The next action."""

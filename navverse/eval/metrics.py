@@ -1,0 +1,480 @@
+"""The paper's metrics (Appendix A.5) and termination labels (A.6), vectorised over trajectories.
+
+Scoring has two layers:
+
+1. :func:`measure` turns trajectories into per-episode **measures**, computing over all rows of a batch
+   of episodes at once (no Python loop over rows): distance to goal at the start, end and closest
+   point, 3-D path length, duration, visited 1 m cells, collision, mean obstacle distance, share of
+   rows on preferred surfaces, fall and timeout, and nDTW for VLN.
+2. **Metrics** are registered with :func:`metric` and the names they need (measures, episode facts or
+   other metrics); :func:`compute_metrics` resolves that graph and evaluates each metric once, over
+   arrays of episodes.
+
+Definitions (``p_t`` the base position, ``T`` the last row, ``r`` = r_robot, tolerance ``1.0 + r``):
+
+* ``d_t = max(0, ||p_t - p_goal||_2 - r_goal)`` in 3-D to the nearest goal instance; DTG = ``d_T``.
+* Rows after 300 s are not scored (the episode timed out there); rows after the first whose tilt
+  (angle between the base's z axis and the world's, from the quaternion) exceeds 45° are not scored
+  (the robot fell there).
+* Label: ``fall`` if it fell; else ``success`` if ``d_T <= 1.0 + r`` (the paper's criterion: final
+  distance; stop is not required); else ``wrong_goal`` if it called stop; else ``timeout`` (it neither
+  stopped nor reached the goal within its time: past 300 s, or ended by its simulator).
+* SR = success; SPL = success · L / max(L, P) with L the dataset's geodesic distance and P the 3-D
+  path length (L = P = 0 gives 1); SS = max(0, 1 − d_T / d_0) (d_0 = 0 gives 1 if d_T = 0, else 0);
+  SoftSPL = SS · L / max(L, P); NE = d_T; OS = [min_t d_t <= 1.0 + r]; CE = |cells| / max(P, 1 m),
+  cells the 1 m grid cells the path passes through (rows farther apart than 0.25 m are subdivided);
+  CR = [any collision]; ADO = mean over rows of the obstacle distance at the base
+  (:mod:`navverse.scene.fields`); NSR = mean over rows of [the surface under the base is preferred by
+  the embodiment]; speed = P / duration.
+* Collisions: the submission's ``collisions`` times when given (a simulator's non-ground contacts,
+  counted up to the last scored row); otherwise the robot's footprint, a capsule of the body's width
+  along its length, is checked against the scene's obstacle field at every row.
+* nDTW = exp(−DTW(Q, R) / (|R| · d_th)) with d_th the success distance, Q and R the trajectory and
+  the reference path resampled every 0.5 m in the horizontal plane; SDTW = success · nDTW (VLN).
+
+Episodes without a valid trajectory (missing from a submission or invalid) are failures: their SR,
+SPL, SS, SoftSPL and OS are 0 and their trajectory measures undefined (NaN, left out of those means).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from navverse.scene.fields import SceneFields
+
+__all__ = [
+    "CELL",
+    "FALL_TILT_DEG",
+    "LABELS",
+    "METRICS",
+    "TIMEOUT_S",
+    "EpisodeTarget",
+    "Metric",
+    "Robot",
+    "compute_metrics",
+    "measure",
+    "metric",
+    "ndtw",
+]
+
+TIMEOUT_S = 300.0
+FALL_TILT_DEG = 45.0
+CELL = 1.0
+"""Coverage grid cell (m)."""
+CE_EPSILON = 1.0
+"""``max(P, ε)`` in CE (m): a robot that does not move covers its own cell per meter."""
+DENSIFY = 0.25
+"""Rows farther apart than this (m) are subdivided for coverage."""
+DTW_SPACING = 0.5
+LABELS = ("success", "wrong_goal", "fall", "timeout", "invalid")
+
+
+@dataclass(frozen=True)
+class Robot:
+    """What scoring needs of an embodiment: r_robot, the body's footprint and preferred surfaces."""
+
+    name: str
+    radius: float
+    length: float
+    width: float
+    extra_surfaces: frozenset[str] = frozenset()
+
+    @property
+    def success_distance(self) -> float:
+        return 1.0 + self.radius
+
+
+@dataclass(frozen=True, eq=False)
+class EpisodeTarget:
+    """What scoring needs of a dataset episode."""
+
+    episode_id: str
+    scene_id: str
+    task: str
+    goal_centers: np.ndarray  # (G, 3)
+    goal_radii: np.ndarray  # (G,)
+    geodesic: float
+    reference_path: np.ndarray  # (R, 3)
+
+
+@dataclass(eq=False)
+class _Batch:
+    """Scored rows of a batch of episodes, concatenated; ``seg`` is the episode of each row."""
+
+    xyz: np.ndarray
+    quat: np.ndarray
+    t: np.ndarray
+    seg: np.ndarray
+    starts: np.ndarray
+    ends: np.ndarray
+    fell: np.ndarray
+    timed_out: np.ndarray
+
+
+def _cut(trajectories: Sequence[np.ndarray]) -> _Batch:
+    """Concatenate trajectories, dropping rows after 300 s and after a fall."""
+    lengths = np.array([len(t) for t in trajectories], dtype=np.int64)
+    rows = np.concatenate(trajectories) if trajectories else np.zeros((0, 8))
+    seg = np.repeat(np.arange(len(trajectories)), lengths)
+    first = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    last_t = rows[first + lengths - 1, 0] if len(rows) else np.zeros(0)
+    q = rows[:, 4:8]
+    cos_tilt = 1.0 - 2.0 * (q[:, 0] ** 2 + q[:, 1] ** 2)
+    within = rows[:, 0] <= TIMEOUT_S
+    within[first] = True  # an episode always keeps its first row
+    falls = within & (cos_tilt < math.cos(math.radians(FALL_TILT_DEG)))
+    index = np.arange(len(rows))
+    first_fall = np.full(len(trajectories), len(rows), dtype=np.int64)
+    fall_rows = np.flatnonzero(falls)
+    if len(fall_rows):
+        episodes, at = np.unique(seg[fall_rows], return_index=True)
+        first_fall[episodes] = fall_rows[at]
+    keep = within & (index <= first_fall[seg])
+    kept = np.bincount(seg[keep], minlength=len(trajectories))
+    starts = np.concatenate([[0], np.cumsum(kept)[:-1]]).astype(np.int64)
+    return _Batch(
+        xyz=rows[keep, 1:4],
+        quat=rows[keep, 4:8],
+        t=rows[keep, 0],
+        seg=seg[keep],
+        starts=starts,
+        ends=starts + kept - 1,
+        fell=first_fall < len(rows),
+        timed_out=last_t > TIMEOUT_S,
+    )
+
+
+def _goal_distance(batch: _Batch, targets: Sequence[EpisodeTarget]) -> np.ndarray:
+    """``d_t`` of every scored row: 3-D, to the nearest goal's edge, at least 0."""
+    most = max((len(t.goal_radii) for t in targets), default=1)
+    centers = np.full((len(targets), most, 3), np.inf)
+    radii = np.zeros((len(targets), most))
+    for i, target in enumerate(targets):
+        centers[i, : len(target.goal_radii)] = target.goal_centers
+        radii[i, : len(target.goal_radii)] = target.goal_radii
+    d = np.full(len(batch.t), np.inf)
+    for g in range(most):  # goals are few; rows are many
+        c = centers[batch.seg, g]
+        d = np.minimum(d, np.linalg.norm(batch.xyz - c, axis=1) - radii[batch.seg, g])
+    return np.maximum(d, 0.0)
+
+
+def _coverage(batch: _Batch, count: int) -> np.ndarray:
+    """Unique 1 m cells visited per episode, rows subdivided every :data:`DENSIFY` m."""
+    xy = batch.xyz[:, :2]
+    seg = batch.seg
+    if len(xy) > 1:
+        same = seg[1:] == seg[:-1]
+        step = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+        parts = np.where(same, np.ceil(step / DENSIFY), 1).astype(np.int64)
+        parts = np.maximum(parts, 1)
+        if (parts > 1).any():
+            k = np.repeat(np.arange(len(parts)), parts)
+            offset = np.arange(len(k)) - np.repeat(np.cumsum(parts) - parts, parts)
+            frac = offset / parts[k]
+            fill = xy[k] + (xy[k + 1] - xy[k]) * frac[:, None] * same[k][:, None]
+            xy = np.concatenate([fill, xy[-1:]])
+            seg = np.concatenate([seg[k], seg[-1:]])
+    cells = np.floor(xy / CELL).astype(np.int64) + (1 << 20)
+    keys = (seg.astype(np.int64) << 42) | (cells[:, 0] << 21) | cells[:, 1]
+    unique = np.unique(keys)
+    return np.bincount(unique >> 42, minlength=count).astype(np.float64)
+
+
+def _yaw(quat: np.ndarray) -> np.ndarray:
+    x, y, z, w = quat.T
+    return np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def _footprint_contact(batch: _Batch, fields: SceneFields, rows: np.ndarray, robot: Robot) -> np.ndarray:
+    """Rows whose footprint capsule (width ``robot.width`` along ``robot.length``) touches an obstacle."""
+    half = robot.width / 2.0
+    reach = max(robot.length / 2.0 - half, 0.0)
+    yaw = _yaw(batch.quat[rows])
+    axis = np.stack([np.cos(yaw), np.sin(yaw)], axis=1)
+    clearance = np.full(len(rows), np.inf)
+    for k in np.linspace(-1.0, 1.0, 5):
+        points = batch.xyz[rows, :2] + k * reach * axis
+        clearance = np.minimum(clearance, fields.distance_at(points))
+    return clearance < half - fields.cell / 2.0
+
+
+def measure(
+    trajectories: Sequence[np.ndarray],
+    targets: Sequence[EpisodeTarget],
+    *,
+    robot: Robot,
+    stops: Sequence[bool],
+    collisions: Sequence[np.ndarray | None],
+    fields: Mapping[str, SceneFields],
+    preferred: Mapping[str, np.ndarray],
+) -> dict[str, np.ndarray]:
+    """Per-episode measures of a batch of valid trajectories.
+
+    Parameters
+    ----------
+    trajectories : sequence of ndarray, each (K, 8)
+        ``[t, x, y, z, qx, qy, qz, qw]`` rows (validated: finite, t increasing, unit quaternions).
+    targets : sequence of EpisodeTarget
+        The episodes, in the same order.
+    robot : Robot
+        The embodiment scored.
+    stops, collisions : sequences
+        Each record's stop flag and reported collision times (None: not reported).
+    fields : mapping
+        :class:`~navverse.scene.fields.SceneFields` by scene id.
+    preferred : mapping
+        By scene id, a bool per terrain class index (plus one last entry for "no surface") saying
+        whether the class counts for NSR.
+
+    Returns
+    -------
+    dict of ndarray
+        ``dtg``, ``dtg_min``, ``dtg_start``, ``traveled``, ``duration``, ``cells``, ``collided``,
+        ``clearance``, ``on_preferred``, ``fell``, ``timed_out``, ``stopped``, ``dtw_score`` (NaN unless
+        VLN), each (E,).
+    """
+    count = len(trajectories)
+    batch = _cut(trajectories)
+    d = _goal_distance(batch, targets)
+    step = np.linalg.norm(np.diff(batch.xyz, axis=0), axis=1)
+    step[batch.seg[1:] != batch.seg[:-1]] = 0.0
+    path = np.bincount(batch.seg[1:], weights=step, minlength=count) if len(step) else np.zeros(count)
+    clearance = np.full(len(batch.t), np.nan)
+    on_preferred = np.zeros(len(batch.t))
+    touching = np.zeros(len(batch.t), dtype=bool)
+    scene_of_row = np.array([t.scene_id for t in targets], dtype=object)[batch.seg]
+    for scene in sorted({t.scene_id for t in targets}):
+        rows = np.flatnonzero(scene_of_row == scene)
+        grid = fields[scene]
+        xy = batch.xyz[rows, :2]
+        clearance[rows] = grid.distance_at(xy)
+        classes = grid.terrain_at(xy)
+        on_preferred[rows] = preferred[scene][np.where(classes >= 0, classes, len(preferred[scene]) - 1)]
+        touching[rows] = _footprint_contact(batch, grid, rows, robot)
+    n_rows = np.bincount(batch.seg, minlength=count)
+    end_time = batch.t[batch.ends]
+    collided = np.zeros(count, dtype=bool)
+    footprint_hits = np.bincount(batch.seg, weights=touching, minlength=count) > 0
+    for i, times in enumerate(collisions):
+        collided[i] = bool((times <= end_time[i] + 1e-9).any()) if times is not None else footprint_hits[i]
+    ndtw_values = np.full(count, np.nan)
+    for i, target in enumerate(targets):
+        if target.task == "vln" and len(target.reference_path) >= 2:
+            rows = slice(batch.starts[i], batch.ends[i] + 1)
+            ndtw_values[i] = ndtw(batch.xyz[rows], target.reference_path, threshold=robot.success_distance)
+    return {
+        "dtg": d[batch.ends],
+        "dtg_min": np.minimum.reduceat(d, batch.starts) if len(d) else np.zeros(count),
+        "dtg_start": d[batch.starts],
+        "traveled": path,
+        "duration": end_time - batch.t[batch.starts],
+        "cells": _coverage(batch, count),
+        "collided": collided.astype(np.float64),
+        "clearance": np.bincount(batch.seg, weights=clearance, minlength=count) / n_rows,
+        "on_preferred": np.bincount(batch.seg, weights=on_preferred, minlength=count) / n_rows,
+        "fell": batch.fell.astype(np.float64),
+        "timed_out": batch.timed_out.astype(np.float64),
+        "stopped": np.asarray(stops, dtype=np.float64),
+        "dtw_score": ndtw_values,
+    }
+
+
+def _resample(points: np.ndarray, spacing: float) -> np.ndarray:
+    """Points every `spacing` meters along a horizontal polyline (its ends included)."""
+    xy = np.asarray(points, dtype=float)[:, :2]
+    if len(xy) < 2:
+        return xy
+    lengths = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
+    if lengths[-1] <= 0.0:
+        return xy[:1]
+    at = np.append(np.arange(0.0, lengths[-1], spacing), lengths[-1])
+    return np.stack([np.interp(at, lengths, xy[:, 0]), np.interp(at, lengths, xy[:, 1])], axis=1)
+
+
+def ndtw(trajectory: np.ndarray, reference: np.ndarray, *, threshold: float) -> float:
+    """Normalised dynamic time warping between a path and a reference (Ilharco et al., 2019).
+
+    Both are resampled every 0.5 m in the horizontal plane; ``exp(-DTW / (|R| * threshold))``.
+    """
+    q = _resample(trajectory, DTW_SPACING)
+    r = _resample(reference, DTW_SPACING)
+    cost = np.linalg.norm(q[:, None, :] - r[None, :, :], axis=2)  # (|Q|, |R|)
+    previous = np.full(len(r) + 1, np.inf)
+    previous[0] = 0.0
+    for row in cost:  # D[i, j] = c[i, j] + min(D[i-1, j], D[i, j-1], D[i-1, j-1]), a row at a time
+        above = np.minimum(previous[1:], previous[:-1])  # from D[i-1, j] and D[i-1, j-1]
+        through = np.cumsum(row)
+        best = np.minimum.accumulate(row + above - through) + through  # the left chain, in closed form
+        previous = np.concatenate([[np.inf], best])
+    return float(math.exp(-previous[-1] / (len(r) * threshold)))
+
+
+# ---------------------------------------------------------------------------------------------- registry
+
+
+@dataclass(frozen=True)
+class Metric:
+    """A registered metric: a function of the named inputs, over arrays of episodes."""
+
+    name: str
+    needs: tuple[str, ...]
+    function: Callable[..., np.ndarray]
+    description: str
+    higher_is_better: bool = True
+    tasks: tuple[str, ...] = ()  # empty: every task
+
+
+METRICS: dict[str, Metric] = {}
+"""Registered metrics by name, in registration order."""
+
+
+def metric(
+    name: str,
+    *,
+    needs: Sequence[str],
+    description: str,
+    higher_is_better: bool = True,
+    tasks: Sequence[str] = (),
+) -> Callable[[Callable[..., np.ndarray]], Callable[..., np.ndarray]]:
+    """Register a metric computed from ``needs`` (measures, episode facts or earlier metrics)."""
+
+    def register(function: Callable[..., np.ndarray]) -> Callable[..., np.ndarray]:
+        if name in METRICS:
+            raise ValueError(f"metric {name!r} is registered twice")
+        METRICS[name] = Metric(name, tuple(needs), function, description, higher_is_better, tuple(tasks))
+        return function
+
+    return register
+
+
+def _ratio(length: np.ndarray, path: np.ndarray) -> np.ndarray:
+    """``L / max(L, P)``, 1 when both are 0."""
+    top = np.maximum(length, path)
+    return np.divide(length, top, out=np.ones_like(top), where=top > 0)
+
+
+@metric("_label", needs=("fell", "dtg", "stopped", "success_distance", "valid"), description="label index")
+def _label_code(fell, dtg, stopped, success_distance, valid):
+    code = np.where(fell > 0, 2, np.where(dtg <= success_distance, 0, np.where(stopped > 0, 1, 3)))
+    return np.where(valid > 0, code, 4)
+
+
+@metric("success", needs=("_label",), description="SR: the episode ends within the success distance")
+def _success(_label):
+    return (_label == 0).astype(np.float64)
+
+
+@metric("spl", needs=("success", "geodesic", "traveled"), description="success weighted by path length")
+def _spl(success, geodesic, traveled):
+    return success * _ratio(geodesic, np.nan_to_num(traveled))
+
+
+@metric("soft_success", needs=("dtg", "dtg_start", "valid"), description="SS: max(0, 1 - d_T / d_0)")
+def _soft_success(dtg, dtg_start, valid):
+    progress = np.where(
+        dtg_start > 0,
+        np.maximum(0.0, 1.0 - np.divide(dtg, dtg_start, where=dtg_start > 0, out=np.zeros_like(dtg))),
+        (dtg == 0),
+    )
+    return np.where(valid > 0, progress, 0.0)
+
+
+@metric("soft_spl", needs=("soft_success", "geodesic", "traveled"), description="SS weighted by path length")
+def _soft_spl(soft_success, geodesic, traveled):
+    return soft_success * _ratio(geodesic, np.nan_to_num(traveled))
+
+
+@metric("ne", needs=("dtg",), description="NE: distance to goal at the end (m)", higher_is_better=False)
+def _ne(dtg):
+    return dtg
+
+
+@metric(
+    "os",
+    needs=("dtg_min", "success_distance", "valid"),
+    description="OS: within the success distance at some time",
+)
+def _os(dtg_min, success_distance, valid):
+    return ((dtg_min <= success_distance) & (valid > 0)).astype(np.float64)
+
+
+@metric("ce", needs=("cells", "traveled"), description="CE: 1 m cells visited per meter traveled")
+def _ce(cells, traveled):
+    return cells / np.maximum(traveled, CE_EPSILON)
+
+
+@metric("cr", needs=("collided",), description="CR: episodes with a collision", higher_is_better=False)
+def _cr(collided):
+    return collided
+
+
+@metric("ado", needs=("clearance",), description="ADO: mean distance to the nearest obstacle (m)")
+def _ado(clearance):
+    return clearance
+
+
+@metric("nsr", needs=("on_preferred",), description="NSR: share of time on preferred surfaces")
+def _nsr(on_preferred):
+    return on_preferred
+
+
+@metric("path_length", needs=("traveled",), description="P: 3-D path length (m)", higher_is_better=False)
+def _path_length(traveled):
+    return traveled
+
+
+@metric("speed", needs=("traveled", "duration"), description="mean speed (m/s)")
+def _speed(traveled, duration):
+    return np.divide(traveled, duration, out=np.zeros_like(traveled), where=duration > 0)
+
+
+@metric("ndtw", needs=("dtw_score",), description="nDTW to the reference path (VLN)", tasks=("vln",))
+def _ndtw(dtw_score):
+    return dtw_score
+
+
+@metric("sdtw", needs=("success", "ndtw"), description="success-weighted nDTW (VLN)", tasks=("vln",))
+def _sdtw(success, ndtw):
+    return success * ndtw
+
+
+def compute_metrics(inputs: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Evaluate every registered metric over arrays of episodes.
+
+    Parameters
+    ----------
+    inputs : mapping
+        Per-episode arrays: the measures of :func:`measure` (NaN for invalid episodes), ``geodesic``,
+        ``success_distance`` and ``valid`` (1 for a scored trajectory, 0 for a missing or invalid one).
+
+    Returns
+    -------
+    dict of ndarray
+        Every metric by name, plus ``label`` (strings of :data:`LABELS`).
+    """
+    values: dict[str, np.ndarray] = {}
+
+    def resolve(name: str, chain: tuple[str, ...]) -> np.ndarray:
+        if name in values:
+            return values[name]
+        if name not in METRICS:
+            if name in inputs:
+                return np.asarray(inputs[name], dtype=np.float64)
+            raise KeyError(f"{name!r} is neither a measure, an episode fact nor a registered metric")
+        if name in chain:
+            raise ValueError(f"metrics depend on each other in a cycle: {' -> '.join((*chain, name))}")
+        spec = METRICS[name]
+        arguments = {need: resolve(need, (*chain, name)) for need in spec.needs}
+        values[name] = np.asarray(spec.function(**arguments), dtype=np.float64)
+        return values[name]
+
+    for name in METRICS:
+        resolve(name, ())
+    out = {name: values[name] for name in METRICS if not name.startswith("_")}
+    out["label"] = np.array(LABELS, dtype=object)[values["_label"].astype(int)]
+    return out

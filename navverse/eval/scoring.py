@@ -1,0 +1,216 @@
+"""Score a submission against a dataset split: per-episode metrics and their breakdowns.
+
+:func:`score` reads the episodes of the split, takes each one's valid record from the submission (a
+missing or invalid one is a failure, labelled ``invalid``), computes the measures in batches of rows
+(:func:`navverse.eval.metrics.measure`) and the metrics (:func:`navverse.eval.metrics.compute_metrics`),
+and groups them: overall, per task, per scene type, per task × scene type, per difficulty.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from navverse.dataset import Dataset, Episode
+from navverse.eval.metrics import LABELS, METRICS, EpisodeTarget, Robot, compute_metrics, measure
+from navverse.eval.submission import Submission
+from navverse.scene.fields import SceneFields, load_scene_fields
+
+__all__ = ["EXTRA_SURFACES", "EvalResult", "robot_for", "score"]
+
+EXTRA_SURFACES = {"spot": frozenset({"curb", "green", "ground"}), "turtlebot": frozenset()}
+"""Navigable classes an embodiment also counts as preferred for NSR, beyond the classes the scene marks
+``preferred`` (floor, sidewalk, crosswalk): a legged robot is at home on grass, earth and curbs."""
+BATCH_ROWS = 2_000_000
+
+
+def robot_for(embodiment: str) -> Robot:
+    """The scoring view of an embodiment: r_robot, footprint, surfaces."""
+    from navverse.sim.embodiment import make_embodiment
+
+    body = make_embodiment(embodiment)
+    return Robot(
+        name=embodiment,
+        radius=float(body.radius),
+        length=float(body.size[0]),
+        width=float(body.size[1]),
+        extra_surfaces=EXTRA_SURFACES.get(embodiment, frozenset()),
+    )
+
+
+@dataclass(eq=False)
+class EvalResult:
+    """Per-episode values and grouped means.
+
+    Attributes
+    ----------
+    episodes : list of dict
+        One row per episode: ids, task, scene type, difficulty, label, every metric.
+    groups : dict
+        ``{grouping: {group key: {metric: mean, "episodes": n, label: share}}}`` for the groupings
+        ``overall``, ``task``, ``scene_type``, ``task_scene_type``, ``task_difficulty``.
+    problems : list of str
+        The submission's problems.
+    """
+
+    episodes: list[dict]
+    groups: dict[str, dict[str, dict[str, float]]]
+    problems: list[str] = field(default_factory=list)
+    difficulty_thresholds: dict[str, tuple[float, float]] = field(default_factory=dict)
+
+
+def _target(episode: Episode) -> EpisodeTarget:
+    return EpisodeTarget(
+        episode_id=episode.episode_id,
+        scene_id=episode.scene_id,
+        task=episode.task,
+        goal_centers=np.array([g.position for g in episode.goals], dtype=float).reshape(-1, 3),
+        goal_radii=np.array([g.radius for g in episode.goals], dtype=float),
+        geodesic=float(episode.info.geodesic_distance),
+        reference_path=np.asarray(episode.reference_path, dtype=float).reshape(-1, 3),
+    )
+
+
+def _preferred(fields: SceneFields, scene_dir: Path, robot: Robot) -> np.ndarray:
+    from navverse.scene import read_annotations
+
+    classes = read_annotations(scene_dir).terrain_classes
+    flags = [classes[n].preferred or n in robot.extra_surfaces for n in fields.class_names]
+    return np.array([*flags, False], dtype=bool)
+
+
+def _batches(sizes: Sequence[int], limit: int) -> list[list[int]]:
+    out, current, rows = [], [], 0
+    for i, size in enumerate(sizes):
+        if current and rows + size > limit:
+            out.append(current)
+            current, rows = [], 0
+        current.append(i)
+        rows += size
+    return [*out, current] if current else out
+
+
+def score(
+    dataset: Dataset,
+    submission: Submission,
+    *,
+    split: str,
+    scene_dirs: Mapping[str, Path],
+    embodiment: str | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> EvalResult:
+    """Score a submission on one split of a dataset.
+
+    Parameters
+    ----------
+    dataset : Dataset
+        The dataset version.
+    submission : Submission
+        Read with the split's episode ids (:func:`~navverse.eval.submission.read_submission`).
+    split : str
+        The split scored; every one of its episodes is scored.
+    scene_dirs : mapping
+        Built scene directory by scene id (for the obstacle and surface fields).
+    embodiment : str, optional
+        The robot scored (r_robot, footprint); the dataset's by default.
+    progress : callable, optional
+        Called with (episodes scored, episodes).
+    """
+    episodes = list(dataset.episodes(split=split))
+    robot = robot_for(embodiment or dataset.manifest.embodiment)
+    fields = {}
+    preferred = {}
+    for scene in sorted({e.scene_id for e in episodes}):
+        fields[scene] = load_scene_fields(scene_dirs[scene])
+        preferred[scene] = _preferred(fields[scene], Path(scene_dirs[scene]), robot)
+    count = len(episodes)
+    measures: dict[str, np.ndarray] = {}
+    valid = np.array([e.episode_id in submission.records for e in episodes], dtype=np.float64)
+    scored = [i for i in range(count) if valid[i]]
+    records = [submission.records[episodes[i].episode_id] for i in scored]
+    done = 0
+    for batch in _batches([len(r.trajectory) for r in records], BATCH_ROWS):
+        chosen = [records[b] for b in batch]
+        values = measure(
+            [r.trajectory for r in chosen],
+            [_target(episodes[scored[b]]) for b in batch],
+            robot=robot,
+            stops=[r.stop for r in chosen],
+            collisions=[r.collisions for r in chosen],
+            fields=fields,
+            preferred=preferred,
+        )
+        for name, array in values.items():
+            measures.setdefault(name, np.full(count, np.nan))[[scored[b] for b in batch]] = array
+        done += len(batch)
+        if progress is not None:
+            progress(done, len(records))
+    if not measures:  # nothing valid: every measure undefined
+        measures = {
+            name: np.full(count, np.nan)
+            for name in ("dtg", "dtg_min", "dtg_start", "traveled", "duration", "cells", "collided",
+                         "clearance", "on_preferred", "fell", "timed_out", "stopped", "dtw_score")
+        }  # fmt: skip
+    inputs = dict(measures)
+    inputs["geodesic"] = np.array([e.info.geodesic_distance for e in episodes], dtype=float)
+    inputs["success_distance"] = np.full(count, robot.success_distance)
+    inputs["valid"] = valid
+    values = compute_metrics(inputs)
+    rows = []
+    for i, episode in enumerate(episodes):
+        row = {
+            "episode_id": episode.episode_id,
+            "scene_id": episode.scene_id,
+            "task": episode.task,
+            "scene_type": episode.scene_type,
+            "difficulty": episode.info.difficulty,
+            "label": str(values["label"][i]),
+        }
+        for name, spec in METRICS.items():
+            if name.startswith("_"):
+                continue
+            v = float(values[name][i])
+            applies = not spec.tasks or episode.task in spec.tasks
+            row[name] = round(v, 6) if applies and math.isfinite(v) else None
+        rows.append(row)
+    return EvalResult(
+        episodes=rows,
+        groups=group_means(rows),
+        problems=[str(p) for p in submission.problems],
+        difficulty_thresholds=dict(dataset.manifest.difficulty_thresholds),
+    )
+
+
+GROUPINGS = {
+    "overall": lambda r: "all",
+    "task": lambda r: r["task"],
+    "scene_type": lambda r: r["scene_type"],
+    "task_scene_type": lambda r: f"{r['task']}/{r['scene_type']}",
+    "task_difficulty": lambda r: f"{r['task']}/{r['difficulty']}",
+}
+
+
+def group_means(rows: Sequence[dict]) -> dict[str, dict[str, dict[str, float]]]:
+    """Means of every metric (over the episodes where it is defined) and label shares, per grouping."""
+    out: dict[str, dict[str, dict[str, float]]] = {}
+    names = [n for n in METRICS if not n.startswith("_")]
+    for grouping, key in GROUPINGS.items():
+        groups: dict[str, list[dict]] = {}
+        for row in rows:
+            groups.setdefault(key(row), []).append(row)
+        table = {}
+        for group, members in sorted(groups.items()):
+            entry: dict[str, float] = {"episodes": len(members)}
+            for name in names:
+                defined = [m[name] for m in members if m[name] is not None]
+                entry[name] = round(float(np.mean(defined)), 6) if defined else None
+            for label in LABELS:
+                entry[f"{label}_share"] = round(sum(m["label"] == label for m in members) / len(members), 6)
+            entry["failures"] = sum(m["label"] != "success" for m in members)
+            table[group] = entry
+        out[grouping] = table
+    return out
