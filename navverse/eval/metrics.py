@@ -50,6 +50,7 @@ __all__ = [
     "CELL",
     "FALL_TILT_DEG",
     "LABELS",
+    "MEASURES",
     "METRICS",
     "TIMEOUT_S",
     "EpisodeTarget",
@@ -71,6 +72,9 @@ DENSIFY = 0.25
 """Rows farther apart than this (m) are subdivided for coverage."""
 DTW_SPACING = 0.5
 LABELS = ("success", "wrong_goal", "fall", "timeout", "invalid")
+MEASURES = ("dtg", "dtg_min", "dtg_start", "traveled", "duration", "cells", "collided", "clearance",
+            "on_preferred", "fell", "timed_out", "stopped", "dtw_score")  # fmt: skip
+"""Names of the per-episode measures :func:`measure` returns."""
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from navverse.dataset import Dataset, Episode
-from navverse.eval.metrics import LABELS, METRICS, EpisodeTarget, Robot, compute_metrics, measure
+from navverse.eval.metrics import LABELS, MEASURES, METRICS, EpisodeTarget, Robot, compute_metrics, measure
 from navverse.eval.submission import Submission
 from navverse.scene.fields import SceneFields, load_scene_fields
 
@@ -149,13 +149,7 @@ def score(
         done += len(batch)
         if progress is not None:
             progress(done, len(records))
-    if not measures:  # nothing valid: every measure undefined
-        measures = {
-            name: np.full(count, np.nan)
-            for name in ("dtg", "dtg_min", "dtg_start", "traveled", "duration", "cells", "collided",
-                         "clearance", "on_preferred", "fell", "timed_out", "stopped", "dtw_score")
-        }  # fmt: skip
-    inputs = dict(measures)
+    inputs = {name: measures.get(name, np.full(count, np.nan)) for name in MEASURES}
     inputs["geodesic"] = np.array([e.info.geodesic_distance for e in episodes], dtype=float)
     inputs["success_distance"] = np.full(count, robot.success_distance)
     inputs["valid"] = valid

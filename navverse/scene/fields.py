@@ -28,6 +28,7 @@ import open3d as o3d
 from numpy.typing import ArrayLike
 from scipy import ndimage
 
+from navverse.cache import cache_root
 from navverse.scene.geometry import MeshData, Scene
 
 __all__ = ["OBSTACLE_MIN_HEIGHT", "SceneFields", "fields_cache_path", "load_scene_fields", "scene_fields"]
@@ -197,8 +198,7 @@ def fields_cache_path(scene_dir: str | os.PathLike[str]) -> Path:
     keyed by the scene's files (default cache ``~/.cache/navverse``)."""
     from navverse.scene.directory import scene_hash
 
-    root = os.environ.get("NAVVERSE_CACHE_DIR") or str(Path.home() / ".cache" / "navverse")
-    return Path(root) / "fields" / f"{scene_hash(scene_dir)[:32]}.npz"
+    return cache_root() / "fields" / f"{scene_hash(scene_dir)[:32]}.npz"
 
 
 def load_scene_fields(scene_dir: str | os.PathLike[str]) -> SceneFields:

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
+from navverse.cache import cache_root
 from navverse.scene.geometry import MeshData
 
 __all__ = ["ConvexParts", "convex_parts", "default_cache_dir", "hulls_file"]
@@ -71,8 +72,7 @@ def _decompose(part: trimesh.Trimesh, cache_dir: Path | None) -> list[np.ndarray
 
 def default_cache_dir() -> Path:
     """Where decompositions are cached: ``$NAVVERSE_CACHE_DIR/coacd`` (default ``~/.cache/navverse``)."""
-    root = os.environ.get("NAVVERSE_CACHE_DIR") or str(Path.home() / ".cache" / "navverse")
-    return Path(root) / "coacd"
+    return cache_root() / "coacd"
 
 
 def convex_parts(mesh: MeshData, *, cache_dir: Path | None = None) -> ConvexParts:

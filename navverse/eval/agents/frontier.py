@@ -45,6 +45,8 @@ from scipy.sparse import csgraph
 
 from navverse.eval.agents.base import AgentTask
 from navverse.sim.actions import DISCRETE_ACTIONS
+from navverse.sim.controller import wrap_angle
+from navverse.sim.simulator import Pose
 
 __all__ = [
     "FREE",
@@ -87,24 +89,11 @@ _FLOOR_VIEWS = 5  # views whose floor estimates are pooled (median) before the f
 
 def pose_matrix(pose: np.ndarray) -> np.ndarray:
     """The 4x4 base-to-world transform of a pose ``[x, y, z, qx, qy, qz, qw]``."""
-    x, y, z, w = (float(v) for v in pose[3:7])
-    out = np.eye(4)
-    out[:3, :3] = [
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ]
-    out[:3, 3] = np.asarray(pose[:3], dtype=float)
-    return out
+    return Pose(np.asarray(pose[:3], dtype=float), np.asarray(pose[3:7], dtype=float)).matrix()
 
 
 def _yaw(pose: np.ndarray) -> float:
-    x, y, z, w = (float(v) for v in pose[3:7])
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
-
-
-def _wrap(angle: float) -> float:
-    return math.atan2(math.sin(angle), math.cos(angle))
+    return Pose(np.asarray(pose[:3], dtype=float), np.asarray(pose[3:7], dtype=float)).yaw
 
 
 def pixel_rays(
@@ -427,7 +416,7 @@ def trace_path(predecessors: np.ndarray, target: tuple[int, int], cols: int) -> 
 
 def heading_action(yaw: float, bearing: float, *, tolerance: float = math.radians(12.0)) -> int:
     """The discrete action towards a bearing: a 30- or 15-degree turn, or forward when within tolerance."""
-    error = _wrap(bearing - yaw)
+    error = wrap_angle(bearing - yaw)
     if abs(error) > math.radians(22.5):
         return ROTATE_LEFT if error > 0 else ROTATE_RIGHT
     if abs(error) > tolerance:
@@ -904,7 +893,7 @@ class FrontierAgent:
         """After a turn the body could not make (it hit something), step sideways, away from obstacles."""
         if self._last is None or self._last[0] not in _TURNS:
             return
-        turned = math.degrees(_wrap(_yaw(pose) - _yaw(self._last[1])))
+        turned = math.degrees(wrap_angle(_yaw(pose) - _yaw(self._last[1])))
         if abs(turned) >= abs(_TURNS[self._last[0]]) / 3.0:
             return
         yaw = _yaw(pose)
