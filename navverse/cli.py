@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import shutil
 import sys
 from collections.abc import Sequence
@@ -293,12 +294,13 @@ def cmd_validate_submission(args: argparse.Namespace, console: Console) -> int:
 
 
 def cmd_eval(args: argparse.Namespace, console: Console) -> int:
-    """Score a submission: metrics.json, tables (md, csv), and the headline table."""
+    """Score a submission: metrics.json, tables (md, csv), report.html, and the headline table."""
     from rich.progress import Progress
     from rich.table import Table
 
     from navverse import __version__
     from navverse.dataset import Dataset
+    from navverse.eval.report import write_report
     from navverse.eval.scoring import score
     from navverse.eval.submission import read_submission
     from navverse.eval.tables import table_rows, write_outputs
@@ -329,6 +331,17 @@ def cmd_eval(args: argparse.Namespace, console: Console) -> int:
         "toolkit_version": __version__,
     }
     out = write_outputs(result, args.out, meta=meta)
+    with Progress(console=console, transient=True) as bar:
+        task = bar.add_task("report", total=len(result.episodes) or 1)
+        report = write_report(
+            result,
+            dataset=dataset,
+            submission=submission,
+            scene_dirs=scene_dirs,
+            out_dir=Path(out),
+            embodiment=args.embodiment,
+            progress=lambda done, total: bar.update(task, completed=done),
+        )
     if submission.problems:
         console.print(f"[yellow]{len(submission.problems)} submission problems[/] (listed in metrics.json):")
         for problem in submission.problems[:10]:
@@ -348,7 +361,56 @@ def cmd_eval(args: argparse.Namespace, console: Console) -> int:
     for row in rows:
         table.add_row(*row)
     console.print(table)
-    console.print(f"wrote {out}/metrics.json, tables.md, *.csv")
+    console.print(f"wrote {out}/metrics.json, tables.md, *.csv, {report.name}", highlight=False)
+    return 0
+
+
+def cmd_run_agent(args: argparse.Namespace, console: Console) -> int:
+    """Run an agent online over a split and write its submission."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    from navverse.dataset import Dataset
+    from navverse.eval.runner import run_agent
+    from pipeline.store import ArtifactStore
+
+    dataset = Dataset(args.dataset)
+    _split_of(dataset, args.split)
+    embodiment = args.embodiment or dataset.manifest.embodiment
+    store = ArtifactStore(_workspace().built_dir)
+    scenes = sorted({e.scene_id for e in dataset.episodes(split=args.split)})
+    scene_dirs = {scene: _scene_dir(store, scene) for scene in scenes}
+    jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
+    with Progress(*columns, console=console, transient=True) as bar:
+        task = bar.add_task(f"{args.agent} on {args.split}", total=None)
+        summary = run_agent(
+            dataset,
+            agent=args.agent,
+            split=args.split,
+            embodiment=embodiment,
+            scene_dirs=scene_dirs,
+            out=args.out,
+            jobs=jobs,
+            limit=args.limit,
+            seed=args.seed,
+            max_steps=args.max_steps,
+            terrain_friction=args.friction,
+            progress=lambda done, total: bar.update(task, completed=done, total=total),
+        )
+    ended = ", ".join(f"{label} {count}" for label, count in sorted(summary.terminations.items()))
+    resumed = f" ({summary.resumed} resumed from an interrupted run)" if summary.resumed else ""
+    console.print(
+        f"{args.agent} ({embodiment}): {summary.episodes} episodes{resumed} in {summary.seconds:.0f} s; "
+        f"ended: {ended}",
+        highlight=False,
+        markup=False,
+    )
+    console.print(
+        f"wrote {summary.out}; score it with: navverse eval --dataset {args.dataset} "
+        f"--submission {summary.out} --split {args.split}",
+        highlight=False,
+        markup=False,
+    )
     return 0
 
 
@@ -416,6 +478,25 @@ def build_parser() -> argparse.ArgumentParser:
     evaluate.add_argument("--embodiment", default=None, help="robot scored (default: the dataset's)")
     evaluate.add_argument("--out", default="eval-out", help="output folder (default: eval-out)")
     evaluate.set_defaults(func=cmd_eval)
+
+    run = sub.add_parser("run-agent", help="run an agent over a dataset split and write its submission")
+    run.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
+    run.add_argument("--split", default="eval", help="split run (default: eval)")
+    run.add_argument(
+        "--agent",
+        required=True,
+        help="oracle, gt_goal, random, frontier, or your own 'module:Class' / 'path/to/file.py:Class'",
+    )
+    run.add_argument("--embodiment", default=None, help="spot or turtlebot (default: the dataset's)")
+    run.add_argument("--out", required=True, help="submission to write (.jsonl or .jsonl.gz)")
+    run.add_argument("--jobs", "-j", type=int, default=None, help="processes (default: cores; 0: in process)")
+    run.add_argument("--limit", type=int, default=None, help="run only K episodes, spread over the split")
+    run.add_argument("--seed", type=int, default=0, help="seed of the agent's per-episode seeds")
+    run.add_argument("--max-steps", type=int, default=None, help="cut an episode after this many actions")
+    run.add_argument(
+        "--friction", type=float, default=None, help="friction of every terrain class (a diagnostic)"
+    )
+    run.set_defaults(func=cmd_run_agent)
 
     show = sub.add_parser("show", help="draw or print what was built")
     ssub = show.add_subparsers(dest="what", required=True, metavar="WHAT")

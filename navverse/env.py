@@ -11,21 +11,24 @@ world-frame waypoint appended to the path, executed for 0.1 s) and ``NavVerse-Ve
 the episode. Observations: ``rgb`` (480x640x3 uint8), ``depth`` (480x640x1 float32, meters, 0 where
 nothing is within [0.1, 1000] m), ``semantic`` (480x640 int32 instance ids), ``pose``
 (``[x, y, z, qx, qy, qz, qw]``) and ``goal`` (the object or place category, or the instruction).
+``sensors`` chooses which camera images are rendered; an agent that needs none (one that follows
+privileged paths) skips rendering altogether and runs at the speed of the physics.
 
 ``reset(options={"episode": {...}})`` takes an episode in the dataset's format (DESIGN.md §3:
 ``start_position``, ``start_rotation``, ``goals``, ``object_category`` or ``instruction``...);
 without one, a start is drawn on the navmesh and an object category with instances as the goal. The
 reward is always 0: benchmarks are scored offline by ``navverse eval``. ``info`` holds the
-termination label (``stop``, ``fall``, ``timeout``, ``out_of_bounds``), the collisions so far, the
-surface under the robot and the simulated time; with ``privileged=True`` also the geodesic
-distance to the nearest goal, the goal positions and the episode's reference path.
+termination label (``stop``, ``fall``, ``timeout``, ``out_of_bounds``, ``max_steps``), the number of
+actions, the collisions so far, the surface under the robot and the simulated time; with
+``privileged=True`` also the geodesic distance to the nearest goal, the goal positions and the
+episode's reference path.
 """
 
 from __future__ import annotations
 
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -44,9 +47,11 @@ from navverse.sim.simulator import Simulator
 from navverse.sim.terminations import TIMEOUT, TerminationMonitor
 from navverse.sim.world import World
 
-__all__ = ["ACTION_MODES", "EnvError", "NavVerseEnv"]
+__all__ = ["ACTION_MODES", "SENSORS", "EnvError", "NavVerseEnv"]
 
 ACTION_MODES = ("discrete", "waypoint", "velocity")
+SENSORS = ("rgb", "depth", "semantic")
+"""The camera images an environment can render."""
 POSE_MARGIN = 100.0
 """The pose observation's box: the scene bounds grown by this much (m) on every side."""
 _TEXT = spaces.Text(max_length=2048, charset="".join(chr(c) for c in range(32, 127)))
@@ -73,13 +78,20 @@ class NavVerseEnv(gymnasium.Env):
     action_mode : str
         ``discrete``, ``waypoint`` or ``velocity``.
     max_time : float
-        Episode time limit in simulated seconds (truncation).
+        Episode time limit in simulated seconds (truncation, label ``timeout``).
+    max_steps : int, optional
+        Limit on the number of actions (truncation, label ``max_steps``); None: no limit.
     privileged : bool
         Whether ``info`` carries goal positions, the geodesic distance and the reference path.
     render_mode : str, optional
         ``rgb_array``: :meth:`render` returns the last camera image.
     collision_cache : path, optional
         Where convex decompositions of objects are cached (see :class:`~navverse.sim.world.World`).
+    sensors : sequence of str
+        Camera images rendered into the observation, among :data:`SENSORS` (``pose`` and ``goal``
+        are always there).
+    terrain_friction : float, optional
+        Friction of every terrain class instead of the scene's own (a diagnostic); None: the scene's.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
@@ -91,12 +103,22 @@ class NavVerseEnv(gymnasium.Env):
         embodiment: str = "spot",
         action_mode: str = "discrete",
         max_time: float = TIMEOUT,
+        max_steps: int | None = None,
         privileged: bool = False,
         render_mode: str | None = None,
         collision_cache: str | os.PathLike[str] | None = "default",
+        sensors: Sequence[str] = SENSORS,
+        terrain_friction: float | None = None,
     ) -> None:
         if action_mode not in ACTION_MODES:
             raise EnvError(f"unknown action mode {action_mode!r}; choose from: {', '.join(ACTION_MODES)}")
+        unknown = sorted(set(sensors) - set(SENSORS))
+        if unknown:
+            raise EnvError(f"unknown sensors {unknown}; choose from: {', '.join(SENSORS)}")
+        if max_steps is not None and max_steps < 1:
+            raise EnvError(f"max_steps must be at least 1, got {max_steps}")
+        if terrain_friction is not None and not (math.isfinite(terrain_friction) and terrain_friction >= 0.0):
+            raise EnvError(f"terrain_friction must be a finite number >= 0, got {terrain_friction!r}")
         if render_mode not in (None, "rgb_array"):
             raise EnvError(f"unsupported render mode {render_mode!r}; use 'rgb_array' or None")
         self.scene_dir = Path(scene)
@@ -106,7 +128,7 @@ class NavVerseEnv(gymnasium.Env):
                 "build it with `navverse build`"
             )
         cache = collision_cache if collision_cache in (None, "default") else Path(collision_cache)
-        self.world = World(self.scene_dir, collision_cache=cache)
+        self.world = World(self.scene_dir, collision_cache=cache, terrain_friction=terrain_friction)
         self.scene = self.world.scene
         self.embodiment_name = embodiment
         self.sim = Simulator(self.world, make_embodiment(embodiment))
@@ -114,6 +136,8 @@ class NavVerseEnv(gymnasium.Env):
         self.intrinsics = CameraIntrinsics.from_hfov()
         self.renderer = SceneRenderer(self.scene, intrinsics=self.intrinsics)
         self.monitor = TerminationMonitor(timeout=max_time)
+        self.max_steps = max_steps
+        self.sensors = tuple(s for s in SENSORS if s in sensors)
         self.action_mode = action_mode
         self.privileged = privileged
         self.render_mode = render_mode
@@ -122,17 +146,21 @@ class NavVerseEnv(gymnasium.Env):
         self._recorder: RolloutRecorder | None = None
         self._last_rgb: np.ndarray | None = None
         self._done = False
+        self._steps = 0
 
         h, w = self.intrinsics.height, self.intrinsics.width
         lo, hi = self.world.bounds
         reach = np.array([POSE_MARGIN, POSE_MARGIN, POSE_MARGIN])
         pose_low = np.concatenate([lo - reach, -np.ones(4)])
         pose_high = np.concatenate([hi + reach, np.ones(4)])
+        images = {
+            "rgb": spaces.Box(0, 255, (h, w, 3), np.uint8),
+            "depth": spaces.Box(0.0, 1000.0, (h, w, 1), np.float32),
+            "semantic": spaces.Box(0, np.iinfo(np.int32).max, (h, w), np.int32),
+        }
         self.observation_space = spaces.Dict(
             {
-                "rgb": spaces.Box(0, 255, (h, w, 3), np.uint8),
-                "depth": spaces.Box(0.0, 1000.0, (h, w, 1), np.float32),
-                "semantic": spaces.Box(0, np.iinfo(np.int32).max, (h, w), np.int32),
+                **{name: images[name] for name in self.sensors},
                 "pose": spaces.Box(pose_low, pose_high, (7,), np.float64),
                 "goal": _TEXT,
             }
@@ -224,6 +252,7 @@ class NavVerseEnv(gymnasium.Env):
         self._recorder = RolloutRecorder(str(self._episode.get("episode_id", "episode")))
         self._recorder.attach(self.sim)
         self._done = False
+        self._steps = 0
         return self._observe(), self._info(None)
 
     def step(self, action):
@@ -231,9 +260,12 @@ class NavVerseEnv(gymnasium.Env):
         if self._done:
             raise EnvError("the episode has ended: call reset() before step()")
         stop = self._act(action)
+        self._steps += 1
         label = "stop" if stop else self.monitor.check(self.sim)
+        if label is None and self.max_steps is not None and self._steps >= self.max_steps:
+            label = "max_steps"
         terminated = label in ("stop", "fall", "out_of_bounds", "stuck")
-        truncated = label == "timeout"
+        truncated = label in ("timeout", "max_steps")
         self._done = terminated or truncated
         info = self._info(label)
         if self._done:
@@ -261,16 +293,20 @@ class NavVerseEnv(gymnasium.Env):
         return False
 
     def _observe(self) -> dict[str, Any]:
-        frame = self.renderer.render(self.sim.camera_to_world())
         pose = self.sim.pose()
-        self._last_rgb = frame.rgb
-        return {
-            "rgb": frame.rgb,
-            "depth": frame.depth[..., None].astype(np.float32),
-            "semantic": frame.semantic.astype(np.int32),
-            "pose": np.concatenate([pose.position, pose.quaternion]).astype(np.float64),
-            "goal": self._goal_text(),
-        }
+        observation: dict[str, Any] = {}
+        if self.sensors or self.render_mode is not None:
+            frame = self.renderer.render(self.sim.camera_to_world())
+            self._last_rgb = frame.rgb
+            images = {
+                "rgb": lambda: frame.rgb,
+                "depth": lambda: frame.depth[..., None].astype(np.float32),
+                "semantic": lambda: frame.semantic.astype(np.int32),
+            }
+            observation = {name: images[name]() for name in self.sensors}
+        observation["pose"] = np.concatenate([pose.position, pose.quaternion]).astype(np.float64)
+        observation["goal"] = self._goal_text()
+        return observation
 
     def _info(self, label: str | None) -> dict[str, Any]:
         info: dict[str, Any] = {
@@ -282,6 +318,7 @@ class NavVerseEnv(gymnasium.Env):
             "camera_to_base": np.array(self.sim.robot.camera_to_base, dtype=float),
             "robot_size": np.array(self.sim.robot.size, dtype=float),
             "robot_radius": self.sim.robot.radius,
+            "steps": self._steps,
         }
         if self.privileged:
             goals = np.array([g["position"] for g in self._episode.get("goals", [])], dtype=float).reshape(

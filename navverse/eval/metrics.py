@@ -5,7 +5,8 @@ Scoring has two layers:
 1. :func:`measure` turns trajectories into per-episode **measures**, computing over all rows of a batch
    of episodes at once (no Python loop over rows): distance to goal at the start, end and closest
    point, 3-D path length, duration, visited 1 m cells, collision, mean obstacle distance, share of
-   rows on preferred surfaces, fall and timeout, and nDTW for VLN.
+   rows on preferred surfaces, fall and timeout, nDTW for VLN, and the exit measures for
+   indoor-to-outdoor episodes.
 2. **Metrics** are registered with :func:`metric` and the names they need (measures, episode facts or
    other metrics); :func:`compute_metrics` resolves that graph and evaluates each metric once, over
    arrays of episodes.
@@ -31,6 +32,15 @@ Definitions (``p_t`` the base position, ``T`` the last row, ``r`` = r_robot, tol
   along its length, is checked against the scene's obstacle field at every row.
 * nDTW = exp(−DTW(Q, R) / (|R| · d_th)) with d_th the success distance, Q and R the trajectory and
   the reference path resampled every 0.5 m in the horizontal plane; SDTW = success · nDTW (VLN).
+* Transition (the paper's stage-wise analysis; only episodes of ``i2o`` scenes with an indoor region,
+  undefined for every other episode): the **exit row** ``k`` is the first scored row whose base lies
+  outside the indoor region (the ``indoor`` field of :mod:`navverse.scene.fields`). Ind-Only = [no such
+  row]; Reach-Out = [there is one] (= 1 − Ind-Only). The path splits at ``k``: rows ``0..k`` are before
+  the exit (all rows if it never exits), rows ``k..T`` after it (the exit row is in both, so the two
+  lengths add up to P). CE before / after the exit = |cells| / max(P, 1 m) of each part, with the
+  cells of CE; CE before is undefined when the robot starts outdoors (``k = 0``), CE after when it never
+  exits. Post-exit failure causes: over the failed episodes that reached outdoors, [label is wrong
+  goal], [fall], [timeout] (undefined for every other episode, so their means are the shares).
 
 Episodes without a valid trajectory (missing from a submission or invalid) are failures: their SR,
 SPL, SS, SoftSPL and OS are 0 and their trajectory measures undefined (NaN, left out of those means).
@@ -48,11 +58,13 @@ from navverse.scene.fields import SceneFields
 
 __all__ = [
     "CELL",
+    "EXIT_MEASURES",
     "FALL_TILT_DEG",
     "LABELS",
     "MEASURES",
     "METRICS",
     "TIMEOUT_S",
+    "TRANSITION_SCENE_TYPES",
     "EpisodeTarget",
     "Metric",
     "Robot",
@@ -72,8 +84,12 @@ DENSIFY = 0.25
 """Rows farther apart than this (m) are subdivided for coverage."""
 DTW_SPACING = 0.5
 LABELS = ("success", "wrong_goal", "fall", "timeout", "invalid")
+TRANSITION_SCENE_TYPES = ("i2o",)
+"""Scene types whose episodes get the transition (exit) measures."""
+EXIT_MEASURES = ("reached_outdoor", "pre_exit_cells", "pre_exit_traveled", "post_exit_cells",
+                 "post_exit_traveled")  # fmt: skip
 MEASURES = ("dtg", "dtg_min", "dtg_start", "traveled", "duration", "cells", "collided", "clearance",
-            "on_preferred", "fell", "timed_out", "stopped", "dtw_score")  # fmt: skip
+            "on_preferred", "fell", "timed_out", "stopped", "dtw_score", *EXIT_MEASURES)  # fmt: skip
 """Names of the per-episode measures :func:`measure` returns."""
 
 
@@ -103,6 +119,7 @@ class EpisodeTarget:
     goal_radii: np.ndarray  # (G,)
     geodesic: float
     reference_path: np.ndarray  # (R, 3)
+    scene_type: str = ""  # indoor | outdoor | i2o; only i2o episodes get the exit measures
 
 
 @dataclass(eq=False)
@@ -138,16 +155,19 @@ def _cut(trajectories: Sequence[np.ndarray]) -> _Batch:
         episodes, at = np.unique(seg[fall_rows], return_index=True)
         first_fall[episodes] = fall_rows[at]
     keep = within & (index <= first_fall[seg])
-    kept = np.bincount(seg[keep], minlength=len(trajectories))
+    fell = first_fall < len(rows)
+    if not keep.all():  # one copy of the kept rows (when every row is kept, none)
+        rows, seg = rows[keep], seg[keep]
+    kept = np.bincount(seg, minlength=len(trajectories))
     starts = np.concatenate([[0], np.cumsum(kept)[:-1]]).astype(np.int64)
     return _Batch(
-        xyz=rows[keep, 1:4],
-        quat=rows[keep, 4:8],
-        t=rows[keep, 0],
-        seg=seg[keep],
+        xyz=rows[:, 1:4],
+        quat=rows[:, 4:8],
+        t=rows[:, 0],
+        seg=seg,
         starts=starts,
         ends=starts + kept - 1,
-        fell=first_fall < len(rows),
+        fell=fell,
         timed_out=last_t > TIMEOUT_S,
     )
 
@@ -161,19 +181,29 @@ def _goal_distance(batch: _Batch, targets: Sequence[EpisodeTarget]) -> np.ndarra
         centers[i, : len(target.goal_radii)] = target.goal_centers
         radii[i, : len(target.goal_radii)] = target.goal_radii
     d = np.full(len(batch.t), np.inf)
+    rows = batch.ends - batch.starts + 1  # an episode's rows are contiguous: repeat, don't gather
+    x, y, z = batch.xyz[:, 0], batch.xyz[:, 1], batch.xyz[:, 2]
     for g in range(most):  # goals are few; rows are many
-        c = centers[batch.seg, g]
-        d = np.minimum(d, np.linalg.norm(batch.xyz - c, axis=1) - radii[batch.seg, g])
+        cx, cy, cz = (np.repeat(centers[:, g, k], rows) for k in range(3))
+        d = np.minimum(d, _norm3(x - cx, y - cy, z - cz) - np.repeat(radii[:, g], rows))
     return np.maximum(d, 0.0)
 
 
-def _coverage(batch: _Batch, count: int) -> np.ndarray:
-    """Unique 1 m cells visited per episode, rows subdivided every :data:`DENSIFY` m."""
-    xy = batch.xyz[:, :2]
-    seg = batch.seg
+def _norm3(dx: np.ndarray, dy: np.ndarray, dz: np.ndarray | None = None) -> np.ndarray:
+    """``sqrt(dx² + dy² (+ dz²))``, in the order ``np.linalg.norm(axis=1)`` adds them."""
+    total = dx * dx
+    total += dy * dy
+    if dz is not None:
+        total += dz * dz
+    return np.sqrt(total, out=total)
+
+
+def _coverage(xy: np.ndarray, seg: np.ndarray, count: int) -> np.ndarray:
+    """Unique 1 m cells visited per episode by rows `xy` of episodes `seg` (sorted), rows subdivided every
+    :data:`DENSIFY` m."""
     if len(xy) > 1:
         same = seg[1:] == seg[:-1]
-        step = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+        step = _norm3(np.diff(xy[:, 0]), np.diff(xy[:, 1]))
         parts = np.where(same, np.ceil(step / DENSIFY), 1).astype(np.int64)
         parts = np.maximum(parts, 1)
         if (parts > 1).any():
@@ -194,17 +224,81 @@ def _yaw(quat: np.ndarray) -> np.ndarray:
     return np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 
-def _footprint_contact(batch: _Batch, fields: SceneFields, rows: np.ndarray, robot: Robot) -> np.ndarray:
-    """Rows whose footprint capsule (width ``robot.width`` along ``robot.length``) touches an obstacle."""
+def _footprint_contact(
+    batch: _Batch, fields: SceneFields, rows: np.ndarray, robot: Robot, centre: np.ndarray
+) -> np.ndarray:
+    """Rows whose footprint capsule (width ``robot.width`` along ``robot.length``) touches an obstacle.
+
+    ``centre`` is the obstacle distance at each row's base. The distance field is 1-Lipschitz between
+    cell centres and a point is at most half a cell diagonal from its cell's centre, so a capsule point
+    ``reach`` away from the base is no closer than ``centre - reach - √2 cell``: rows farther than that
+    from every obstacle cannot touch one and are not looked at.
+    """
     half = robot.width / 2.0
     reach = max(robot.length / 2.0 - half, 0.0)
-    yaw = _yaw(batch.quat[rows])
+    touching = half - fields.cell / 2.0
+    touched = np.zeros(len(centre), dtype=bool)
+    near = np.flatnonzero(centre < touching + reach + math.sqrt(2.0) * fields.cell + 1e-3)
+    if not len(near):
+        return touched
+    at = np.arange(len(batch.t))[rows][near]
+    yaw = _yaw(batch.quat[at])
     axis = np.stack([np.cos(yaw), np.sin(yaw)], axis=1)
-    clearance = np.full(len(rows), np.inf)
+    xy = batch.xyz[at, :2]
+    clearance = np.full(len(at), np.inf)
     for k in np.linspace(-1.0, 1.0, 5):
-        points = batch.xyz[rows, :2] + k * reach * axis
-        clearance = np.minimum(clearance, fields.distance_at(points))
-    return clearance < half - fields.cell / 2.0
+        clearance = np.minimum(clearance, fields.distance_at(xy + k * reach * axis))
+    touched[near] = clearance < touching
+    return touched
+
+
+def _exit_measures(
+    batch: _Batch,
+    targets: Sequence[EpisodeTarget],
+    fields: Mapping[str, SceneFields],
+    step: np.ndarray,
+) -> dict[str, np.ndarray]:
+    """The :data:`EXIT_MEASURES` per episode: reached outdoors, and the cells and path length before and
+    after the exit row; NaN for episodes outside :data:`TRANSITION_SCENE_TYPES` or without an indoor region.
+
+    `step` is the length of the step from each row to the next (0 across episodes).
+    """
+    count = len(targets)
+    transition = {t.scene_id for t in targets if t.scene_type in TRANSITION_SCENE_TYPES}
+    scenes = sorted(scene for scene in transition if fields[scene].has_indoor)
+    applies = np.array([t.scene_type in TRANSITION_SCENE_TYPES and t.scene_id in scenes for t in targets])
+    if not scenes:
+        return {name: np.full(count, np.nan) for name in EXIT_MEASURES}
+    row_applies = applies[batch.seg]
+    scene_of_row = np.array([t.scene_id for t in targets], dtype=object)[batch.seg]
+    outside = np.zeros(len(batch.t), dtype=bool)
+    for scene in scenes:
+        rows = np.flatnonzero(row_applies & (scene_of_row == scene))
+        outside[rows] = ~fields[scene].indoor_at(batch.xyz[rows, :2])
+    exit_row = np.full(count, -1, dtype=np.int64)  # the first row outdoors, in the batch; -1: none
+    out_rows = np.flatnonzero(outside)
+    if len(out_rows):
+        episodes, at = np.unique(batch.seg[out_rows], return_index=True)
+        exit_row[episodes] = out_rows[at]
+    reached = exit_row >= 0
+    index = np.arange(len(batch.t))
+    k = exit_row[batch.seg]
+    parts = {
+        "pre_exit": row_applies & ((k < 0) | (index <= k)),  # rows 0..k, or all if it never left
+        "post_exit": row_applies & (k >= 0) & (index >= k),  # rows k..T
+    }
+    defined = {
+        "pre_exit": applies & (exit_row != batch.starts),  # starting outdoors leaves nothing before
+        "post_exit": reached,
+    }
+    out = {"reached_outdoor": np.where(applies, reached.astype(np.float64), np.nan)}
+    for name, rows in parts.items():
+        cells = _coverage(batch.xyz[rows, :2], batch.seg[rows], count)
+        inside = rows[1:] & rows[:-1]  # a step is in a part when both its rows are
+        traveled = np.bincount(batch.seg[1:], weights=step * inside, minlength=count)
+        out[f"{name}_cells"] = np.where(defined[name], cells, np.nan)
+        out[f"{name}_traveled"] = np.where(defined[name], traveled, np.nan)
+    return out
 
 
 def measure(
@@ -240,26 +334,30 @@ def measure(
     dict of ndarray
         ``dtg``, ``dtg_min``, ``dtg_start``, ``traveled``, ``duration``, ``cells``, ``collided``,
         ``clearance``, ``on_preferred``, ``fell``, ``timed_out``, ``stopped``, ``dtw_score`` (NaN unless
-        VLN), each (E,).
+        VLN), ``reached_outdoor``, ``pre_exit_cells``, ``pre_exit_traveled``, ``post_exit_cells``,
+        ``post_exit_traveled`` (NaN unless the episode's scene type is in :data:`TRANSITION_SCENE_TYPES`
+        and its scene has an indoor region; the pre-exit ones also when it starts outdoors, the
+        post-exit ones when it never leaves), each (E,).
     """
     count = len(trajectories)
     batch = _cut(trajectories)
     d = _goal_distance(batch, targets)
-    step = np.linalg.norm(np.diff(batch.xyz, axis=0), axis=1)
+    step = _norm3(*(np.diff(batch.xyz[:, i]) for i in range(3)))
     step[batch.seg[1:] != batch.seg[:-1]] = 0.0
     path = np.bincount(batch.seg[1:], weights=step, minlength=count) if len(step) else np.zeros(count)
     clearance = np.full(len(batch.t), np.nan)
     on_preferred = np.zeros(len(batch.t))
     touching = np.zeros(len(batch.t), dtype=bool)
-    scene_of_row = np.array([t.scene_id for t in targets], dtype=object)[batch.seg]
-    for scene in sorted({t.scene_id for t in targets}):
-        rows = np.flatnonzero(scene_of_row == scene)
+    scenes = sorted({t.scene_id for t in targets})
+    scene_code = np.array([scenes.index(t.scene_id) for t in targets], dtype=np.int64)
+    for code, scene in enumerate(scenes):
+        rows = slice(None) if len(scenes) == 1 else np.flatnonzero(scene_code[batch.seg] == code)
         grid = fields[scene]
-        xy = batch.xyz[rows, :2]
-        clearance[rows] = grid.distance_at(xy)
-        classes = grid.terrain_at(xy)
+        row, col = grid.cells(batch.xyz[rows, :2])
+        clearance[rows] = grid.distance[row, col]
+        classes = grid.terrain[row, col]
         on_preferred[rows] = preferred[scene][np.where(classes >= 0, classes, len(preferred[scene]) - 1)]
-        touching[rows] = _footprint_contact(batch, grid, rows, robot)
+        touching[rows] = _footprint_contact(batch, grid, rows, robot, clearance[rows])
     n_rows = np.bincount(batch.seg, minlength=count)
     end_time = batch.t[batch.ends]
     collided = np.zeros(count, dtype=bool)
@@ -271,13 +369,14 @@ def measure(
         if target.task == "vln" and len(target.reference_path) >= 2:
             rows = slice(batch.starts[i], batch.ends[i] + 1)
             ndtw_values[i] = ndtw(batch.xyz[rows], target.reference_path, threshold=robot.success_distance)
+    exits = _exit_measures(batch, targets, fields, step)
     return {
         "dtg": d[batch.ends],
         "dtg_min": np.minimum.reduceat(d, batch.starts) if len(d) else np.zeros(count),
         "dtg_start": d[batch.starts],
         "traveled": path,
         "duration": end_time - batch.t[batch.starts],
-        "cells": _coverage(batch, count),
+        "cells": _coverage(batch.xyz[:, :2], batch.seg, count),
         "collided": collided.astype(np.float64),
         "clearance": np.bincount(batch.seg, weights=clearance, minlength=count) / n_rows,
         "on_preferred": np.bincount(batch.seg, weights=on_preferred, minlength=count) / n_rows,
@@ -285,6 +384,7 @@ def measure(
         "timed_out": batch.timed_out.astype(np.float64),
         "stopped": np.asarray(stops, dtype=np.float64),
         "dtw_score": ndtw_values,
+        **exits,
     }
 
 
@@ -331,6 +431,12 @@ class Metric:
     description: str
     higher_is_better: bool = True
     tasks: tuple[str, ...] = ()  # empty: every task
+    scene_types: tuple[str, ...] = ()  # empty: every scene type
+
+    def applies(self, task: str, scene_type: str) -> bool:
+        """Whether the metric is defined for an episode of this task and scene type."""
+        in_tasks = not self.tasks or task in self.tasks
+        return in_tasks and (not self.scene_types or scene_type in self.scene_types)
 
 
 METRICS: dict[str, Metric] = {}
@@ -344,13 +450,16 @@ def metric(
     description: str,
     higher_is_better: bool = True,
     tasks: Sequence[str] = (),
+    scene_types: Sequence[str] = (),
 ) -> Callable[[Callable[..., np.ndarray]], Callable[..., np.ndarray]]:
     """Register a metric computed from ``needs`` (measures, episode facts or earlier metrics)."""
 
     def register(function: Callable[..., np.ndarray]) -> Callable[..., np.ndarray]:
         if name in METRICS:
             raise ValueError(f"metric {name!r} is registered twice")
-        METRICS[name] = Metric(name, tuple(needs), function, description, higher_is_better, tuple(tasks))
+        METRICS[name] = Metric(
+            name, tuple(needs), function, description, higher_is_better, tuple(tasks), tuple(scene_types)
+        )
         return function
 
     return register
@@ -445,6 +554,86 @@ def _ndtw(dtw_score):
 @metric("sdtw", needs=("success", "ndtw"), description="success-weighted nDTW (VLN)", tasks=("vln",))
 def _sdtw(success, ndtw):
     return success * ndtw
+
+
+@metric(
+    "ind_only",
+    needs=("reached_outdoor",),
+    description="Ind-Only: the robot never left the indoor region (indoor-to-outdoor)",
+    higher_is_better=False,
+    scene_types=TRANSITION_SCENE_TYPES,
+)
+def _ind_only(reached_outdoor):
+    return 1.0 - reached_outdoor
+
+
+@metric(
+    "reach_out",
+    needs=("reached_outdoor",),
+    description="Reach-Out: the robot reached outdoors (indoor-to-outdoor)",
+    scene_types=TRANSITION_SCENE_TYPES,
+)
+def _reach_out(reached_outdoor):
+    return reached_outdoor
+
+
+@metric(
+    "ce_pre_exit",
+    needs=("pre_exit_cells", "pre_exit_traveled"),
+    description="CE before the exit: 1 m cells per meter up to the first row outdoors (indoor-to-outdoor)",
+    scene_types=TRANSITION_SCENE_TYPES,
+)
+def _ce_pre_exit(pre_exit_cells, pre_exit_traveled):
+    return pre_exit_cells / np.maximum(pre_exit_traveled, CE_EPSILON)
+
+
+@metric(
+    "ce_post_exit",
+    needs=("post_exit_cells", "post_exit_traveled"),
+    description="CE after the exit: 1 m cells per meter from the first row outdoors (indoor-to-outdoor)",
+    scene_types=TRANSITION_SCENE_TYPES,
+)
+def _ce_post_exit(post_exit_cells, post_exit_traveled):
+    return post_exit_cells / np.maximum(post_exit_traveled, CE_EPSILON)
+
+
+def _post_exit(code: int, label: np.ndarray, reached_outdoor: np.ndarray) -> np.ndarray:
+    """[label is `code`] for failed episodes that reached outdoors, NaN for the others."""
+    failed_outside = (reached_outdoor > 0) & (label != 0)
+    return np.where(failed_outside, (label == code).astype(np.float64), np.nan)
+
+
+@metric(
+    "post_exit_wrong_goal",
+    needs=("_label", "reached_outdoor"),
+    description="share of wrong goals among failed episodes that reached outdoors (indoor-to-outdoor)",
+    higher_is_better=False,
+    scene_types=TRANSITION_SCENE_TYPES,
+)
+def _post_exit_wrong_goal(_label, reached_outdoor):
+    return _post_exit(1, _label, reached_outdoor)
+
+
+@metric(
+    "post_exit_fall",
+    needs=("_label", "reached_outdoor"),
+    description="share of falls among failed episodes that reached outdoors (indoor-to-outdoor)",
+    higher_is_better=False,
+    scene_types=TRANSITION_SCENE_TYPES,
+)
+def _post_exit_fall(_label, reached_outdoor):
+    return _post_exit(2, _label, reached_outdoor)
+
+
+@metric(
+    "post_exit_timeout",
+    needs=("_label", "reached_outdoor"),
+    description="share of timeouts among failed episodes that reached outdoors (indoor-to-outdoor)",
+    higher_is_better=False,
+    scene_types=TRANSITION_SCENE_TYPES,
+)
+def _post_exit_timeout(_label, reached_outdoor):
+    return _post_exit(3, _label, reached_outdoor)
 
 
 def compute_metrics(inputs: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:

@@ -3,7 +3,8 @@
 :func:`score` reads the episodes of the split, takes each one's valid record from the submission (a
 missing or invalid one is a failure, labelled ``invalid``), computes the measures in batches of rows
 (:func:`navverse.eval.metrics.measure`) and the metrics (:func:`navverse.eval.metrics.compute_metrics`),
-and groups them: overall, per task, per scene type, per task × scene type, per difficulty.
+and groups them: overall, per task, per scene type, per task × scene type, per difficulty, and per task
+over the indoor-to-outdoor episodes alone (the transition analysis).
 """
 
 from __future__ import annotations
@@ -16,11 +17,20 @@ from pathlib import Path
 import numpy as np
 
 from navverse.dataset import Dataset, Episode
-from navverse.eval.metrics import LABELS, MEASURES, METRICS, EpisodeTarget, Robot, compute_metrics, measure
+from navverse.eval.metrics import (
+    LABELS,
+    MEASURES,
+    METRICS,
+    TRANSITION_SCENE_TYPES,
+    EpisodeTarget,
+    Robot,
+    compute_metrics,
+    measure,
+)
 from navverse.eval.submission import Submission
 from navverse.scene.fields import SceneFields, load_scene_fields
 
-__all__ = ["EXTRA_SURFACES", "EvalResult", "robot_for", "score"]
+__all__ = ["EXTRA_SURFACES", "GROUPINGS", "EvalResult", "group_means", "metric_rows", "robot_for", "score"]
 
 EXTRA_SURFACES = {"spot": frozenset({"curb", "green", "ground"}), "turtlebot": frozenset()}
 """Navigable classes an embodiment also counts as preferred for NSR, beyond the classes the scene marks
@@ -51,8 +61,8 @@ class EvalResult:
     episodes : list of dict
         One row per episode: ids, task, scene type, difficulty, label, every metric.
     groups : dict
-        ``{grouping: {group key: {metric: mean, "episodes": n, label: share}}}`` for the groupings
-        ``overall``, ``task``, ``scene_type``, ``task_scene_type``, ``task_difficulty``.
+        ``{grouping: {group key: {metric: mean, "episodes": n, label: share}}}`` for the groupings of
+        :data:`GROUPINGS` (``i2o_task`` is empty when the split has no indoor-to-outdoor episodes).
     problems : list of str
         The submission's problems.
     """
@@ -72,6 +82,7 @@ def _target(episode: Episode) -> EpisodeTarget:
         goal_radii=np.array([g.radius for g in episode.goals], dtype=float),
         geodesic=float(episode.info.geodesic_distance),
         reference_path=np.asarray(episode.reference_path, dtype=float).reshape(-1, 3),
+        scene_type=episode.scene_type,
     )
 
 
@@ -154,23 +165,17 @@ def score(
     inputs["success_distance"] = np.full(count, robot.success_distance)
     inputs["valid"] = valid
     values = compute_metrics(inputs)
-    rows = []
-    for i, episode in enumerate(episodes):
-        row = {
-            "episode_id": episode.episode_id,
-            "scene_id": episode.scene_id,
-            "task": episode.task,
-            "scene_type": episode.scene_type,
-            "difficulty": episode.info.difficulty,
-            "label": str(values["label"][i]),
+    facts = [
+        {
+            "episode_id": e.episode_id,
+            "scene_id": e.scene_id,
+            "task": e.task,
+            "scene_type": e.scene_type,
+            "difficulty": e.info.difficulty,
         }
-        for name, spec in METRICS.items():
-            if name.startswith("_"):
-                continue
-            v = float(values[name][i])
-            applies = not spec.tasks or episode.task in spec.tasks
-            row[name] = round(v, 6) if applies and math.isfinite(v) else None
-        rows.append(row)
+        for e in episodes
+    ]
+    rows = metric_rows(facts, values)
     return EvalResult(
         episodes=rows,
         groups=group_means(rows),
@@ -179,23 +184,59 @@ def score(
     )
 
 
-GROUPINGS = {
+def metric_rows(facts: Sequence[Mapping[str, str]], values: Mapping[str, np.ndarray]) -> list[dict]:
+    """One row per episode: its facts, label and every public metric (None where undefined).
+
+    Parameters
+    ----------
+    facts : sequence of mapping
+        Per episode: ``episode_id``, ``scene_id``, ``task``, ``scene_type``, ``difficulty``.
+    values : mapping
+        The output of :func:`~navverse.eval.metrics.compute_metrics` for these episodes, in order.
+
+    Returns
+    -------
+    list of dict
+        A metric is None when it is NaN or does not apply to the episode's task or scene type.
+    """
+    rows = []
+    for i, fact in enumerate(facts):
+        row = {**fact, "label": str(values["label"][i])}
+        for name, spec in METRICS.items():
+            if name.startswith("_"):
+                continue
+            v = float(values[name][i])
+            applies = spec.applies(fact["task"], fact["scene_type"])
+            row[name] = round(v, 6) if applies and math.isfinite(v) else None
+        rows.append(row)
+    return rows
+
+
+GROUPINGS: dict[str, Callable[[Mapping], str | None]] = {
     "overall": lambda r: "all",
     "task": lambda r: r["task"],
     "scene_type": lambda r: r["scene_type"],
     "task_scene_type": lambda r: f"{r['task']}/{r['scene_type']}",
     "task_difficulty": lambda r: f"{r['task']}/{r['difficulty']}",
+    "i2o_task": lambda r: r["task"] if r["scene_type"] in TRANSITION_SCENE_TYPES else None,
 }
+"""Group key of an episode row per grouping; None leaves the episode out of that grouping."""
 
 
 def group_means(rows: Sequence[dict]) -> dict[str, dict[str, dict[str, float]]]:
-    """Means of every metric (over the episodes where it is defined) and label shares, per grouping."""
+    """Means of every metric (over the episodes where it is defined) and label shares, per grouping.
+
+    Each group also counts its ``failures`` and its ``post_exit_failures`` (failed episodes that reached
+    outdoors: the episodes the ``post_exit_*`` shares are over).
+    """
     out: dict[str, dict[str, dict[str, float]]] = {}
     names = [n for n in METRICS if not n.startswith("_")]
     for grouping, key in GROUPINGS.items():
         groups: dict[str, list[dict]] = {}
         for row in rows:
-            groups.setdefault(key(row), []).append(row)
+            group = key(row)
+            if group is not None:
+                groups.setdefault(group, []).append(row)
         table = {}
         for group, members in sorted(groups.items()):
             entry: dict[str, float] = {"episodes": len(members)}
@@ -205,6 +246,7 @@ def group_means(rows: Sequence[dict]) -> dict[str, dict[str, dict[str, float]]]:
             for label in LABELS:
                 entry[f"{label}_share"] = round(sum(m["label"] == label for m in members) / len(members), 6)
             entry["failures"] = sum(m["label"] != "success" for m in members)
+            entry["post_exit_failures"] = sum(m.get("post_exit_timeout") is not None for m in members)
             table[group] = entry
         out[grouping] = table
     return out

@@ -6,7 +6,13 @@ Tables (Markdown in ``tables.md``, each also as ``<name>.csv``):
 * ``safety_efficiency`` — CR, ADO, NSR, CE per scene type (Table 3);
 * ``failures`` — #Fail and the shares of wrong goal, fall and timeout (and invalid) per task (Table 4);
 * ``difficulty`` — SR / SPL per task × difficulty, with the thresholds (Table 5);
+* ``transition`` — per task over the indoor-to-outdoor episodes: Ind-Only, Reach-Out, CE before and
+  after the exit, and the post-exit failures' shares of wrong goal, fall and timeout (the paper's
+  stage-wise transition table); written only when the split has indoor-to-outdoor episodes;
 * ``episodes.csv`` — one row per episode.
+
+Every table ends with an ``all`` row: the overall means, or for ``transition`` those of the
+indoor-to-outdoor episodes (the ``scene_type`` group ``i2o``).
 """
 
 from __future__ import annotations
@@ -20,44 +26,62 @@ from pathlib import Path
 from navverse.eval.metrics import METRICS
 from navverse.eval.scoring import EvalResult
 
-__all__ = ["TABLES", "table_rows", "write_outputs"]
+__all__ = ["TABLES", "cell_text", "has_table", "table_rows", "write_outputs"]
 
-PERCENT = {"success", "spl", "soft_success", "soft_spl", "os", "cr", "nsr", "sdtw", "ndtw"}
+PERCENT = {"success", "spl", "soft_success", "soft_spl", "os", "cr", "nsr", "sdtw", "ndtw", "ind_only",
+           "reach_out", "post_exit_wrong_goal", "post_exit_fall", "post_exit_timeout"}  # fmt: skip
 TABLES = {
     "task_scene": ("task_scene_type", ("success", "spl", "soft_spl", "os", "ne")),
     "safety_efficiency": ("scene_type", ("cr", "ado", "nsr", "ce")),
     "failures": ("task", ("failures", "wrong_goal_share", "fall_share", "timeout_share", "invalid_share")),
     "difficulty": ("task_difficulty", ("success", "spl", "soft_spl")),
-}
+    "transition": ("i2o_task", ("ind_only", "reach_out", "ce_pre_exit", "ce_post_exit", "post_exit_failures",
+                                "post_exit_wrong_goal", "post_exit_fall", "post_exit_timeout")),
+}  # fmt: skip
+TOTALS = {"i2o_task": ("scene_type", "i2o")}
+"""The group of the ``all`` row of a grouping's table, when not the overall one."""
 GROUP_NAMES = {"task_scene_type": "task / scene", "scene_type": "scene type", "task": "task",
-               "task_difficulty": "task / difficulty"}  # fmt: skip
+               "task_difficulty": "task / difficulty", "i2o_task": "task (i2o)"}  # fmt: skip
 HEADERS = {
     "success": "SR (%)", "spl": "SPL (%)", "soft_spl": "SoftSPL (%)", "os": "OS (%)", "ne": "NE (m)",
     "cr": "CR (%)", "ado": "ADO (m)", "nsr": "NSR (%)", "ce": "CE (cells/m)", "failures": "#Fail",
     "wrong_goal_share": "wrong goal (%)", "fall_share": "fall (%)", "timeout_share": "timeout (%)",
-    "invalid_share": "invalid (%)",
+    "invalid_share": "invalid (%)", "ind_only": "Ind-Only (%)", "reach_out": "Reach-Out (%)",
+    "ce_pre_exit": "CE pre-exit (cells/m)", "ce_post_exit": "CE post-exit (cells/m)",
+    "post_exit_failures": "#post-exit fail", "post_exit_wrong_goal": "post-exit wrong goal (%)",
+    "post_exit_fall": "post-exit fall (%)", "post_exit_timeout": "post-exit timeout (%)",
 }  # fmt: skip
 
 
-def _cell(name: str, value: float | None) -> str:
+def cell_text(name: str, value: float | None) -> str:
+    """A metric value as a table shows it: percentages for rates, counts as integers, "–" if undefined."""
     if value is None:
         return "–"
     if name in PERCENT or name.endswith("_share"):
         return f"{100.0 * value:.1f}"
-    if name == "failures":
+    if name in ("failures", "post_exit_failures"):
         return str(int(value))
     return f"{value:.2f}"
 
 
+def has_table(result: EvalResult, table: str) -> bool:
+    """Whether a table has any group to show (``transition`` needs indoor-to-outdoor episodes)."""
+    return bool(result.groups.get(TABLES[table][0]))
+
+
 def table_rows(result: EvalResult, table: str) -> tuple[list[str], list[list[str]]]:
-    """Header and rows of one of :data:`TABLES` (the last row is the overall one)."""
+    """Header and rows of one of :data:`TABLES` (the last row is the ``all`` one, see :data:`TOTALS`)."""
     grouping, columns = TABLES[table]
     header = [GROUP_NAMES[grouping], "episodes"]
     header += [HEADERS.get(c, c) for c in columns]
     rows = []
-    groups = {**result.groups[grouping], "all": result.groups["overall"]["all"]}
+    total_grouping, total_key = TOTALS.get(grouping, ("overall", "all"))
+    groups = dict(result.groups.get(grouping, {}))
+    total = result.groups.get(total_grouping, {}).get(total_key)
+    if total is not None:
+        groups["all"] = total
     for key, entry in groups.items():
-        rows.append([key, str(entry["episodes"]), *(_cell(c, entry.get(c)) for c in columns)])
+        rows.append([key, str(entry["episodes"]), *(cell_text(c, entry.get(c)) for c in columns)])
     return header, rows
 
 
@@ -75,7 +99,11 @@ def _write_csv(path: Path, header: Sequence[str], rows: Sequence[Sequence[object
 
 
 def write_outputs(result: EvalResult, out: str | os.PathLike[str], *, meta: dict) -> Path:
-    """Write ``metrics.json``, ``tables.md``, one CSV per table and ``episodes.csv`` into `out`."""
+    """Write ``metrics.json``, ``tables.md``, one CSV per table and ``episodes.csv`` into `out`.
+
+    A table without groups (``transition`` for a split without indoor-to-outdoor episodes) is left out,
+    and a CSV of it from an earlier run in `out` is removed.
+    """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     metrics = {
@@ -90,6 +118,9 @@ def write_outputs(result: EvalResult, out: str | os.PathLike[str], *, meta: dict
     (out / "metrics.json").write_text(json.dumps(metrics, indent=1, sort_keys=False) + "\n")
     parts = [f"# Evaluation of {meta.get('submission', 'a submission')}", ""]
     for table in TABLES:
+        if not has_table(result, table):
+            (out / f"{table}.csv").unlink(missing_ok=True)
+            continue
         header, rows = table_rows(result, table)
         _write_csv(out / f"{table}.csv", header, rows)
         parts += [f"## {table.replace('_', ' ')}", "", _markdown(header, rows), ""]

@@ -1,25 +1,48 @@
-"""Top-down fields of a scene for scoring trajectories: surface class, obstacles, obstacle distance.
+"""Top-down fields of a scene for scoring trajectories: surface class, obstacles, obstacle distance, indoor.
 
-:func:`scene_fields` casts two grids of vertical rays from above the scene (Open3D / Embree):
+The fields describe what a ground robot meets: the surface it walks on and the geometry its body can
+hit. :func:`scene_fields` casts batches of vertical rays through the cell centres (Open3D / Embree):
 
-* through the terrain surfaces alone (classes hidden in the BEV, such as ceilings, left out): the
-  class and height of the top surface of each cell, ``terrain``;
-* through the objects: the height of each cell's top object face.
+1. **Walkable ground.** Down from above the scene through the navigable terrain alone (classes hidden
+   in the BEV, such as ceilings, always left out): the height and class of the top walkable surface.
+2. **Body band.** Down from :data:`BODY_HEIGHT` above that ground through everything else (the visible
+   non-navigable terrain and the objects). A cell is an **obstacle** when
 
-A cell is an **obstacle** when its top terrain surface is of a non-navigable class (walls, buildings,
-water, ``obstacle``) or an object rises more than :data:`OBSTACLE_MIN_HEIGHT` above the terrain there
-(a rug or a doormat does not). ``distance`` is the Euclidean distance transform of the free cells: the
-horizontal distance (m) from a cell centre to the nearest obstacle cell. The fields are what the
-metrics ADO (distance), NSR (terrain class) and the footprint collision check (distance) read.
+   * the first hit lies more than :data:`OBSTACLE_MIN_HEIGHT` above the ground: something occupies the
+     band between those two heights (a table top, a chair seat, a low wall; a rug or a doormat does
+     not count);
+   * the first hit, wherever it is, is a back face (its normal points along the ray): the ray started
+     inside a solid that fills the band, such as a wall or a shelf taller than the band. Wall bottoms
+     coincide with the floor's top; leaving the walkable ground out of this cast keeps the floor from
+     hiding them;
+   * the first hit is a front face of non-navigable terrain at ground level (water, a hole's cover).
 
-Scenes with overhanging geometry (a floor above a floor) are seen from above only: the top surface
-wins.
+   Geometry wholly above the band is not an obstacle: the wall above a door opening (its header), a
+   pendant lamp, a shelf mounted on a wall above the body.
+3. **No walkable ground.** A cell is an obstacle when non-navigable terrain or an object is above it,
+   and free when nothing is (the void beyond the scene).
+
+``terrain`` is the class of the walkable ground, so the surface read in a doorway is the floor; where the
+obstacle is terrain (inside a wall, a low wall's top, water at ground level) it is that terrain's class,
+and where there is no walkable ground it is the class of the top visible terrain surface
+(:data:`NO_SURFACE` when there is none). Only the top walkable surface counts: a floor above a floor is
+seen from above. ``distance`` is the Euclidean distance transform of the free cells: the horizontal
+distance (m) from a cell centre to the nearest obstacle cell. The fields are what the metrics ADO
+(distance), NSR (terrain class) and the footprint collision check (distance) read. ``indoor`` marks the
+cells whose centre lies inside the union of the scene's indoor footprint polygons (``regions.indoor``;
+all False when there are none): the indoor-to-outdoor transition measures read it.
+
+Solids are assumed closed (the toolkit's walls and most assets are): the inside test reads the face
+by which a ray leaves the solid below the band, so a solid without a bottom face and with no face in
+the band is missed (a few cells inside some open-mesh furniture). Thin vertical surfaces (a wall
+modelled as a single plane) are invisible to vertical rays.
 """
 
 from __future__ import annotations
 
 import math
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -31,13 +54,33 @@ from scipy import ndimage
 from navverse.cache import cache_root
 from navverse.scene.geometry import MeshData, Scene
 
-__all__ = ["OBSTACLE_MIN_HEIGHT", "SceneFields", "fields_cache_path", "load_scene_fields", "scene_fields"]
+__all__ = [
+    "BODY_HEIGHT",
+    "OBSTACLE_MIN_HEIGHT",
+    "SceneFields",
+    "fields_cache_path",
+    "indoor_raster",
+    "load_scene_fields",
+    "scene_fields",
+]
 
 OBSTACLE_MIN_HEIGHT = 0.1
-"""An object is an obstacle where it rises more than this above the terrain (m)."""
+"""Bottom of the body band (m above the walkable ground): lower geometry (a rug, a doormat, a door sill)
+is stepped or driven over."""
+BODY_HEIGHT = 1.0
+"""Top of the body band (m above the walkable ground): geometry between :data:`OBSTACLE_MIN_HEIGHT` and
+this height is what a ground robot's body can hit. The embodiments' envelopes are 0.65 m (Spot, whose
+trunk top stands at ~0.7 m, more with a payload) and 0.42 m (TurtleBot) tall; 1 m covers both with a
+margin, keeps tables (0.75 m) and counters (0.9 m) obstacles, and leaves door headers (2.1 m and up),
+pendant lamps and shelves mounted on a wall above it free. One height serves every embodiment: the
+fields are cached per scene."""
 NO_SURFACE = -1
 """``terrain`` where no terrain surface is below the cell."""
-_FORMAT = 1
+_GROUND_TOLERANCE = 1e-3
+"""A non-navigable terrain face at most this far below the walkable ground is at ground level (m)."""
+_FORMAT = 3
+"""Version of the cached ``.npz``; a file of another version is recomputed (2 added ``indoor``; 3: the
+obstacles are the body band above the walkable ground, no longer the top surfaces)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,13 +94,16 @@ class SceneFields:
     cell : float
         Cell size (m).
     terrain : ndarray of int16, shape (H, W)
-        Index into `class_names` of the top terrain surface, :data:`NO_SURFACE` where none.
+        Index into `class_names` of the walkable surface (or the obstacle's terrain class, or the top
+        terrain surface where nothing is walkable), :data:`NO_SURFACE` where there is no surface.
     obstacle : ndarray of bool, shape (H, W)
         Obstacle cells.
     distance : ndarray of float32, shape (H, W)
         Distance from each cell centre to the nearest obstacle cell (m; 0 on obstacles).
     class_names : tuple of str
         Terrain class names.
+    indoor : ndarray of bool, shape (H, W), optional
+        Cells inside the scene's indoor region; all False by default (no indoor region).
     """
 
     origin: tuple[float, float]
@@ -66,6 +112,18 @@ class SceneFields:
     obstacle: np.ndarray
     distance: np.ndarray
     class_names: tuple[str, ...]
+    indoor: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.indoor is None:
+            object.__setattr__(self, "indoor", np.zeros(self.terrain.shape, dtype=bool))
+        elif self.indoor.shape != self.terrain.shape:
+            raise ValueError(f"indoor raster {self.indoor.shape} differs from terrain {self.terrain.shape}")
+
+    @property
+    def has_indoor(self) -> bool:
+        """Whether the scene has an indoor region."""
+        return bool(self.indoor.any())
 
     def cells(self, xy: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Row and column of world points (..., 2), clipped to the grid."""
@@ -85,6 +143,16 @@ class SceneFields:
         row, col = self.cells(xy)
         return self.terrain[row, col]
 
+    def indoor_at(self, xy: ArrayLike) -> np.ndarray:
+        """Whether world points (..., 2) are inside the indoor region (False outside the grid)."""
+        xy = np.asarray(xy, dtype=np.float64)
+        h, w = self.terrain.shape
+        col = np.floor((xy[..., 0] - self.origin[0]) / self.cell)
+        row = np.floor((xy[..., 1] - self.origin[1]) / self.cell)
+        on_grid = (col >= 0) & (col < w) & (row >= 0) & (row < h)
+        r, c = self.cells(xy)
+        return self.indoor[r, c] & on_grid
+
     def save(self, path: str | os.PathLike[str]) -> Path:
         """Write the fields as a compressed ``.npz`` (atomically)."""
         path = Path(path)
@@ -100,6 +168,7 @@ class SceneFields:
                 obstacle=self.obstacle,
                 distance=self.distance,
                 class_names=np.asarray(self.class_names, dtype=str),
+                indoor=self.indoor,
             )
         os.replace(tmp, path)
         return path
@@ -118,39 +187,97 @@ class SceneFields:
                     obstacle=data["obstacle"],
                     distance=data["distance"],
                     class_names=tuple(str(n) for n in data["class_names"]),
+                    indoor=data["indoor"].astype(bool),
                 )
         except (OSError, KeyError, ValueError):
             return None
 
 
-def _cast_down(
-    mesh: MeshData, origin: np.ndarray, shape: tuple[int, int], cell: float, top: float
-) -> tuple[np.ndarray, np.ndarray]:
-    """Hit height (NaN where none) and face index of vertical rays through the cell centres."""
+@dataclass(frozen=True)
+class _Hits:
+    """First hits of a batch of downward rays; ``part`` is -1 where a ray hit nothing."""
+
+    height: np.ndarray
+    part: np.ndarray
+    face: np.ndarray
+    exits: np.ndarray
+    """Whether the hit face is a back face (its normal points down, along the ray): the ray was inside a
+    solid and leaves it there."""
+
+
+class _Caster:
+    """Downward rays through a set of meshes (``parts``), in coordinates relative to the grid origin."""
+
+    def __init__(self, parts: Sequence[MeshData], origin: np.ndarray) -> None:
+        local = np.array([origin[0], origin[1], 0.0])
+        self._scene = o3d.t.geometry.RaycastingScene()
+        self._part: dict[int, int] = {}
+        for index, mesh in enumerate(parts):
+            if mesh.num_faces:
+                geometry = self._scene.add_triangles(
+                    o3d.core.Tensor((mesh.vertices - local).astype(np.float32)),
+                    o3d.core.Tensor(mesh.faces.astype(np.uint32)),
+                )
+                self._part[int(geometry)] = index
+
+    def cast_down(self, xy: np.ndarray, z: np.ndarray) -> _Hits:
+        """First hits of rays going down from ``(x, y, z)``; `xy` (N, 2) relative to the grid origin."""
+        count = len(z)
+        hits = _Hits(np.full(count, np.nan), np.full(count, -1), np.full(count, -1), np.zeros(count, bool))
+        if not self._part or count == 0:
+            return hits
+        rays = np.zeros((count, 6), dtype=np.float32)
+        rays[:, :2], rays[:, 2], rays[:, 5] = xy, z, -1.0
+        result = self._scene.cast_rays(o3d.core.Tensor(rays))
+        t_hit = result["t_hit"].numpy()
+        hit = np.isfinite(t_hit)
+        hits.height[hit] = z[hit] - t_hit[hit]
+        lookup = np.full(max(self._part) + 1, -1)
+        lookup[list(self._part)] = list(self._part.values())
+        hits.part[hit] = lookup[result["geometry_ids"].numpy()[hit].astype(np.int64)]
+        hits.face[hit] = result["primitive_ids"].numpy()[hit].astype(np.int64)
+        hits.exits[hit] = result["primitive_normals"].numpy()[hit, 2] < 0
+        return hits
+
+
+def indoor_raster(
+    polygons: Sequence[Sequence[Sequence[float]]], origin: ArrayLike, shape: tuple[int, int], cell: float
+) -> np.ndarray:
+    """Cells of a grid whose centre lies inside the union of `polygons` (xy vertex lists).
+
+    Parameters
+    ----------
+    polygons : sequence of polygons
+        Each a sequence of ``(x, y)`` vertices (closed implicitly).
+    origin : array_like
+        World ``(x, y)`` of the grid's minimum corner.
+    shape : tuple of int
+        ``(rows, cols)``; row 0 is the minimum y.
+    cell : float
+        Cell size (m).
+    """
+    from matplotlib.path import Path as PolygonPath
+
+    x0, y0 = (float(v) for v in np.asarray(origin, dtype=np.float64)[:2])
     rows, cols = shape
-    height = np.full(shape, np.nan)
-    face = np.full(shape, -1, dtype=np.int64)
-    if mesh.num_faces == 0:
-        return height, face
-    local = np.array([origin[0], origin[1], 0.0])
-    caster = o3d.t.geometry.RaycastingScene()
-    caster.add_triangles(
-        o3d.core.Tensor((mesh.vertices - local).astype(np.float32)),
-        o3d.core.Tensor(mesh.faces.astype(np.uint32)),
-    )
-    gx, gy = np.meshgrid((np.arange(cols) + 0.5) * cell, (np.arange(rows) + 0.5) * cell)
-    rays = np.zeros((rows, cols, 6), dtype=np.float32)
-    rays[..., 0], rays[..., 1], rays[..., 2], rays[..., 5] = gx, gy, top, -1.0
-    hits = caster.cast_rays(o3d.core.Tensor(rays))
-    t_hit = hits["t_hit"].numpy()
-    hit = np.isfinite(t_hit)
-    height[hit] = top - t_hit[hit]
-    face[hit] = hits["primitive_ids"].numpy()[hit].astype(np.int64)
-    return height, face
+    inside = np.zeros(shape, dtype=bool)
+    for polygon in polygons:
+        vertices = np.asarray(polygon, dtype=np.float64)[:, :2]
+        # Only the cells under the polygon's bounding box are tested.
+        c0 = max(0, math.floor((vertices[:, 0].min() - x0) / cell))
+        c1 = min(cols, math.ceil((vertices[:, 0].max() - x0) / cell) + 1)
+        r0 = max(0, math.floor((vertices[:, 1].min() - y0) / cell))
+        r1 = min(rows, math.ceil((vertices[:, 1].max() - y0) / cell) + 1)
+        if c0 >= c1 or r0 >= r1:
+            continue
+        gx, gy = np.meshgrid(x0 + (np.arange(c0, c1) + 0.5) * cell, y0 + (np.arange(r0, r1) + 0.5) * cell)
+        hit = PolygonPath(vertices).contains_points(np.column_stack([gx.ravel(), gy.ravel()]))
+        inside[r0:r1, c0:c1] |= hit.reshape(gx.shape)
+    return inside
 
 
 def scene_fields(scene: Scene, *, cell: float | None = None) -> SceneFields:
-    """Compute the fields of a scene.
+    """Compute the fields of a scene (see the module's description).
 
     Parameters
     ----------
@@ -167,30 +294,60 @@ def scene_fields(scene: Scene, *, cell: float | None = None) -> SceneFields:
     cell = max(cell, longer / 8000.0)
     shape = (max(1, math.ceil((y1 - y0) / cell - 1e-9)), max(1, math.ceil((x1 - x0) / cell - 1e-9)))
     origin = np.array([x0, y0])
-    hidden = [name for name, tc in ann.terrain_classes.items() if not tc.show_in_bev]
-    terrain_mesh = scene.world_mesh(include_objects=False, exclude_classes=hidden)
-    objects = [o.world_mesh() for o in scene.objects]
+    classes = ann.terrain_classes
+    names = tuple(classes)
+    hidden = [name for name in names if not classes[name].show_in_bev]
+    navigable = [name for name in names if classes[name].navigable]
+    blocking = [name for name in names if name not in navigable]
+    walkable = scene.world_mesh(include_objects=False, exclude_classes=[*hidden, *blocking])
+    solid = scene.world_mesh(include_objects=False, exclude_classes=[*hidden, *navigable])
+    placed = [o.world_mesh() for o in scene.objects]
+    objects = MeshData.concatenate(MeshData(m.vertices, m.faces) for m in placed)
     top = z1 + 1.0
-    for mesh in (terrain_mesh.mesh, *objects):
+    for mesh in (walkable.mesh, solid.mesh, objects):
         if mesh.num_faces:
             top = max(top, float(mesh.vertices[:, 2].max()) + 1.0)
-    ground, face = _cast_down(terrain_mesh.mesh, origin, shape, cell, top)
-    terrain = np.full(shape, NO_SURFACE, dtype=np.int16)
-    terrain[face >= 0] = terrain_mesh.class_index[face[face >= 0]]
-    names = terrain_mesh.class_names
-    blocked = np.array([not ann.terrain_classes[n].navigable for n in names] + [False], dtype=bool)
-    obstacle = blocked[np.where(terrain >= 0, terrain, len(names))]
-    if objects:
-        merged = MeshData.concatenate(MeshData(m.vertices, m.faces) for m in objects)
-        object_top, _ = _cast_down(merged, origin, shape, cell, top)
-        base = np.where(np.isfinite(ground), ground, -np.inf)
-        obstacle |= np.isfinite(object_top) & (object_top - base > OBSTACLE_MIN_HEIGHT)
+    gx, gy = np.meshgrid((np.arange(shape[1]) + 0.5) * cell, (np.arange(shape[0]) + 0.5) * cell)
+    xy = np.column_stack([gx.ravel(), gy.ravel()])
+    count = len(xy)
+
+    # 1. The walkable ground: the top navigable surface.
+    ground_hits = _Caster([walkable.mesh], origin).cast_down(xy, np.full(count, top))
+    ground = ground_hits.height
+    has_ground = np.isfinite(ground)
+    terrain = np.full(count, NO_SURFACE, dtype=np.int16)
+    terrain[has_ground] = walkable.class_index[ground_hits.face[has_ground]]
+
+    # 2. The body band above the ground, and the columns with no ground, in one batch (part 0 is the
+    #    non-navigable terrain, part 1 the objects).
+    on, off = np.flatnonzero(has_ground), np.flatnonzero(~has_ground)
+    band = _Caster([solid.mesh, objects], origin).cast_down(
+        np.concatenate([xy[on], xy[off]]), np.concatenate([ground[on] + BODY_HEIGHT, np.full(len(off), top)])
+    )
+    level, part, exits = band.height[: len(on)], band.part[: len(on)], band.exits[: len(on)]
+    above = ground[on] + OBSTACLE_MIN_HEIGHT
+    in_band = (part >= 0) & (level > above)
+    at_ground = (part == 0) & ~exits & (level >= ground[on] - _GROUND_TOLERANCE)
+    obstacle = np.zeros(count, dtype=bool)
+    obstacle[on] = in_band | exits | at_ground
+    by_terrain = obstacle[on] & (part == 0)
+    terrain[on[by_terrain]] = solid.class_index[band.face[: len(on)][by_terrain]]
+    obstacle[off] = band.part[len(on) :] >= 0
+
+    # 3. The class where nothing is walkable: the top visible (hence non-navigable) terrain surface.
+    if len(off):
+        surface = _Caster([solid.mesh], origin).cast_down(xy[off], np.full(len(off), top))
+        hit = surface.part >= 0
+        terrain[off[hit]] = solid.class_index[surface.face[hit]]
+
+    terrain, obstacle = terrain.reshape(shape), obstacle.reshape(shape)
     distance = (
         ndimage.distance_transform_edt(~obstacle).astype(np.float32) * np.float32(cell)
         if obstacle.any()
         else np.full(shape, np.float32(np.hypot(*shape) * cell))
     )
-    return SceneFields((float(x0), float(y0)), cell, terrain, obstacle, distance, tuple(names))
+    indoor = indoor_raster(ann.regions.indoor, origin, shape, cell)
+    return SceneFields((float(x0), float(y0)), cell, terrain, obstacle, distance, names, indoor)
 
 
 def fields_cache_path(scene_dir: str | os.PathLike[str]) -> Path:

@@ -6,7 +6,8 @@
   until the robot has settled on the target (within 1 cm and 1 degree, below 3 cm/s), or
   :data:`DISCRETE_TIMEOUT` seconds.
 * **Waypoints** in the world frame ``(x, y, yaw)`` are appended to the follower's path and
-  executed for a decision period without waiting for the previous ones (streaming).
+  executed for a decision period without waiting for the previous ones (streaming). A waypoint equal
+  to the last one of the path is not appended again, so an agent may keep sending its current target.
 * **Velocity** commands ``(vx, vy, wz)`` in the body frame go straight to the embodiment for a
   decision period, bypassing the follower.
 """
@@ -48,6 +49,13 @@ _SETTLE_DISTANCE = 0.01
 _SETTLE_YAW = math.radians(1.0)
 _SETTLE_SPEED = 0.03
 _TURNS = {"rotate_left": 30.0, "rotate_right": -30.0, "small_rotate_left": 15.0, "small_rotate_right": -15.0}
+
+
+def _same_waypoint(a: Waypoint, b: Waypoint) -> bool:
+    """Whether two waypoints are the same target (within 1 mm and 0.01 rad)."""
+    if math.hypot(a.x - b.x, a.y - b.y) > 1e-3 or (a.yaw is None) != (b.yaw is None):
+        return False
+    return a.yaw is None or abs(wrap_angle(a.yaw - b.yaw)) < 1e-2
 
 
 def step_size(scene_type: str) -> float:
@@ -124,7 +132,12 @@ class ActionRunner:
 
     def waypoints(self, waypoints: Iterable[Waypoint], *, duration: float = DECISION_PERIOD) -> None:
         """Append waypoints to the path being followed and run the follower for ``duration`` s."""
-        new = list(waypoints)
+        new = []
+        last = self.follower.path[-1] if self.follower.path else None
+        for waypoint in waypoints:
+            if last is None or not _same_waypoint(waypoint, last):
+                new.append(waypoint)
+                last = waypoint
         if new:
             if self.follower.done:
                 x, y, _ = self._pose2d()

@@ -71,6 +71,9 @@ class World:
     collision_cache : Path or None, optional
         Directory where convex decompositions of concave object parts are cached (default
         :func:`~navverse.sim.collision.default_cache_dir`; None keeps them in memory only).
+    terrain_friction : float, optional
+        Friction coefficient given to every terrain class instead of its own (the friction diagnostic
+        of the paper's kinodynamics table); None keeps the scene's values.
 
     Attributes
     ----------
@@ -84,8 +87,15 @@ class World:
     """
 
     def __init__(
-        self, scene: Scene | str | os.PathLike[str], *, collision_cache: Path | str | None = "default"
+        self,
+        scene: Scene | str | os.PathLike[str],
+        *,
+        collision_cache: Path | str | None = "default",
+        terrain_friction: float | None = None,
     ) -> None:
+        if terrain_friction is not None and not (math.isfinite(terrain_friction) and terrain_friction >= 0.0):
+            raise ValueError(f"terrain_friction must be a finite number >= 0, got {terrain_friction!r}")
+        self.terrain_friction = terrain_friction
         self.scene = scene if isinstance(scene, Scene) else read_scene(Path(scene))
         self.client = connect()
         c = self.client
@@ -129,8 +139,9 @@ class World:
             mesh = MeshData.concatenate(meshes)
             if mesh.num_faces == 0:
                 continue
+            friction = tc.friction if self.terrain_friction is None else self.terrain_friction
             self._static_mesh_body(
-                mesh, BodyInfo("terrain", terrain_class=name, navigable=tc.navigable, friction=tc.friction)
+                mesh, BodyInfo("terrain", terrain_class=name, navigable=tc.navigable, friction=friction)
             )
 
     def _load_objects(self, cache: Path | None) -> None:

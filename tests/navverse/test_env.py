@@ -68,13 +68,17 @@ def room_scene() -> Scene:
     return Scene(annotations, surfaces, objects)
 
 
-@pytest.fixture(scope="module")
-def scene_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    root = tmp_path_factory.mktemp("env_room")
+def build_room(root: Path) -> Path:
+    """Write the room as a built scene directory (with its navmesh) under ``root``."""
     scene = room_scene()
     write_scene_dir(scene, root, bev=False)
     build_scene_navmesh(scene, nav.INDOOR, jobs=1).save(SceneFiles(root).navmesh)
     return root
+
+
+@pytest.fixture(scope="module")
+def scene_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return build_room(tmp_path_factory.mktemp("env_room"))
 
 
 @pytest.fixture(scope="module")
@@ -216,3 +220,37 @@ def test_bad_input_says_what_to_change(scene_dir: Path, env: NavVerseEnv, tmp_pa
             waypoint.step([1.0, math.nan, 0.0, 0.0])
     finally:
         waypoint.close()
+
+
+def test_sensors_choose_what_is_rendered_and_max_steps_cuts_the_episode(scene_dir: Path, tmp_path: Path):
+    env = NavVerseEnv(scene_dir, sensors=("depth",), max_steps=3, collision_cache=tmp_path)
+    try:
+        obs, _ = env.reset(seed=0, options={"episode": episode()})
+        assert set(obs) == {"depth", "pose", "goal"} and env.observation_space.contains(obs)
+        labels = []
+        for _ in range(3):
+            obs, _, terminated, truncated, info = env.step(DISCRETE_ACTIONS.index("rotate_left"))
+            labels.append((terminated, truncated, info["termination"], info["steps"]))
+        assert labels == [(False, False, None, 1), (False, False, None, 2), (False, True, "max_steps", 3)]
+        assert info["submission"]["termination"] == "max_steps" and info["submission"]["stop"] is False
+    finally:
+        env.close()
+    blind = NavVerseEnv(scene_dir, action_mode="waypoint", sensors=(), collision_cache=tmp_path)
+    try:
+        obs, _ = blind.reset(seed=0, options={"episode": episode()})
+        assert set(obs) == {"pose", "goal"}
+    finally:
+        blind.close()
+    with pytest.raises(EnvError, match="unknown sensors"):
+        NavVerseEnv(scene_dir, sensors=("lidar",))
+
+
+def test_terrain_friction_replaces_every_class_friction(scene_dir: Path, tmp_path: Path):
+    env = NavVerseEnv(scene_dir, terrain_friction=0.25, collision_cache=tmp_path)
+    try:
+        frictions = {b.terrain_class: b.friction for b in env.world.bodies.values() if b.kind == "terrain"}
+        assert frictions and set(frictions.values()) == {0.25}
+    finally:
+        env.close()
+    with pytest.raises(EnvError, match="terrain_friction"):
+        NavVerseEnv(scene_dir, terrain_friction=-1.0)

@@ -1,14 +1,24 @@
-"""Build shipped scene recipes through the engine, in this process, in a throw-away workspace."""
+"""Build shipped scene recipes through the engine, in this process, in a throw-away workspace.
+
+Also the tiny dataset (ObjNav and VLN over ``apartment-s0``/``-s1``) that the dataset, run-agent and
+report tests share (fixtures ``built`` and ``dataset``, built once per test module), and
+:func:`navverse_command` to run the ``navverse`` command in such a workspace.
+"""
 
 from __future__ import annotations
 
+import os
 import shutil
+import subprocess
+import sys
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
+import pytest
 from rich.console import Console
 
+from navverse.dataset import Dataset, built_version
 from pipeline.dag import build_graph
 from pipeline.executors import make_executor
 from pipeline.recipes import RecipeLoader
@@ -60,3 +70,50 @@ def build_all(workspace: Workspace) -> Built:
     store = ArtifactStore(workspace.built_dir)
     report = run_build(build_graph(targets), store, lambda: make_executor(0), console=Console(quiet=True))
     return Built(workspace, store, report)
+
+
+NAVVERSE = str(Path(sys.executable).with_name("navverse"))
+SCENES = "scenes/indoor/apartment.yaml"
+DATASET = """\
+extends: dataset
+seed: 3
+links:
+  scene: [apartment-s*]
+stages:
+  sample_episodes:
+    tasks:
+      objnav: {episodes_per_scene: 6}
+      vln: {episodes_per_scene: 6}
+    categories: [bed, sofa, toilet, fridge, oven, bathtub, bench, desk, wardrobe, sink, armchair]
+  verify_episodes:
+    keyframes: 2
+  package_dataset:
+    version: "1.0"
+    splits: {train: ["*-s0"], eval: ["*-s1"]}
+"""
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory: pytest.TempPathFactory) -> Built:
+    """A workspace with the apartment scenes and the tiny dataset built."""
+    workspace = workspace_with(tmp_path_factory.mktemp("ds"), [SCENES], {"datasets/tiny.yaml": DATASET})
+    result = build_all(workspace)
+    assert result.report.ok, result.report
+    return result
+
+
+@pytest.fixture(scope="module")
+def dataset(built: Built) -> Dataset:
+    """The tiny dataset's built version."""
+    return Dataset(built_version(built.output("tiny", "dataset")))
+
+
+def scene_dirs(built: Built) -> dict[str, Path]:
+    """The built scene directory of each scene of the tiny dataset."""
+    return {s: built.output(s, "scene") for s in ("apartment-s0", "apartment-s1")}
+
+
+def navverse_command(root: Path, *args: str) -> subprocess.CompletedProcess[str]:
+    """Run ``navverse ARGS`` with ``root`` as the workspace; its output is captured."""
+    env = {**os.environ, "NAVVERSE_ROOT": str(root)}
+    return subprocess.run([NAVVERSE, *args], env=env, capture_output=True, text=True, cwd=root, timeout=600)

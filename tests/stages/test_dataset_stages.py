@@ -3,11 +3,8 @@
 from __future__ import annotations
 
 import hashlib
-import os
 import re
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -20,27 +17,15 @@ from navverse.episodes.verification import REASONS
 from pipeline.errors import RecipeError
 from pipeline.recipes import RecipeLoader
 from pipeline.stage import discover
-from tests.stages.conftest import Built, build_all, workspace_with
-
-NAVVERSE = str(Path(sys.executable).with_name("navverse"))
-SCENES = "scenes/indoor/apartment.yaml"
-DATASET = """\
-extends: dataset
-seed: 3
-links:
-  scene: [apartment-s*]
-stages:
-  sample_episodes:
-    tasks:
-      objnav: {episodes_per_scene: 6}
-      vln: {episodes_per_scene: 6}
-    categories: [bed, sofa, toilet, fridge, oven, bathtub, bench, desk, wardrobe, sink, armchair]
-  verify_episodes:
-    keyframes: 2
-  package_dataset:
-    version: "1.0"
-    splits: {train: ["*-s0"], eval: ["*-s1"]}
-"""
+from tests.stages.conftest import (
+    DATASET,
+    SCENES,
+    Built,
+    build_all,
+    navverse_command,
+    scene_dirs,
+    workspace_with,
+)
 
 
 def _digests(root: Path) -> dict[str, str]:
@@ -49,23 +34,6 @@ def _digests(root: Path) -> dict[str, str]:
         for p in sorted(root.rglob("*"))
         if p.is_file()
     }
-
-
-@pytest.fixture(scope="module")
-def built(tmp_path_factory: pytest.TempPathFactory) -> Built:
-    workspace = workspace_with(tmp_path_factory.mktemp("ds"), [SCENES], {"datasets/tiny.yaml": DATASET})
-    result = build_all(workspace)
-    assert result.report.ok, result.report
-    return result
-
-
-@pytest.fixture(scope="module")
-def dataset(built: Built) -> Dataset:
-    return Dataset(built_version(built.output("tiny", "dataset")))
-
-
-def _scene_dirs(built: Built) -> dict[str, Path]:
-    return {s: built.output(s, "scene") for s in ("apartment-s0", "apartment-s1")}
 
 
 def test_the_dataset_has_scene_disjoint_splits_counts_and_checksums(built: Built, dataset: Dataset):
@@ -123,7 +91,7 @@ def test_every_episode_keeps_the_bounds_and_a_sample_replays_to_the_goal(built: 
     episodes = list(dataset.episodes())
     assert [check_bounds(e) for e in episodes] == [None] * len(episodes)
     sample = [episodes[i] for i in np.random.default_rng(0).choice(len(episodes), 6, replace=False)]
-    report = replay(sample, _scene_dirs(built), embodiment=dataset.manifest.embodiment, jobs=1)
+    report = replay(sample, scene_dirs(built), embodiment=dataset.manifest.embodiment, jobs=1)
     assert report.replayed == report.reached == 6 and report.failures == []
 
 
@@ -187,25 +155,22 @@ def test_splits_that_miss_a_scene_fail_the_build_with_what_to_change(built: Buil
 # ---------------------------------------------------------------------------------------------- command line
 
 
-def _navverse(root: Path, *args: str) -> subprocess.CompletedProcess[str]:
-    env = {**os.environ, "NAVVERSE_ROOT": str(root)}
-    return subprocess.run([NAVVERSE, *args], env=env, capture_output=True, text=True, cwd=root, timeout=600)
-
-
 def test_show_and_validate_a_dataset_from_the_command_line(built: Built, dataset: Dataset, tmp_path: Path):
     root = built.workspace.root
-    shown = _navverse(root, "show", "dataset", str(dataset.root))
+    shown = navverse_command(root, "show", "dataset", str(dataset.root))
     assert shown.returncode == 0, shown.stderr
     total = len(list(dataset.episodes()))
     assert re.search(rf"all\s.*\s{total}\s", shown.stdout) and "goal categories" in shown.stdout
     episode = next(e for e in dataset.episodes() if e.task == "vln")
     picture = tmp_path / "ep.png"
-    drawn = _navverse(root, "show", "episode", str(dataset.root), episode.episode_id, "-o", str(picture))
+    drawn = navverse_command(
+        root, "show", "episode", str(dataset.root), episode.episode_id, "-o", str(picture)
+    )
     assert drawn.returncode == 0, drawn.stderr
     assert picture.stat().st_size > 10_000 and episode.instruction.instruction_text[:30] in " ".join(
         drawn.stdout.split()
     )
-    checked = _navverse(root, "validate", "dataset", str(dataset.root), "--replay", "3", "--jobs", "1")
+    checked = navverse_command(root, "validate", "dataset", str(dataset.root), "--replay", "3", "--jobs", "1")
     assert checked.returncode == 0, checked.stdout + checked.stderr
     assert f"{total} of {total} keep them" in checked.stdout and "3 of 3 reach a goal" in checked.stdout
 
@@ -231,7 +196,7 @@ def test_dataset_commands_refuse_bad_datasets_cleanly(dataset: Dataset, tmp_path
             ["show", "episode", str(copy), "nope-objnav-0000", "-o", str(tmp_path / "x.png")],
             "nope-objnav-0000",
         )
-    result = _navverse(tmp_path, *args)
+    result = navverse_command(tmp_path, *args)
     assert result.returncode == 1 and message in result.stderr and "Traceback" not in result.stderr
 
 
@@ -239,15 +204,15 @@ def test_building_a_published_version_with_other_content_is_refused(built: Built
     root = tmp_path / "w"
     workspace = workspace_with(root, [SCENES], {"datasets/tiny.yaml": DATASET})
     shutil.copytree(built.workspace.built_dir, workspace.built_dir, symlinks=True)
-    first = _navverse(root, "build", "tiny", "--jobs", "1")
+    first = navverse_command(root, "build", "tiny", "--jobs", "1")
     assert first.returncode == 0, first.stderr
     assert "published: episodes/tiny/v1.0" in first.stdout
     published = Dataset(root / "episodes" / "tiny" / "v1.0")
-    again = _navverse(root, "build", "tiny", "--jobs", "1")
+    again = navverse_command(root, "build", "tiny", "--jobs", "1")
     assert again.returncode == 0 and "up to date: episodes/tiny/v1.0" in again.stdout
     # Other seeds, same version: refused, and the published files are untouched.
     (workspace.recipes_dir / "datasets" / "tiny.yaml").write_text(DATASET.replace("seed: 3", "seed: 4"))
-    changed = _navverse(root, "build", "tiny", "--jobs", "1")
+    changed = navverse_command(root, "build", "tiny", "--jobs", "1")
     assert changed.returncode == 1 and "Traceback" not in changed.stderr
     assert (
         "already published with different content" in changed.stderr
@@ -258,7 +223,7 @@ def test_building_a_published_version_with_other_content_is_refused(built: Built
     (workspace.recipes_dir / "datasets" / "tiny.yaml").write_text(
         DATASET.replace("seed: 3", "seed: 4").replace('version: "1.0"', 'version: "1.1"')
     )
-    bumped = _navverse(root, "build", "tiny", "--jobs", "1")
+    bumped = navverse_command(root, "build", "tiny", "--jobs", "1")
     assert bumped.returncode == 0 and "published: episodes/tiny/v1.1" in bumped.stdout
 
 
@@ -285,7 +250,9 @@ def test_eval_scores_the_oracle_and_counts_bad_records_as_failures(
     submission = tmp_path / "oracle.jsonl"
     submission.write_text("".join(json.dumps(line) + "\n" for line in lines))
     root = built.workspace.root
-    checked = _navverse(root, "validate", "submission", str(submission), "--dataset", str(dataset.root))
+    checked = navverse_command(
+        root, "validate", "submission", str(submission), "--dataset", str(dataset.root)
+    )
     assert checked.returncode == 1
     assert f"line 1 ({nan_id}): trajectory row 1 holds NaN" in checked.stdout
     assert (
@@ -293,7 +260,7 @@ def test_eval_scores_the_oracle_and_counts_bad_records_as_failures(
         and f"missing: {missing}" in checked.stdout
     )
     out = tmp_path / "out"
-    scored = _navverse(
+    scored = navverse_command(
         root, "eval", "--dataset", str(dataset.root), "--submission", str(submission), "--out", str(out)
     )
     assert scored.returncode == 0, scored.stderr
@@ -319,7 +286,7 @@ def test_eval_scores_the_oracle_and_counts_bad_records_as_failures(
         scored.stdout.split()
     )
     (tmp_path / "bad.jsonl.gz").write_bytes(b"not gzip at all")
-    broken = _navverse(
+    broken = navverse_command(
         root, "eval", "--dataset", str(dataset.root), "--submission", str(tmp_path / "bad.jsonl.gz")
     )
     assert (

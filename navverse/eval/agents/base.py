@@ -1,22 +1,29 @@
 """The agent interface of ``navverse run-agent``: what an agent is told, what it returns.
 
 An agent is any object with an ``action_mode`` (``"discrete"``, ``"waypoint"`` or ``"velocity"``:
-the Gymnasium environment it is run in, :mod:`navverse.env`), a ``privileged`` flag, and two
+the Gymnasium environment it is run in, :mod:`navverse.env`), a ``privileged`` flag, optionally the
+``sensors`` it looks at (a subset of :data:`navverse.env.SENSORS`; all three when absent), and two
 methods::
 
     class MyAgent:
         action_mode = "discrete"
         privileged = False          # True: info carries goal positions and the reference path
+        sensors = ("rgb", "depth")  # camera images rendered for it
 
         def reset(self, task: AgentTask) -> None: ...
         def act(self, observation: dict, info: dict) -> int | np.ndarray: ...
 
 ``reset`` is called at the start of every episode with an :class:`AgentTask`; ``act`` with the
-environment's observation (``rgb``, ``depth``, ``semantic``, ``pose``, ``goal``) and ``info``
-(``time``, ``collisions``, ``surface``, ``camera_intrinsics``, ``camera_to_base``, ``robot_radius``;
-privileged agents also get ``goal_positions``, ``distance_to_goal`` and ``reference_path``), and
-returns one action of its mode: an index into :data:`~navverse.sim.actions.DISCRETE_ACTIONS`, or
-``[x, y, yaw, stop]`` (waypoint, world frame), or ``[vx, vy, wz, stop]`` (velocity, body frame).
+environment's observation (the chosen images among ``rgb``, ``depth``, ``semantic``; always
+``pose`` and ``goal``) and ``info`` (``time``, ``steps``, ``collisions``, ``surface``,
+``camera_intrinsics``, ``camera_to_base``, ``robot_radius``; privileged agents also get
+``goal_positions``, ``distance_to_goal`` and ``reference_path``), and returns one action of its
+mode: an index into :data:`~navverse.sim.actions.DISCRETE_ACTIONS`, or ``[x, y, yaw, stop]``
+(waypoint, world frame), or ``[vx, vy, wz, stop]`` (velocity, body frame).
+
+Discrete actions are executed the way the paper runs discrete-action models: each becomes a
+single-step waypoint (:func:`~navverse.sim.actions.discrete_waypoint`: 0.25 m indoors, 1 m outdoors,
+turns of 30° or 15°) that the shared waypoint follower tracks until the robot has settled on it.
 """
 
 from __future__ import annotations
@@ -54,6 +61,9 @@ class AgentTask:
         a simulator's semantic sensor provides it); not the goals' positions.
     seed : int
         Seed for the agent's own randomness in this episode.
+    scene_dir : str
+        The built scene directory. Only privileged agents may use it (to load the navmesh, as the
+        ground-truth planners do); an agent that reads scene files is not a benchmark entry.
     """
 
     episode_id: str
@@ -65,6 +75,7 @@ class AgentTask:
     robot_radius: float
     semantic_categories: dict[int, str] = field(default_factory=dict)
     seed: int = 0
+    scene_dir: str = ""
 
 
 @runtime_checkable

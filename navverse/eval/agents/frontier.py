@@ -471,6 +471,7 @@ class FrontierAgent:
 
     action_mode = "discrete"
     privileged = False
+    sensors = ("depth", "semantic")
 
     def __init__(
         self,

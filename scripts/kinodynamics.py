@@ -1,0 +1,115 @@
+"""The embodiment and friction diagnostic (the paper's ``tab:robot_performance_main``).
+
+The ``oracle`` agent follows every reference path of a split with each robot, with every terrain
+class's friction set to each μ, and the table gives SR and mean speed (path length / duration):
+
+    python scripts/kinodynamics.py --dataset episodes/navverse-mini/v1.0 --split eval --out kinodynamics
+
+SR is given twice: with the robot's own success distance (1.0 + r_robot) and with the episode's (the
+one its goal regions were built for, the dataset's embodiment): a path that ends at the edge of a
+Spot goal region does not bring a robot of smaller r_robot within its own, smaller, success distance.
+Submissions are kept in ``--out`` and reused when present (delete them to run again).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from rich.console import Console
+from rich.table import Table
+
+from navverse.dataset import Dataset
+from navverse.errors import NavverseError
+from navverse.eval.runner import run_agent
+from navverse.eval.scoring import score
+from navverse.eval.submission import read_submission
+
+
+def _scene_dirs(dataset: Dataset, split: str, built: Path) -> dict[str, Path]:
+    scenes = sorted({e.scene_id for e in dataset.episodes(split=split)})
+    dirs = {s: built / "targets" / s / "scene" for s in scenes}
+    missing = [s for s, d in dirs.items() if not (d / "scene.json").is_file()]
+    if missing:
+        raise NavverseError(f"scenes not built: {', '.join(missing)}; run `make scenes` first")
+    return dirs
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the oracle per robot and friction, score it, print and save the table; the exit status."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
+    parser.add_argument("--split", default="eval")
+    parser.add_argument("--robots", nargs="+", default=["spot", "turtlebot"])
+    parser.add_argument("--friction", nargs="+", type=float, default=[0.5, 1.0])
+    parser.add_argument("--limit", type=int, default=None, help="episodes per run, spread over the split")
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--built", default="data/built", help="build folder holding the scenes")
+    parser.add_argument("--out", default="kinodynamics", help="folder for submissions and the table")
+    args = parser.parse_args(argv)
+    console = Console()
+    try:
+        dataset = Dataset(args.dataset)
+        scene_dirs = _scene_dirs(dataset, args.split, Path(args.built))
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        rows = []
+        for robot in args.robots:
+            for mu in args.friction:
+                submission_path = out / f"oracle-{robot}-mu{mu:g}.jsonl.gz"
+                if not submission_path.is_file():
+                    console.print(f"oracle with {robot} at μ = {mu:g} ...")
+                    run_agent(dataset, agent="oracle", split=args.split, embodiment=robot,
+                              scene_dirs=scene_dirs, out=submission_path, jobs=args.jobs, limit=args.limit,
+                              terrain_friction=mu)  # fmt: skip
+                ids = [e.episode_id for e in dataset.episodes(split=args.split)]
+                submission = read_submission(submission_path, episode_ids=ids)
+                scored = {
+                    who: score(dataset, submission, split=args.split, scene_dirs=scene_dirs, embodiment=who)
+                    for who in (robot, dataset.manifest.embodiment)
+                }
+                run = [r for r in scored[robot].episodes if r["label"] != "invalid"]
+                kept = {r["episode_id"] for r in run}
+                by_episode = [
+                    r for r in scored[dataset.manifest.embodiment].episodes if r["episode_id"] in kept
+                ]
+                rows.append({
+                    "robot": robot,
+                    "friction": mu,
+                    "episodes": len(run),
+                    "sr_own_tolerance": sum(r["label"] == "success" for r in run) / len(run),
+                    "sr_episode_tolerance": sum(r["label"] == "success" for r in by_episode) / len(run),
+                    "falls": sum(r["label"] == "fall" for r in run),
+                    "mean_speed": sum(r["speed"] for r in run) / len(run),
+                })  # fmt: skip
+    except NavverseError as exc:
+        Console(stderr=True).print(f"error: {exc}", style="red", markup=False, highlight=False)
+        return 1
+    table = Table(
+        title=f"oracle execution on {dataset.manifest.name} v{dataset.manifest.version} / {args.split}"
+    )
+    for column in (
+        "robot",
+        "μ",
+        "episodes",
+        "SR own tol. (%)",
+        "SR episode tol. (%)",
+        "falls",
+        "speed (m/s)",
+    ):
+        table.add_column(column, justify="left" if column == "robot" else "right")
+    for row in rows:
+        table.add_row(row["robot"], f"{row['friction']:g}", str(row["episodes"]),
+                      f"{100 * row['sr_own_tolerance']:.1f}", f"{100 * row['sr_episode_tolerance']:.1f}",
+                      str(row["falls"]), f"{row['mean_speed']:.2f}")  # fmt: skip
+    console.print(table)
+    (out / "kinodynamics.json").write_text(json.dumps(rows, indent=2) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

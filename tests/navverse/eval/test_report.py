@@ -1,0 +1,251 @@
+"""report.html from a real scoring of a tiny synthetic dataset, and its headless-Chromium screenshot."""
+
+from __future__ import annotations
+
+import base64
+import dataclasses
+import html
+import io
+import itertools
+import json
+import math
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from PIL import Image
+
+from navverse.dataset import FORMAT_VERSION, Dataset, Episode, EpisodeFile, write_json_gz
+from navverse.eval import report, screenshot
+from navverse.eval.report import write_report
+from navverse.eval.scoring import EvalResult, score
+from navverse.eval.screenshot import ScreenshotError, find_browser, screenshot_report
+from navverse.eval.submission import Submission, read_submission
+from navverse.eval.tables import TABLES, table_rows
+from navverse.scene import write_scene_dir
+from tests.navverse.scene.conftest import build_scene
+
+REPO = Path(__file__).resolve().parents[3]
+LEVEL = [0.0, 0.0, 0.0, 1.0]
+TILTED = [math.sin(math.radians(30)), 0.0, 0.0, math.cos(math.radians(30))]  # 60 degrees about x
+CHAIR = {
+    "object_id": 1,
+    "category": "chair",
+    "position": (3.0, 5.0, 0.45),
+    "radius": 0.25,
+    "size": (0.5, 0.5, 0.9),
+}
+TABLE = {
+    "object_id": 3,
+    "category": "table",
+    "position": (7.0, 5.0, 0.375),
+    "radius": 0.6,
+    "size": (1.2, 0.8, 0.75),
+}
+
+
+def _episode(episode_id: str, scene: str, scene_type: str, task: str, goal: dict, path: list) -> Episode:
+    return Episode.model_validate(
+        {
+            "episode_id": episode_id,
+            "scene_id": scene,
+            "scene_type": scene_type,
+            "task": task,
+            "start_position": path[0],
+            "start_rotation": LEVEL,
+            "object_category": goal["category"],
+            "goals": [goal],
+            "reference_path": path,
+            "info": {
+                "geodesic_distance": sum(itertools.starmap(math.dist, itertools.pairwise(path))),
+                "euclidean_distance": math.dist(path[0], path[-1]),
+                "closest_goal_object_id": goal["object_id"],
+                "success_distance": 1.6,
+                "difficulty": "easy",
+            },
+        }
+    )
+
+
+def _rows(points: list, quats: list | None = None) -> list[list[float]]:
+    quats = quats or [LEVEL] * len(points)
+    return [[float(i), *p, *q] for i, (p, q) in enumerate(zip(points, quats, strict=True))]
+
+
+# Episodes in the tiny room of tests/navverse/scene (floor 0..10 x 0..8 m); "tiny_room_b" is the same
+# scene under another id, so the result has two scene types.
+TO_TABLE = [(8.0, 2.0, 0.55), (8.0, 3.5, 0.55), (7.0, 4.2, 0.55)]
+TO_CHAIR = [(8.0, 2.0, 0.55), (6.0, 3.0, 0.55), (3.8, 4.3, 0.55)]
+EPISODES = [
+    # (id, scene, scene type, task, goal, reference path, submitted points or None, stop, quaternions)
+    ("room-objnav-0000", "tiny_room", "i2o", "objnav", TABLE, TO_TABLE, TO_TABLE, True, None),
+    ("room-objnav-0001", "tiny_room", "i2o", "objnav", CHAIR, TO_CHAIR, [(8.0, 2.0, 0.55), (9.0, 2.0, 0.55)],
+     True, None),
+    ("room-vln-0000", "tiny_room", "i2o", "vln", CHAIR, TO_CHAIR, TO_CHAIR[:2], False, None),
+    ("room-objnav-0002", "tiny_room_b", "indoor", "objnav", TABLE, TO_TABLE, TO_TABLE, True,
+     [LEVEL, TILTED, LEVEL]),
+    ("room-objnav-0003", "tiny_room_b", "indoor", "objnav", CHAIR, TO_CHAIR, None, True, None),  # missing
+    ("room-vln-0001", "tiny_room_b", "indoor", "vln", TABLE, TO_TABLE, TO_TABLE, True, "nan"),
+]  # fmt: skip
+LABELS = {"room-objnav-0000": "success", "room-objnav-0001": "wrong_goal", "room-vln-0000": "timeout",
+          "room-objnav-0002": "fall", "room-objnav-0003": "invalid", "room-vln-0001": "invalid"}  # fmt: skip
+
+
+def _dataset(root: Path) -> Dataset:
+    episodes = [_episode(*spec[:6]) for spec in EPISODES]
+    for task in ("objnav", "vln"):
+        chosen = [e for e in episodes if e.task == task]
+        write_json_gz(EpisodeFile(episodes=chosen).model_dump(mode="json"), root / "eval" / f"{task}.json.gz")
+    manifest = {
+        "format_version": FORMAT_VERSION, "name": "toy", "version": "1.0", "toolkit_version": "0.1.0",
+        "recipe": "recipes/datasets/toy.yaml", "recipe_hash": "0" * 64, "embodiment": "spot",
+        "scene_hashes": {}, "splits": {"eval": ["tiny_room", "tiny_room_b"]}, "counts": {},
+        "difficulty_thresholds": {"objnav": [4.0, 8.0], "vln": [3.5, 7.5]}, "files": {},
+    }  # fmt: skip
+    (root / "manifest.json").write_text(json.dumps(manifest))
+    return Dataset(root)
+
+
+def _submission(path: Path, ids: list[str]) -> Submission:
+    lines = []
+    for episode_id, *_, points, stop, quats in EPISODES:
+        if points is None:
+            continue
+        rows = _rows(points, None if quats == "nan" else quats)
+        if quats == "nan":
+            rows[1][2] = float("nan")
+        lines.append(json.dumps({"episode_id": episode_id, "trajectory": rows, "stop": stop}))
+    path.write_text("\n".join(lines) + "\n")
+    return read_submission(path, episode_ids=ids)
+
+
+@pytest.fixture(scope="module")
+def scored(tmp_path_factory: pytest.TempPathFactory) -> tuple[EvalResult, Dataset, Submission, dict, Path]:
+    root = tmp_path_factory.mktemp("report")
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("NAVVERSE_CACHE_DIR", str(root / "cache"))
+        scene_dir = root / "scenes" / "tiny_room"
+        scene_dir.mkdir(parents=True)
+        write_scene_dir(build_scene(), scene_dir, bev=False)
+        scene_dirs = {"tiny_room": scene_dir, "tiny_room_b": scene_dir}
+        dataset = _dataset(root / "toy" / "v1.0")
+        submission = _submission(root / "toy.jsonl", [spec[0] for spec in EPISODES])
+        result = score(dataset, submission, split="eval", scene_dirs=scene_dirs)
+        out = write_report(
+            result, dataset=dataset, submission=submission, scene_dirs=scene_dirs, out_dir=root / "out"
+        )
+    return result, dataset, submission, scene_dirs, out
+
+
+def test_the_scoring_gives_every_label(scored):
+    result = scored[0]
+    assert {row["episode_id"]: row["label"] for row in result.episodes} == LABELS
+
+
+def test_the_report_holds_the_header_tables_and_one_card_per_episode(scored):
+    result, *_, out = scored
+    assert out.name == "report.html" and sorted(p.name for p in out.parent.iterdir()) == ["report.html"]
+    text = out.read_text(encoding="utf-8")
+    assert text.startswith("<!DOCTYPE html>") and "</html>" in text
+    for fact in ("toy v1.0", "eval", "spot", "toy.jsonl", "<dt>episodes</dt><dd>6</dd>", "<dd>2 (no valid"):
+        assert fact in text, fact
+    shown = [name for name, (grouping, _) in TABLES.items() if result.groups.get(grouping)]
+    assert {"task_scene", "safety_efficiency", "failures", "difficulty"} <= set(shown)
+    assert re.findall(r'<section id="table-([^"]+)">', text) == shown  # every table there is, in order
+    for name in shown:
+        header, _ = table_rows(result, name)
+        for cell in header:
+            assert f"<th>{html.escape(cell)}</th>" in text, (name, cell)
+    assert "objnav: easy &lt; 4.00 m" in text  # the difficulty thresholds
+    assert "Submission problems (1)" in text and "holds NaN or infinity" in text
+    # One card per episode, failures first; the invalid ones say why, without a picture.
+    cards = re.findall(r'<div class="card" id="ep-([^"]+)" data-label="([^"]+)"', text)
+    assert sorted(cards) == sorted(LABELS.items())
+    assert [label for _, label in cards] == ["invalid", "invalid", "fall", "timeout", "wrong_goal", "success"]
+    missing = text[text.index('id="ep-room-objnav-0003"') :].split('<div class="card"')[0]
+    assert "no record in the submission" in missing and "<img" not in missing
+    broken = text[text.index('id="ep-room-vln-0001"') :].split('<div class="card"')[0]
+    assert "holds NaN" in broken and "<img" not in broken
+
+
+def test_the_report_is_self_contained(scored):
+    text = scored[4].read_text(encoding="utf-8")
+    assert not re.search(r"""(src|href)\s*=\s*["']?\s*(https?:)?//""", text, re.IGNORECASE)
+    assert "url(" not in text and "@import" not in text and "<script" not in text
+    assert all(src.startswith("data:image/png;base64,") for src in re.findall(r'src="([^"]*)"', text))
+    pictures = re.findall(r"data:image/png;base64,([A-Za-z0-9+/=]+)", text)
+    assert len(pictures) == 1 + 4  # the summary and one per episode with a trajectory
+    for encoded in pictures:
+        data = base64.b64decode(encoded, validate=True)
+        assert data[:8] == b"\x89PNG\r\n\x1a\n"
+        image = Image.open(io.BytesIO(data))
+        image.verify()
+    thumbnail = Image.open(io.BytesIO(base64.b64decode(pictures[-1])))
+    assert thumbnail.size == report.THUMB_SIZE_PX
+
+
+def test_rewriting_replaces_the_report_atomically(scored, tmp_path: Path):
+    result, dataset, submission, scene_dirs, _ = scored
+    target = tmp_path / "new" / "deeper"
+    first = write_report(
+        result, dataset=dataset, submission=submission, scene_dirs=scene_dirs, out_dir=target, title="Run <1>"
+    )
+    calls = []
+    second = write_report(
+        result, dataset=dataset, submission=submission, scene_dirs=scene_dirs, out_dir=target,
+        progress=lambda done, total: calls.append((done, total)),
+    )  # fmt: skip
+    assert calls == [(i, 6) for i in range(1, 7)]
+    assert first == second and [p.name for p in target.iterdir()] == ["report.html"]
+    assert "Evaluation of toy.jsonl" in second.read_text() and "Run &lt;1&gt;" not in second.read_text()
+
+
+def test_a_table_whose_grouping_is_absent_is_left_out(scored, tmp_path: Path):
+    result, dataset, submission, scene_dirs, _ = scored
+    groups = {k: v for k, v in result.groups.items() if k != "task_difficulty"}
+    fewer = dataclasses.replace(result, groups=groups)
+    text = write_report(
+        fewer, dataset=dataset, submission=submission, scene_dirs=scene_dirs, out_dir=tmp_path
+    ).read_text()
+    assert 'id="table-difficulty"' not in text and 'id="table-task_scene"' in text
+
+
+# ---------------------------------------------------------------------------------------------- screenshots
+
+needs_chromium = pytest.mark.skipif(
+    find_browser() is None,
+    reason="no chromium, chromium-browser or google-chrome on PATH (scripts/system-deps.sh installs it)",
+)
+
+
+@needs_chromium
+def test_chromium_renders_the_report_without_console_errors(scored, tmp_path: Path):
+    png = tmp_path / "shot.png"
+    errors = screenshot_report(scored[4], png, width=1000, height=1600)
+    assert errors == []
+    with Image.open(png) as image:
+        assert image.size == (1000, 1600)
+        assert len(image.convert("RGB").getcolors(1 << 20) or []) > 50  # a rendered page, not a blank one
+
+
+@needs_chromium
+def test_the_screenshot_script_fails_on_a_page_with_errors(tmp_path: Path):
+    page = tmp_path / "broken.html"
+    page.write_text("<!DOCTYPE html><html><body><p>x</p><script>notDefined();</script></body></html>")
+    run = subprocess.run(
+        [sys.executable, str(REPO / "scripts" / "report_screenshot.py"), str(page),
+         "-o", str(tmp_path / "b.png"), "--width", "400", "--height", "300"],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert run.returncode == 1 and "1 console errors" in run.stderr and "notDefined" in run.stderr
+    assert (tmp_path / "b.png").is_file()
+
+
+def test_a_missing_browser_is_a_clear_error(scored, tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
+    monkeypatch.setattr(screenshot, "find_browser", lambda: None)
+    with pytest.raises(ScreenshotError, match="no headless browser found on PATH"):
+        screenshot_report(scored[4], tmp_path / "x.png")
+    with pytest.raises(ScreenshotError, match="cannot run the browser"):
+        screenshot_report(scored[4], tmp_path / "x.png", browser=str(tmp_path / "no-such-browser"))

@@ -1,0 +1,100 @@
+"""``navverse run-agent`` on the tiny dataset: submissions eval scores, determinism, resume, errors."""
+
+from __future__ import annotations
+
+import gzip
+import json
+from pathlib import Path
+
+from navverse.dataset import Dataset
+from navverse.eval.runner import run_agent
+from tests.stages.conftest import Built, navverse_command, scene_dirs
+
+FLAKY_AGENT = '''
+from pathlib import Path
+
+from navverse.eval.agents.random_actions import RandomAgent
+
+
+class FlakyAgent(RandomAgent):
+    """Random actions, but it raises in one episode while a marker file exists."""
+
+    def reset(self, task):
+        super().reset(task)
+        self._broken = task.episode_id == "{episode}" and Path("{marker}").exists()
+
+    def act(self, observation, info):
+        if self._broken:
+            raise ValueError("the model is not loaded")
+        return super().act(observation, info)
+'''
+
+
+def _records(path: Path) -> list[dict]:
+    text = gzip.decompress(path.read_bytes()).decode() if path.suffix == ".gz" else path.read_text()
+    return [json.loads(line) for line in text.splitlines()]
+
+
+def test_the_oracle_run_is_scored_as_all_successes_whatever_the_process_count(
+    built: Built, dataset: Dataset, tmp_path: Path
+):
+    root = built.workspace.root
+    out = tmp_path / "oracle.jsonl.gz"
+    ran = navverse_command(root, "run-agent", "--dataset", str(dataset.root), "--agent", "oracle",
+                           "--out", str(out), "--jobs", "2")  # fmt: skip
+    assert ran.returncode == 0, ran.stderr
+    ids = [e.episode_id for e in dataset.episodes(split="eval")]
+    assert [r["episode_id"] for r in _records(out)] == ids  # every episode, in the dataset's order
+    assert f"{len(ids)} episodes" in ran.stdout and "navverse eval" in ran.stdout
+    scored = navverse_command(root, "eval", "--dataset", str(dataset.root), "--submission", str(out),
+                              "--out", str(tmp_path / "eval"))  # fmt: skip
+    assert scored.returncode == 0, scored.stderr
+    metrics = json.loads((tmp_path / "eval" / "metrics.json").read_text())
+    assert metrics["overall"]["success"] == 1.0
+    in_process = tmp_path / "in_process.jsonl.gz"
+    run_agent(dataset, agent="oracle", split="eval", embodiment="spot", scene_dirs=scene_dirs(built),
+              out=in_process, jobs=0)  # fmt: skip
+    assert in_process.read_bytes() == out.read_bytes()
+
+
+def test_a_failing_agent_is_reported_and_the_run_resumes_once_it_is_fixed(
+    built: Built, dataset: Dataset, tmp_path: Path
+):
+    root = built.workspace.root
+    ids = [e.episode_id for e in dataset.episodes(split="eval")]
+    marker = tmp_path / "broken"
+    marker.touch()
+    agent_file = tmp_path / "flaky.py"
+    agent_file.write_text(FLAKY_AGENT.format(episode=ids[1], marker=marker))
+    out = tmp_path / "flaky.jsonl"
+    args = ("run-agent", "--dataset", str(dataset.root), "--agent", f"{agent_file}:FlakyAgent",
+            "--out", str(out), "--jobs", "0")  # fmt: skip
+    failed = navverse_command(root, *args)
+    assert failed.returncode == 1 and "Traceback" not in failed.stderr
+    message = " ".join(failed.stderr.split())
+    assert f"failed in episode {ids[1]}" in message and "ValueError: the model is not loaded" in message
+    assert "flaky.py" in message and "run the same command again to resume" in message
+    partial = out.with_name(out.name + ".partial")
+    assert not out.exists() and partial.is_file()
+    kept = len(partial.read_text().splitlines()) - 1  # the first line names the run
+    assert 1 <= kept < len(ids)
+    marker.unlink()
+    resumed = navverse_command(root, *args)
+    assert resumed.returncode == 0, resumed.stderr
+    assert f"({kept} resumed from an interrupted run)" in " ".join(resumed.stdout.split())
+    assert [r["episode_id"] for r in _records(out)] == ids and not partial.exists()
+
+
+def test_run_agent_refuses_bad_arguments_with_what_to_change(built: Built, dataset: Dataset, tmp_path: Path):
+    root = built.workspace.root
+    cases = {
+        ("--agent", "nope"): "unknown agent 'nope'",
+        ("--agent", "oracle", "--split", "val"): "has no split 'val'",
+        ("--agent", "oracle", "--limit", "0"): "--limit must be at least 1",
+    }
+    for extra, expected in cases.items():
+        result = navverse_command(root, "run-agent", "--dataset", str(dataset.root), "--out",
+                                  str(tmp_path / "x.jsonl"), *extra)  # fmt: skip
+        assert result.returncode == 1, (extra, result.stdout)
+        assert expected in " ".join(result.stderr.split()) and "Traceback" not in result.stderr
+    assert not list(tmp_path.iterdir())  # nothing half-written
