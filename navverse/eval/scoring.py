@@ -223,6 +223,14 @@ GROUPINGS: dict[str, Callable[[Mapping], str | None]] = {
 """Group key of an episode row per grouping; None leaves the episode out of that grouping."""
 
 
+_ORDER = {"indoor": 0, "outdoor": 1, "i2o": 2, "easy": 0, "medium": 1, "hard": 2}
+
+
+def _group_order(key: str) -> tuple:
+    """Sort key of a group: task, scene type and difficulty in their natural order (easy before hard)."""
+    return tuple((_ORDER.get(part, -1), part) for part in key.split("/"))
+
+
 def group_means(rows: Sequence[dict]) -> dict[str, dict[str, dict[str, float]]]:
     """Means of every metric (over the episodes where it is defined) and label shares, per grouping.
 
@@ -238,7 +246,7 @@ def group_means(rows: Sequence[dict]) -> dict[str, dict[str, dict[str, float]]]:
             if group is not None:
                 groups.setdefault(group, []).append(row)
         table = {}
-        for group, members in sorted(groups.items()):
+        for group, members in sorted(groups.items(), key=lambda item: _group_order(item[0])):
             entry: dict[str, float] = {"episodes": len(members)}
             for name in names:
                 defined = [m[name] for m in members if m[name] is not None]
