@@ -26,7 +26,8 @@ Each :meth:`FrontierAgent.act`:
 5. **Stops** when the base is within ``stop_distance`` (horizontally) of a goal point, or after
    ``max_steps`` actions.
 
-The agent never reads goal positions, the reference path or the navmesh.
+The agent never reads goal positions, the reference path or the navmesh. Its map is
+:mod:`navverse.eval.agents.mapping`, its planner :mod:`navverse.eval.agents.grid_planning`.
 
 >>> agent = FrontierAgent()  # doctest: +SKIP
 >>> agent.reset(task)  # doctest: +SKIP
@@ -36,37 +37,29 @@ The agent never reads goal positions, the reference path or the navmesh.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy import ndimage, sparse
-from scipy.sparse import csgraph
+from scipy import ndimage
 
 from navverse.eval.agents.base import AgentTask
+from navverse.eval.agents.grid_planning import grid_dijkstra, trace_path, traversal_costs
+from navverse.eval.agents.mapping import (
+    LOGODDS_CLAMP,
+    LogOddsGrid,
+    OccupancyMap,
+    back_project,
+    column_free_ranges,
+    disk,
+    estimate_floor,
+    pixel_rays,
+    pose_matrix,
+    pose_yaw,
+)
 from navverse.sim.actions import DISCRETE_ACTIONS
 from navverse.sim.controller import wrap_angle
-from navverse.sim.simulator import Pose
 
-__all__ = [
-    "FREE",
-    "OCCUPIED",
-    "UNKNOWN",
-    "FrontierAgent",
-    "OccupancyMap",
-    "back_project",
-    "column_free_ranges",
-    "estimate_floor",
-    "grid_dijkstra",
-    "heading_action",
-    "pixel_rays",
-    "pose_matrix",
-    "trace_path",
-    "traversal_costs",
-]
-
-UNKNOWN, FREE, OCCUPIED = -1, 0, 1
-"""Values of :attr:`OccupancyMap.grid`."""
+__all__ = ["FrontierAgent", "heading_action"]
 
 STOP = DISCRETE_ACTIONS.index("stop")
 FORWARD = DISCRETE_ACTIONS.index("forward")
@@ -77,341 +70,9 @@ ROTATE_RIGHT = DISCRETE_ACTIONS.index("rotate_right")
 SMALL_LEFT = DISCRETE_ACTIONS.index("small_rotate_left")
 SMALL_RIGHT = DISCRETE_ACTIONS.index("small_rotate_right")
 
-_HIT, _MISS, _CLAMP = 0.9, -0.4, (-2.0, 3.5)  # log-odds per view and their bounds
-_GROW_MARGIN = 5.0  # m added beyond what must fit when the map grows
 _PLAN_MARGIN = 1.0  # m of unknown around the known area the planner may cross
 _TURNS = {ROTATE_LEFT: 30.0, ROTATE_RIGHT: -30.0, SMALL_LEFT: 15.0, SMALL_RIGHT: -15.0}  # degrees
 _FLOOR_VIEWS = 5  # views whose floor estimates are pooled (median) before the floor offset is fixed
-
-
-# ---------------------------------------------------------------------------------------------- geometry
-
-
-def pose_matrix(pose: np.ndarray) -> np.ndarray:
-    """The 4x4 base-to-world transform of a pose ``[x, y, z, qx, qy, qz, qw]``."""
-    return Pose(np.asarray(pose[:3], dtype=float), np.asarray(pose[3:7], dtype=float)).matrix()
-
-
-def _yaw(pose: np.ndarray) -> float:
-    return Pose(np.asarray(pose[:3], dtype=float), np.asarray(pose[3:7], dtype=float)).yaw
-
-
-def pixel_rays(
-    intrinsics: np.ndarray, shape: tuple[int, int], rotation: np.ndarray, *, stride: int = 1
-) -> np.ndarray:
-    """World directions of the rays through the centres of every ``stride``-th pixel row and column.
-
-    Parameters
-    ----------
-    intrinsics : ndarray, shape (3, 3)
-        ``K = [[fx, 0, cx], [0, fy, cy], [0, 0, 1]]``.
-    shape : tuple of int
-        Image height and width in pixels.
-    rotation : ndarray, shape (3, 3)
-        Orientation of the optical frame (x right, y down, z forward) in the world.
-    stride : int
-        Subsampling step in pixels.
-
-    Returns
-    -------
-    ndarray, shape (ceil(H / stride), ceil(W / stride), 3)
-        Directions scaled so that their optical z is 1: a ray reaches z-depth ``t`` at ``t * ray``.
-    """
-    fx, fy, cx, cy = intrinsics[0, 0], intrinsics[1, 1], intrinsics[0, 2], intrinsics[1, 2]
-    x = (np.arange(0, shape[1], stride, dtype=np.float64) + 0.5 - cx) / fx
-    y = (np.arange(0, shape[0], stride, dtype=np.float64) + 0.5 - cy) / fy
-    return x[None, :, None] * rotation[:, 0] + y[:, None, None] * rotation[:, 1] + rotation[:, 2]
-
-
-def back_project(
-    depth: np.ndarray, intrinsics: np.ndarray, camera_to_world: np.ndarray, *, stride: int = 1
-) -> tuple[np.ndarray, np.ndarray]:
-    """World points of a z-depth image, through the pixel centres of every ``stride``-th row and column.
-
-    Parameters
-    ----------
-    depth : ndarray, shape (H, W) or (H, W, 1)
-        Z-depth in meters along the optical axis, 0 where nothing was hit.
-    intrinsics : ndarray, shape (3, 3)
-        ``K = [[fx, 0, cx], [0, fy, cy], [0, 0, 1]]``.
-    camera_to_world : ndarray, shape (4, 4)
-        Pose of the optical frame (x right, y down, z forward) in the world.
-    stride : int
-        Subsampling step in pixels.
-
-    Returns
-    -------
-    points : ndarray, shape (ceil(H / stride), ceil(W / stride), 3)
-        World coordinates (meaningless where ``valid`` is False).
-    valid : ndarray of bool, same leading shape
-        Pixels with a hit (depth > 0 and finite).
-    """
-    shape = (depth.shape[0], depth.shape[1])
-    z = np.asarray(depth, dtype=np.float64).reshape(shape)[::stride, ::stride]
-    valid = np.isfinite(z) & (z > 0.0)
-    rays = pixel_rays(intrinsics, shape, camera_to_world[:3, :3], stride=stride)
-    points = np.where(valid, z, 0.0)[..., None] * rays + camera_to_world[:3, 3]
-    return points, valid
-
-
-def estimate_floor(
-    heights: np.ndarray, *, below: float, bin_size: float = 0.02, min_count: int = 30
-) -> float | None:
-    """The floor's height: the lowest well-populated height band among points below ``below``.
-
-    Parameters
-    ----------
-    heights : ndarray, shape (N,)
-        World z of points seen near the robot.
-    below : float
-        Only points lower than this count (e.g. a little under the robot's base).
-    bin_size : float
-        Height band width (m).
-    min_count : int
-        Fewest points a band needs; a band also needs a fifth of the fullest band's count.
-
-    Returns
-    -------
-    float or None
-        Median height of the points in the band and its neighbours; None with too few points.
-    """
-    z = heights[heights < below]
-    if len(z) < min_count:
-        return None
-    lo = float(z.min())
-    index = ((z - lo) / bin_size).astype(np.int64)
-    counts = np.bincount(index)
-    dense = np.nonzero(counts >= max(min_count, 0.2 * counts.max()))[0]
-    if len(dense) == 0:
-        return None
-    first = int(dense[0])
-    return float(np.median(z[(index >= first - 1) & (index <= first + 1)]))
-
-
-# ---------------------------------------------------------------------------------------------- the map
-
-
-@dataclass(frozen=True)
-class OccupancyMap:
-    """A snapshot of the agent's 2-D occupancy grid.
-
-    Attributes
-    ----------
-    grid : ndarray of int8, shape (rows, cols)
-        :data:`UNKNOWN`, :data:`FREE` or :data:`OCCUPIED`; row ``i`` spans y in
-        ``[origin[1] + i * cell_size, origin[1] + (i + 1) * cell_size)``, column ``j`` likewise in x.
-    origin : tuple of float
-        World ``(x, y)`` of the lower-left corner of cell ``(0, 0)``.
-    cell_size : float
-        Cell edge (m).
-    """
-
-    grid: np.ndarray
-    origin: tuple[float, float]
-    cell_size: float
-
-    def cell_of(self, xy: np.ndarray) -> np.ndarray:
-        """Integer ``(row, col)`` of world points ``(..., 2)`` (may lie outside the grid)."""
-        xy = np.asarray(xy, dtype=float)
-        col = np.floor((xy[..., 0] - self.origin[0]) / self.cell_size)
-        row = np.floor((xy[..., 1] - self.origin[1]) / self.cell_size)
-        return np.stack([row, col], -1).astype(np.int64)
-
-    def center_of(self, cells: np.ndarray) -> np.ndarray:
-        """World ``(x, y)`` of the centres of cells ``(..., 2)`` given as ``(row, col)``."""
-        cells = np.asarray(cells, dtype=float)
-        x = self.origin[0] + (cells[..., 1] + 0.5) * self.cell_size
-        y = self.origin[1] + (cells[..., 0] + 0.5) * self.cell_size
-        return np.stack([x, y], -1)
-
-
-class _Grid:
-    """The agent's mutable map: log-odds of occupancy and which cells were ever observed."""
-
-    def __init__(self, center: np.ndarray, *, size: float, cell: float) -> None:
-        n = math.ceil(size / cell)
-        self.cell = cell
-        self.origin = np.floor(np.asarray(center[:2], dtype=float) / cell) * cell - (n // 2) * cell
-        self.logodds = np.zeros((n, n), dtype=np.float32)
-        self.observed = np.zeros((n, n), dtype=bool)
-
-    @property
-    def shape(self) -> tuple[int, int]:
-        return self.logodds.shape
-
-    def cells(self, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Row and column indices of world points ``(N, 2)``."""
-        col = np.floor((xy[:, 0] - self.origin[0]) / self.cell).astype(np.int64)
-        row = np.floor((xy[:, 1] - self.origin[1]) / self.cell).astype(np.int64)
-        return row, col
-
-    def centers(self, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
-        """World ``(x, y)`` of cell centres."""
-        return np.stack(
-            [self.origin[0] + (cols + 0.5) * self.cell, self.origin[1] + (rows + 0.5) * self.cell], -1
-        )
-
-    def fit(self, lo: np.ndarray, hi: np.ndarray) -> None:
-        """Grow the grid (keeping its cells) so that the box ``[lo, hi]`` (world xy) lies inside."""
-        rows, cols = self.shape
-        top = self.origin + np.array([cols, rows]) * self.cell
-        if np.all(lo >= self.origin) and np.all(hi < top):
-            return
-        grow_lo = np.where(lo < self.origin, np.ceil((self.origin - lo + _GROW_MARGIN) / self.cell), 0)
-        grow_hi = np.where(hi >= top, np.ceil((hi - top + _GROW_MARGIN) / self.cell), 0)
-        pad = ((int(grow_lo[1]), int(grow_hi[1])), (int(grow_lo[0]), int(grow_hi[0])))
-        self.logodds = np.pad(self.logodds, pad)
-        self.observed = np.pad(self.observed, pad)
-        self.origin = self.origin - grow_lo * self.cell
-
-    def update(self, free: np.ndarray, occupied: np.ndarray) -> None:
-        """Add one view's evidence: boolean masks of the cells seen free and seen occupied."""
-        self.logodds[free & ~occupied] += _MISS
-        self.logodds[occupied] += _HIT
-        np.clip(self.logodds, *_CLAMP, out=self.logodds)
-        self.observed |= free | occupied
-
-    def mask(self, xy: np.ndarray) -> np.ndarray:
-        """Boolean grid of the cells holding any of the world points ``(N, 2)``."""
-        out = np.zeros(self.shape, dtype=bool)
-        row, col = self.cells(xy)
-        inside = (row >= 0) & (row < self.shape[0]) & (col >= 0) & (col < self.shape[1])
-        out[row[inside], col[inside]] = True
-        return out
-
-    def occupied(self) -> np.ndarray:
-        return self.observed & (self.logodds > 0.0)
-
-    def free(self) -> np.ndarray:
-        return self.observed & (self.logodds <= 0.0)
-
-    def snapshot(self) -> OccupancyMap:
-        grid = np.full(self.shape, UNKNOWN, dtype=np.int8)
-        grid[self.free()] = FREE
-        grid[self.occupied()] = OCCUPIED
-        grid.setflags(write=False)
-        return OccupancyMap(grid, (float(self.origin[0]), float(self.origin[1])), self.cell)
-
-
-def column_free_ranges(
-    points: np.ndarray, valid: np.ndarray, obstacle: np.ndarray, floor: np.ndarray, camera_xy: np.ndarray
-) -> np.ndarray:
-    """How far (horizontally) each image column sees free space.
-
-    A column sees free floor up to its farthest floor point, but never past its nearest obstacle point.
-
-    Parameters
-    ----------
-    points : ndarray, shape (R, C, 3)
-        Back-projected world points.
-    valid, obstacle, floor : ndarray of bool, shape (R, C)
-        Points to use, those in the obstacle band, those on the floor.
-    camera_xy : ndarray, shape (2,)
-        The camera's horizontal position.
-
-    Returns
-    -------
-    ndarray, shape (C,)
-        Free range per column (m); 0 for a column with no floor point.
-    """
-    distance = np.hypot(points[..., 0] - camera_xy[0], points[..., 1] - camera_xy[1])
-    nearest_obstacle = np.where(valid & obstacle, distance, np.inf).min(axis=0)
-    farthest_floor = np.where(valid & floor, distance, 0.0).max(axis=0)
-    return np.minimum(farthest_floor, nearest_obstacle)
-
-
-def disk(radius_cells: float) -> np.ndarray:
-    """A boolean disk structuring element of the given radius (in cells)."""
-    r = math.ceil(radius_cells)
-    y, x = np.mgrid[-r : r + 1, -r : r + 1]
-    return x * x + y * y <= radius_cells * radius_cells
-
-
-# ---------------------------------------------------------------------------------------------- planning
-
-
-def traversal_costs(
-    occupied: np.ndarray,
-    unknown: np.ndarray,
-    *,
-    cell_size: float,
-    body_radius: float,
-    margin: float,
-    unknown_cost: float = 2.0,
-    margin_cost: float = 8.0,
-) -> np.ndarray:
-    """Per-cell cost of crossing a cell; ``inf`` where the robot's body would touch an obstacle.
-
-    Parameters
-    ----------
-    occupied, unknown : ndarray of bool, shape (rows, cols)
-        Occupied and never-observed cells.
-    cell_size : float
-        Cell edge (m).
-    body_radius : float
-        Cells closer than this to an occupied cell's centre are impassable (m).
-    margin : float
-        Beyond ``body_radius``, cells closer than ``body_radius + margin`` cost up to ``margin_cost`` more.
-    unknown_cost : float
-        Cost of an unknown cell (a free cell costs 1).
-    margin_cost : float
-        Extra cost right at ``body_radius``, falling linearly to 0 at ``body_radius + margin``.
-
-    Returns
-    -------
-    ndarray of float64, shape (rows, cols)
-    """
-    clearance = ndimage.distance_transform_edt(~occupied) * cell_size if occupied.any() else None
-    costs = np.where(unknown, unknown_cost, 1.0)
-    if clearance is not None:
-        costs = costs + margin_cost * np.clip((body_radius + margin - clearance) / margin, 0.0, 1.0)
-        costs[clearance < body_radius] = np.inf
-    return costs
-
-
-def grid_dijkstra(costs: np.ndarray, start: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
-    """Shortest 8-connected paths from ``start`` over a cost grid.
-
-    A step between neighbouring cells costs its length (1 or sqrt 2 cells) times the mean of the two
-    cells' costs; cells of infinite cost are never entered.
-
-    Returns
-    -------
-    distance : ndarray, shape (rows, cols)
-        Path cost to each cell (``inf`` where unreachable).
-    predecessors : ndarray of int, shape (rows * cols,)
-        Flat index of the previous cell on the path (negative at the start and unreachable cells).
-    """
-    rows, cols = costs.shape
-    index = np.arange(rows * cols).reshape(rows, cols)
-    sources, targets, weights = [], [], []
-    for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):
-        a = (slice(0, rows - dr), slice(max(0, -dc), cols - max(0, dc)))
-        b = (slice(dr, rows), slice(max(0, dc), cols - max(0, -dc)))
-        w = 0.5 * math.hypot(dr, dc) * (costs[a] + costs[b])
-        ok = np.isfinite(w)
-        sources.append(index[a][ok])
-        targets.append(index[b][ok])
-        weights.append(w[ok])
-    graph = sparse.coo_matrix(
-        (np.concatenate(weights), (np.concatenate(sources), np.concatenate(targets))),
-        shape=(rows * cols, rows * cols),
-    ).tocsr()
-    distance, predecessors = csgraph.dijkstra(
-        graph, directed=False, indices=start[0] * cols + start[1], return_predecessors=True
-    )
-    return distance.reshape(rows, cols), predecessors
-
-
-def trace_path(predecessors: np.ndarray, target: tuple[int, int], cols: int) -> np.ndarray:
-    """Cells ``(row, col)`` from the start to ``target`` along Dijkstra's predecessors."""
-    node = target[0] * cols + target[1]
-    path = [node]
-    while predecessors[node] >= 0:
-        node = int(predecessors[node])
-        path.append(node)
-    path = np.array(path[::-1], dtype=np.int64)
-    return np.stack([path // cols, path % cols], -1)
 
 
 def heading_action(yaw: float, bearing: float, *, tolerance: float = math.radians(12.0)) -> int:
@@ -554,7 +215,7 @@ class FrontierAgent:
         self._goal_ids = np.array(
             sorted(i for i, c in task.semantic_categories.items() if c == task.goal_category), dtype=np.int64
         )
-        self._grid: _Grid | None = None
+        self._grid: LogOddsGrid | None = None
         self._goal_points = np.zeros((0, 3))
         self._floor_estimates: list[float] = []
         self._floor_offset: float | None = None
@@ -574,7 +235,7 @@ class FrontierAgent:
         pose = np.asarray(observation["pose"], dtype=float)
         self._steps += 1
         if self._grid is None:
-            self._grid = _Grid(pose, size=self.map_size, cell=self.cell_size)
+            self._grid = LogOddsGrid(pose, size=self.map_size, cell=self.cell_size)
         self._pose = pose
         if "robot_size" in info:
             self._robot_size = np.asarray(info["robot_size"], dtype=float)
@@ -664,7 +325,7 @@ class FrontierAgent:
         u = np.arange(-0.5 * length, 0.5 * length + half, half)
         v = np.arange(-0.5 * width, 0.5 * width + half, half)
         u, v = (a.ravel() for a in np.meshgrid(u, v))
-        yaw = _yaw(pose)
+        yaw = pose_yaw(pose)
         c, s = math.cos(yaw), math.sin(yaw)
         return pose[:2] + np.stack([c * u - s * v, s * u + c * v], -1)
 
@@ -725,7 +386,7 @@ class FrontierAgent:
                 self._visited.clear()
             return STOP if self._idle > 24 else ROTATE_LEFT
         self._idle = 0
-        return heading_action(_yaw(pose), self._bearing_along(pose, plan))
+        return heading_action(pose_yaw(pose), self._bearing_along(pose, plan))
 
     def _bearing_along(self, pose: np.ndarray, path: np.ndarray) -> float:
         """Bearing from the robot to the first path point at least ``lookahead`` away (else the last)."""
@@ -834,7 +495,7 @@ class FrontierAgent:
         rows, cols = np.nonzero(candidates)
         centers = grid.centers(rows + offset[0], cols + offset[1])
         bearing = np.arctan2(centers[:, 1] - pose[1], centers[:, 0] - pose[0])
-        turn = np.abs((bearing - _yaw(pose) + math.pi) % (2.0 * math.pi) - math.pi)
+        turn = np.abs((bearing - pose_yaw(pose) + math.pi) % (2.0 * math.pi) - math.pi)
         size_m = np.minimum(sizes[labels[rows, cols]] * grid.cell, self.frontier_size_cap)
         score = distance[rows, cols] * grid.cell - size_m + self.turn_weight * turn
         best = int(np.argmin(score))
@@ -877,7 +538,7 @@ class FrontierAgent:
         before = self._last[1]
         if math.hypot(pose[0] - before[0], pose[1] - before[1]) >= 0.05:
             return
-        yaw = _yaw(pose)
+        yaw = pose_yaw(pose)
         forward = np.array([math.cos(yaw), math.sin(yaw)])
         left = np.array([-forward[1], forward[0]])
         length = 0.6 if self._robot_size is None else float(self._robot_size[0])
@@ -886,7 +547,7 @@ class FrontierAgent:
         blocked = ahead + across[:, None] * left
         self._grid.fit(blocked.min(axis=0), blocked.max(axis=0))
         mask = self._grid.mask(blocked)
-        self._grid.logodds[mask] = _CLAMP[1]
+        self._grid.logodds[mask] = LOGODDS_CLAMP[1]
         self._grid.observed |= mask
         self._target = None
 
@@ -894,10 +555,10 @@ class FrontierAgent:
         """After a turn the body could not make (it hit something), step sideways, away from obstacles."""
         if self._last is None or self._last[0] not in _TURNS:
             return
-        turned = math.degrees(wrap_angle(_yaw(pose) - _yaw(self._last[1])))
+        turned = math.degrees(wrap_angle(pose_yaw(pose) - pose_yaw(self._last[1])))
         if abs(turned) >= abs(_TURNS[self._last[0]]) / 3.0:
             return
-        yaw = _yaw(pose)
+        yaw = pose_yaw(pose)
         forward = np.array([math.cos(yaw), math.sin(yaw)])
         left = np.array([-forward[1], forward[0]])
         along = np.linspace(-0.6, 0.6, 7)

@@ -14,20 +14,15 @@ from navverse.env import NavVerseEnv
 from navverse.eval.agents.base import Agent, AgentTask
 from navverse.eval.agents.frontier import (
     FORWARD,
-    FREE,
-    OCCUPIED,
     ROTATE_LEFT,
     ROTATE_RIGHT,
     SMALL_LEFT,
     STOP,
-    UNKNOWN,
     FrontierAgent,
-    back_project,
-    estimate_floor,
-    grid_dijkstra,
     heading_action,
-    trace_path,
 )
+from navverse.eval.agents.grid_planning import grid_dijkstra, trace_path
+from navverse.eval.agents.mapping import FREE, OCCUPIED, UNKNOWN, back_project, estimate_floor
 from navverse.indoor import generate_building
 from navverse.nav.scene_navmesh import build_scene_navmesh
 from navverse.scene import (
