@@ -288,7 +288,7 @@ def cmd_validate_submission(args: argparse.Namespace, console: Console) -> int:
         console.print(f"missing: ... and {len(missing) - 20} more episodes")
     console.print(
         f"{args.submission}: {len(submission.records)} of {len(ids)} episodes of {args.split} valid; "
-        f"{len(submission.problems)} problems, {len(missing)} episodes missing"
+        f"{len(submission.problems)} problems, {len(missing)} missing"
     )
     return 1 if submission.problems or missing else 0
 
