@@ -80,6 +80,14 @@ def _publish_datasets(targets, store, console: Console) -> None:
         console.print(f"{'published' if written else 'up to date'}: {shown}")
 
 
+def built_scene_dirs(episodes) -> dict[str, Path]:
+    """The built scene directory of every scene the episodes are in (a SceneError names a missing one)."""
+    from pipeline.store import ArtifactStore
+
+    store = ArtifactStore(_workspace().built_dir)
+    return {scene: _scene_dir(store, scene) for scene in sorted({e.scene_id for e in episodes})}
+
+
 def _scene_dir(store, scene_id: str) -> Path:
     """A built scene's directory (with its navmesh when built), or a SceneError saying how to build it."""
     found = (store.target_output(scene_id, artifact) for artifact in SCENE_ARTIFACTS)
@@ -212,7 +220,6 @@ def cmd_validate_dataset(args: argparse.Namespace, console: Console) -> int:
     from navverse.dataset import Dataset, DatasetError
     from navverse.episodes.inspect import check_bounds, replay
     from navverse.scene.directory import scene_hash
-    from pipeline.store import ArtifactStore
 
     dataset = Dataset(args.dataset)
     bad = dataset.verify_checksums()
@@ -238,8 +245,7 @@ def cmd_validate_dataset(args: argparse.Namespace, console: Console) -> int:
                 episodes[i]
                 for i in sorted(rng.choice(len(episodes), min(count, len(episodes)), replace=False))
             ]
-        store = ArtifactStore(_workspace().built_dir)
-        scene_dirs = {scene: _scene_dir(store, scene) for scene in sorted({e.scene_id for e in chosen})}
+        scene_dirs = built_scene_dirs(chosen)
         changed = [s for s, d in scene_dirs.items() if scene_hash(d) != dataset.manifest.scene_hashes.get(s)]
         if changed:
             console.print(
@@ -304,14 +310,11 @@ def cmd_eval(args: argparse.Namespace, console: Console) -> int:
     from navverse.eval.scoring import score
     from navverse.eval.submission import read_submission
     from navverse.eval.tables import table_rows, write_outputs
-    from pipeline.store import ArtifactStore
 
     dataset = Dataset(args.dataset)
     ids = _split_of(dataset, args.split)
     submission = read_submission(args.submission, episode_ids=ids)
-    store = ArtifactStore(_workspace().built_dir)
-    scenes = sorted({e.scene_id for e in dataset.episodes(split=args.split)})
-    scene_dirs = {scene: _scene_dir(store, scene) for scene in scenes}
+    scene_dirs = built_scene_dirs(dataset.episodes(split=args.split))
     with Progress(console=console, transient=True) as bar:
         task = bar.add_task("scoring", total=len(submission.records) or 1)
         result = score(
@@ -371,14 +374,11 @@ def cmd_run_agent(args: argparse.Namespace, console: Console) -> int:
 
     from navverse.dataset import Dataset
     from navverse.eval.runner import run_agent
-    from pipeline.store import ArtifactStore
 
     dataset = Dataset(args.dataset)
     _split_of(dataset, args.split)
     embodiment = args.embodiment or dataset.manifest.embodiment
-    store = ArtifactStore(_workspace().built_dir)
-    scenes = sorted({e.scene_id for e in dataset.episodes(split=args.split)})
-    scene_dirs = {scene: _scene_dir(store, scene) for scene in scenes}
+    scene_dirs = built_scene_dirs(dataset.episodes(split=args.split))
     jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
     with Progress(*columns, console=console, transient=True) as bar:

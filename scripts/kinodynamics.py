@@ -23,20 +23,12 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
+from navverse.cli import built_scene_dirs
 from navverse.dataset import Dataset
 from navverse.errors import NavverseError
 from navverse.eval.runner import run_agent
 from navverse.eval.scoring import score
 from navverse.eval.submission import read_submission
-
-
-def _scene_dirs(dataset: Dataset, split: str, built: Path) -> dict[str, Path]:
-    scenes = sorted({e.scene_id for e in dataset.episodes(split=split)})
-    dirs = {s: built / "targets" / s / "scene" for s in scenes}
-    missing = [s for s, d in dirs.items() if not (d / "scene.json").is_file()]
-    if missing:
-        raise NavverseError(f"scenes not built: {', '.join(missing)}; run `make scenes` first")
-    return dirs
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -48,13 +40,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--friction", nargs="+", type=float, default=[0.5, 1.0])
     parser.add_argument("--limit", type=int, default=None, help="episodes per run, spread over the split")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    parser.add_argument("--built", default="data/built", help="build folder holding the scenes")
     parser.add_argument("--out", default="kinodynamics", help="folder for submissions and the table")
     args = parser.parse_args(argv)
     console = Console()
     try:
         dataset = Dataset(args.dataset)
-        scene_dirs = _scene_dirs(dataset, args.split, Path(args.built))
+        scene_dirs = built_scene_dirs(dataset.episodes(split=args.split))
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
         rows = []

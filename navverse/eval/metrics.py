@@ -597,43 +597,24 @@ def _ce_post_exit(post_exit_cells, post_exit_traveled):
     return post_exit_cells / np.maximum(post_exit_traveled, CE_EPSILON)
 
 
-def _post_exit(code: int, label: np.ndarray, reached_outdoor: np.ndarray) -> np.ndarray:
-    """[label is `code`] for failed episodes that reached outdoors, NaN for the others."""
-    failed_outside = (reached_outdoor > 0) & (label != 0)
-    return np.where(failed_outside, (label == code).astype(np.float64), np.nan)
+def _post_exit(code: int) -> Callable[..., np.ndarray]:
+    """The metric [label is `code`] over failed episodes that reached outdoors (NaN for the others)."""
+
+    def share(_label: np.ndarray, reached_outdoor: np.ndarray) -> np.ndarray:
+        failed_outside = (reached_outdoor > 0) & (_label != 0)
+        return np.where(failed_outside, (_label == code).astype(np.float64), np.nan)
+
+    return share
 
 
-@metric(
-    "post_exit_wrong_goal",
-    needs=("_label", "reached_outdoor"),
-    description="share of wrong goals among failed episodes that reached outdoors (indoor-to-outdoor)",
-    higher_is_better=False,
-    scene_types=TRANSITION_SCENE_TYPES,
-)
-def _post_exit_wrong_goal(_label, reached_outdoor):
-    return _post_exit(1, _label, reached_outdoor)
-
-
-@metric(
-    "post_exit_fall",
-    needs=("_label", "reached_outdoor"),
-    description="share of falls among failed episodes that reached outdoors (indoor-to-outdoor)",
-    higher_is_better=False,
-    scene_types=TRANSITION_SCENE_TYPES,
-)
-def _post_exit_fall(_label, reached_outdoor):
-    return _post_exit(2, _label, reached_outdoor)
-
-
-@metric(
-    "post_exit_timeout",
-    needs=("_label", "reached_outdoor"),
-    description="share of timeouts among failed episodes that reached outdoors (indoor-to-outdoor)",
-    higher_is_better=False,
-    scene_types=TRANSITION_SCENE_TYPES,
-)
-def _post_exit_timeout(_label, reached_outdoor):
-    return _post_exit(3, _label, reached_outdoor)
+for _name, _what in (("wrong_goal", "wrong goals"), ("fall", "falls"), ("timeout", "timeouts")):
+    metric(
+        f"post_exit_{_name}",
+        needs=("_label", "reached_outdoor"),
+        description=f"share of {_what} among failed episodes that reached outdoors (indoor-to-outdoor)",
+        higher_is_better=False,
+        scene_types=TRANSITION_SCENE_TYPES,
+    )(_post_exit(LABELS.index(_name)))
 
 
 def compute_metrics(inputs: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:

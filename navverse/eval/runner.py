@@ -32,6 +32,7 @@ import numpy as np
 
 from navverse.dataset import Dataset, Episode
 from navverse.errors import NavverseError
+from navverse.sim.recorder import write_submission
 
 __all__ = ["RunError", "RunSettings", "RunSummary", "agent_seed", "pick_episodes", "run_agent"]
 
@@ -118,14 +119,6 @@ def _read_partial(path: Path, settings: RunSettings) -> dict[str, dict[str, Any]
             break
         records[record["episode_id"]] = record
     return records
-
-
-def _write_atomic(records: list[dict[str, Any]], out: Path) -> None:
-    from navverse.sim.recorder import write_submission
-
-    tmp = out.with_name(f".{out.name}.tmp{''.join(out.suffixes)}")
-    write_submission(records, tmp)
-    os.replace(tmp, out)
 
 
 def _chunks(episodes: Sequence[Episode], jobs: int) -> list[list[Episode]]:
@@ -322,7 +315,7 @@ def run_agent(
             f"{partial}; fix the agent and run the same command again to resume"
         )
     ordered = [records[e.episode_id] for e in episodes]
-    _write_atomic(ordered, out)
+    write_submission(ordered, out)
     partial.unlink()
     return RunSummary(
         out=out,

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import gzip
 import json
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -74,11 +75,15 @@ class RolloutRecorder:
 
 
 def write_submission(records: list[dict[str, Any]], path: str | Path) -> Path:
-    """Write records as JSONL (gzipped when the name ends in ``.gz``), one episode per line."""
+    """Write records as JSONL (gzipped when the name ends in ``.gz``), one episode per line, atomically
+    (a temporary file beside it, then renamed over it)."""
     path = Path(path)
-    text = "".join(json.dumps(r, separators=(",", ":")) + "\n" for r in records)
-    if path.suffix == ".gz":
-        path.write_bytes(gzip.compress(text.encode(), mtime=0))
-    else:
-        path.write_text(text)
+    text = "".join(json.dumps(r, separators=(",", ":")) + "\n" for r in records).encode()
+    data = gzip.compress(text, mtime=0) if path.suffix == ".gz" else text
+    tmp = path.with_name(f".{path.name}.tmp")
+    try:
+        tmp.write_bytes(data)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
     return path

@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 
 from navverse.dataset import Dataset
-from navverse.eval.runner import run_agent
+from navverse.eval.runner import _chunks, run_agent
 from tests.stages.conftest import Built, navverse_command, scene_dirs
 
 FLAKY_AGENT = '''
@@ -76,8 +76,15 @@ def test_a_failing_agent_is_reported_and_the_run_resumes_once_it_is_fixed(
     assert "flaky.py" in message and "run the same command again to resume" in message
     partial = out.with_name(out.name + ".partial")
     assert not out.exists() and partial.is_file()
-    kept = len(partial.read_text().splitlines()) - 1  # the first line names the run
-    assert 1 <= kept < len(ids)
+    kept_ids = [json.loads(line)["episode_id"] for line in partial.read_text().splitlines()[1:]]
+    # The failing episode's group stops at it: the one before it is kept, it and the rest of its group
+    # are not; the other groups run to the end.
+    chunk = next(
+        c for c in _chunks(list(dataset.episodes(split="eval")), 1) if ids[1] in {e.episode_id for e in c}
+    )
+    after = {e.episode_id for e in chunk[[e.episode_id for e in chunk].index(ids[1]) :]}
+    assert sorted(kept_ids) == sorted(set(ids) - after) and ids[0] in kept_ids
+    kept = len(kept_ids)
     marker.unlink()
     resumed = navverse_command(root, *args)
     assert resumed.returncode == 0, resumed.stderr
