@@ -9,7 +9,10 @@ A recipe names the stages of a target and their parameters::
       blockout: {size: [10, 6, 3]}
       decimate: null                  # null removes a stage inherited from a preset
     links:
-      scene: ["apartment-*"]          # take artifact 'scene' from other targets
+      scene: ["apartment-*"]          # input 'scene' reads artifact 'scene' of other targets
+      building: {artifact: geometry, targets: [apartment-s0]}   # input 'building' reads their 'geometry'
+
+A stage that declares a passthrough can be skipped: ``stages: {storefronts: {skip: true}}``.
 
 Every problem in every file is collected and reported at once, with file, line and key path.
 """
@@ -28,11 +31,21 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from pipeline.errors import RecipeError, RecipeIssue, TargetError
 from pipeline.hashing import hash_value
 from pipeline.params import Params
-from pipeline.stage import StageSpec, registered_stages
+from pipeline.stage import SKIP_KEY, StageSpec, registered_stages
 from pipeline.workspace import Workspace
 from pipeline.yaml_source import KeyPath, Located, YamlSyntaxError, load_located
 
 TARGET_ID_PATTERN = r"^[a-z0-9][a-z0-9._-]*$"
+ARTIFACT_PATTERN = r"^[a-z][a-z0-9_]*$"
+
+
+class LinkModel(BaseModel):
+    """A link that renames: the input reads artifact ``artifact`` of the ``targets``."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    artifact: Annotated[str, Field(pattern=ARTIFACT_PATTERN)]
+    targets: Annotated[list[str], Field(min_length=1)]
 
 
 class RecipeModel(BaseModel):
@@ -46,7 +59,7 @@ class RecipeModel(BaseModel):
     seeds: list[Annotated[int, Field(ge=0)]] | None = None
     count: Annotated[int, Field(ge=1, le=100_000)] | None = None
     stages: dict[str, dict[str, Any]]
-    links: dict[str, list[str]] = {}
+    links: dict[Annotated[str, Field(pattern=ARTIFACT_PATTERN)], list[str] | LinkModel] = {}
     manual: bool = False
 
     @field_validator("stages", mode="before")
@@ -73,10 +86,31 @@ class RecipeModel(BaseModel):
 
 @dataclass(frozen=True)
 class StageCall:
-    """One stage of a target, with its validated parameters."""
+    """One stage of a target, with its validated parameters.
+
+    A skipped call (``skip: true`` in the recipe) runs nothing: each output is its passthrough input.
+    """
 
     spec: StageSpec
     params: Params
+    skip: bool = False
+
+
+@dataclass(frozen=True)
+class Link:
+    """Where a target's input comes from: artifact ``artifact`` of the targets matching ``targets``.
+
+    ``artifact`` is ``None`` when the input reads the artifact its stage declares (by default, the
+    artifact of the input's own name).
+    """
+
+    targets: tuple[str, ...]
+    artifact: str | None = None
+
+    def describe(self, input_name: str) -> str:
+        """The link as a recipe would write it, for messages."""
+        source = f"artifact {self.artifact!r} of " if self.artifact else ""
+        return f"{input_name!r} ({source}{', '.join(self.targets)})"
 
 
 @dataclass(frozen=True)
@@ -96,7 +130,7 @@ class Target:
     stages : tuple of StageCall
         The target's stages, sorted by name (order of execution comes from the graph).
     links : dict
-        ``{artifact: target-id patterns}`` for artifacts taken from other targets.
+        ``{input name: Link}`` for inputs taken from other targets.
     description : str
         The recipe's description.
     manual : bool
@@ -109,7 +143,7 @@ class Target:
     recipe_hash: str
     seed: int
     stages: tuple[StageCall, ...]
-    links: dict[str, tuple[str, ...]]
+    links: dict[str, Link]
     description: str = ""
     manual: bool = False
 
@@ -237,7 +271,7 @@ class RecipeLoader:
     ) -> list[StageCall]:
         calls: list[StageCall] = []
         for name in sorted(stages):
-            section = stages[name] or {}
+            section = dict(stages[name] or {})
             spec = self.stages.get(name)
             if spec is None:
                 known = ", ".join(sorted(self.stages)) or "none registered"
@@ -248,12 +282,30 @@ class RecipeLoader:
                     f"unknown stage {name!r} (known stages: {known})",
                 )
                 continue
+            skip = section.pop(SKIP_KEY, False)
+            if not isinstance(skip, bool):
+                self._issue(
+                    display,
+                    located.where(("stages", name, SKIP_KEY))[1],
+                    ("stages", name, SKIP_KEY),
+                    f"'{SKIP_KEY}' takes true or false (got {skip!r})",
+                )
+                continue
+            if skip and not spec.skippable:
+                self._issue(
+                    display,
+                    located.where(("stages", name, SKIP_KEY))[1],
+                    ("stages", name, SKIP_KEY),
+                    f"stage {name!r} cannot be skipped: nothing stands in for its outputs "
+                    f"({', '.join(spec.outputs)}); remove the stage with '{name}: null' instead",
+                )
+                continue
             try:
                 params = spec.params_model.model_validate(section, context={"recipe_dir": recipe_dir})
             except ValidationError as exc:
                 self._report(exc, located, ("stages", name), section, spec.params_model)
                 continue
-            calls.append(StageCall(spec=spec, params=params))
+            calls.append(StageCall(spec=spec, params=params, skip=skip))
         return calls
 
     def _report(
@@ -303,7 +355,12 @@ class RecipeLoader:
         if not _matches_id(base_id):
             self._issue(display, 1, "id", f"target id {base_id!r} must match {TARGET_ID_PATTERN}; set 'id'")
             return []
-        links = {artifact: tuple(patterns) for artifact, patterns in sorted(model.links.items())}
+        links = {
+            name: Link(tuple(link), None)
+            if isinstance(link, list)
+            else Link(tuple(link.targets), link.artifact)
+            for name, link in sorted(model.links.items())
+        }
         expansions: list[tuple[str, int]]
         if model.seeds is not None:
             expansions = [(f"{base_id}-s{seed}", seed) for seed in model.seeds]

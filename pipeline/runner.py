@@ -14,7 +14,7 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from pipeline.dag import Graph, Node
+from pipeline.dag import ArtifactRef, Graph, Node
 from pipeline.executors import Executor
 from pipeline.store import ArtifactStore
 from pipeline.worker import StageTask, TaskOutput, TaskResult
@@ -94,7 +94,7 @@ def describe_plan(graph: Graph, states: dict[str, NodeState], console: Console) 
     for index, node_id in enumerate(graph.order, 1):
         node = graph.nodes[node_id]
         reads = ", ".join(
-            f"{name}<-{','.join(t if t != node.target.id else 'self' for t, _ in refs)}"
+            f"{name}<-{','.join(_ref_label(ref, name, node.target.id) for ref in refs)}"
             for name, refs in sorted(node.inputs.items())
         )
         state = states[node_id]
@@ -108,6 +108,16 @@ def describe_plan(graph: Graph, states: dict[str, NodeState], console: Console) 
             node.key[:10],
         )
     console.print(table)
+    for run, outputs in graph.skipped.items():
+        target = run.partition(":")[0]
+        stands = ", ".join(f"{out} = {_ref_label(ref, '', target)}" for out, ref in outputs.items())
+        console.print(f"skipped {run}: {stands}")
+
+
+def _ref_label(ref: ArtifactRef, input_name: str, target: str) -> str:
+    """``self``/``<target>``, with ``:<artifact>`` when the artifact is not named like the input."""
+    owner = "self" if ref[0] == target else ref[0]
+    return owner if ref[1] == input_name else f"{owner}:{ref[1]}"
 
 
 def _task(node: Node, graph: Graph, store: ArtifactStore) -> StageTask:
@@ -144,9 +154,15 @@ def _task(node: Node, graph: Graph, store: ArtifactStore) -> StageTask:
     )
 
 
-def _link_outputs(node: Node, store: ArtifactStore) -> None:
+def _link_outputs(node: Node, graph: Graph, store: ArtifactStore) -> None:
+    """Point the target's links at ``node``'s artifacts, and at those that skipped stages pass on."""
     for out, key in node.artifact_keys.items():
         store.link_target(node.target.id, out, store.artifact_path(node.stage, out, key))
+    for (target, out), ref in graph.aliases.items():
+        if graph.producers.get(ref) == node.id:
+            store.link_target(
+                target, out, store.artifact_path(node.stage, ref[1], node.artifact_keys[ref[1]])
+            )
 
 
 def run_build(
@@ -190,7 +206,7 @@ def run_build(
     for node_id, state in states.items():
         if state == "cached":
             report.cached.append(node_id)
-            _link_outputs(graph.nodes[node_id], store)
+            _link_outputs(graph.nodes[node_id], graph, store)
     todo = [n for n in graph.order if states[n] == "build"]
     if not todo:
         report.seconds = time.perf_counter() - started
@@ -249,7 +265,7 @@ def run_build(
                     if result.ok:
                         report.built[node_id] = result
                         done.add(node_id)
-                        _link_outputs(node, store)
+                        _link_outputs(node, graph, store)
                         progress.console.print(
                             f"[green]built[/] {node_id}  {result.wall_s:.1f} s, {result.peak_rss_mb:.0f} MB"
                         )

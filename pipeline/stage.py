@@ -11,8 +11,9 @@ import importlib
 import inspect
 import pkgutil
 import typing
-from collections.abc import Callable, Iterable
-from dataclasses import dataclass
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any
 
 from pipeline.code_version import module_code_hash
@@ -20,6 +21,10 @@ from pipeline.errors import DagError
 from pipeline.params import Params
 
 _NAME_CHARS = frozenset("abcdefghijklmnopqrstuvwxyz0123456789_")
+
+SKIP_KEY = "skip"
+"""The recipe key that skips a stage with a passthrough (``stages: {storefronts: {skip: true}}``);
+reserved, so no params model may have a field of this name."""
 
 
 @dataclass(frozen=True)
@@ -29,14 +34,29 @@ class Input:
     Parameters
     ----------
     name : str
-        Artifact name.
+        The input's name: the key of ``ctx.inputs`` and of the recipe's ``links``.
+    artifact : str, optional
+        The artifact it reads, when that is named otherwise (e.g. an input ``building`` that reads
+        another target's ``geometry``); by default ``name``.
     many : bool
         If true the stage receives a list of artifact directories (from several targets, bound
         through the recipe's ``links``); otherwise exactly one.
     """
 
     name: str
+    artifact: str | None = None
     many: bool = False
+
+    @property
+    def source(self) -> str:
+        """The artifact read: :attr:`artifact`, or :attr:`name` when none is given."""
+        return self.artifact or self.name
+
+    def describe(self) -> str:
+        """``artifact 'name'``, or ``input 'name' (artifact 'source')`` when renamed; for messages."""
+        if self.source == self.name:
+            return f"artifact {self.name!r}"
+        return f"input {self.name!r} (artifact {self.source!r})"
 
 
 @dataclass(frozen=True)
@@ -59,6 +79,9 @@ class StageSpec:
         Manual version string; bump it when behaviour changes in code the stage does not import.
     doc : str
         First line of the function's docstring: what the stage produces.
+    passthrough : dict
+        ``{output: input name}``: what each output is when a recipe skips the stage
+        (``skip: true``); empty when the stage cannot be skipped.
     """
 
     name: str
@@ -68,6 +91,16 @@ class StageSpec:
     outputs: tuple[str, ...]
     version: str
     doc: str
+    passthrough: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def skippable(self) -> bool:
+        """Whether a recipe may skip the stage (every output has a passthrough input)."""
+        return bool(self.passthrough)
+
+    def input(self, name: str) -> Input:
+        """The declared input called ``name``."""
+        return next(i for i in self.inputs if i.name == name)
 
     @property
     def module(self) -> str:
@@ -94,6 +127,7 @@ def stage(
     outputs: Iterable[str],
     params: type[Params] | None = None,
     version: str = "1",
+    passthrough: Mapping[str, str] | None = None,
 ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Register a stage function.
 
@@ -109,6 +143,10 @@ def stage(
         The params model; by default the annotation of the function's ``params`` argument.
     version : str
         Manual version, part of the cache key.
+    passthrough : mapping, optional
+        ``{output: input name}`` for a stage that is optional in a chain: a recipe may skip it
+        (``skip: true``), and each output is then the artifact its input reads, unchanged. Every
+        output needs one, and the inputs must be single (not ``many``).
 
     Returns
     -------
@@ -125,13 +163,29 @@ def stage(
             raise TypeError(f"stage {name!r}: params model {model.__name__} must be frozen")
         declared_inputs = tuple(i if isinstance(i, Input) else Input(i) for i in inputs)
         declared_outputs = tuple(outputs)
-        for artifact in [i.name for i in declared_inputs] + list(declared_outputs):
+        for declared in declared_inputs:
+            _check_name("input", declared.name)
+            _check_name("artifact", declared.source)
+        for artifact in declared_outputs:
             _check_name("artifact", artifact)
         if not declared_outputs:
             raise TypeError(f"stage {name!r} declares no outputs")
-        overlap = {i.name for i in declared_inputs} & set(declared_outputs)
+        names = [i.name for i in declared_inputs]
+        if len(set(names)) != len(names):
+            raise TypeError(f"stage {name!r} declares an input name twice: {names}")
+        overlap = set(names) & set(declared_outputs)
         if overlap:
             raise TypeError(f"stage {name!r} both reads and writes {sorted(overlap)}")
+        if SKIP_KEY in model.model_fields:
+            raise TypeError(f"stage {name!r}: params field {SKIP_KEY!r} is reserved for skipping stages")
+        through = dict(passthrough or {})
+        if through:
+            single = {i.name for i in declared_inputs if not i.many}
+            if set(through) != set(declared_outputs) or not set(through.values()) <= single:
+                raise TypeError(
+                    f"stage {name!r}: passthrough must map every output {list(declared_outputs)} "
+                    f"to one of its single inputs {sorted(single)}, got {through}"
+                )
         doc = inspect.getdoc(fn) or ""
         if not doc:
             raise TypeError(f"stage {name!r} needs a one-line docstring saying what it produces")
@@ -143,6 +197,7 @@ def stage(
             outputs=declared_outputs,
             version=version,
             doc=doc.splitlines()[0],
+            passthrough=MappingProxyType(through),
         )
         existing = _REGISTRY.get(name)
         if existing is not None and (existing.module, existing.fn.__qualname__) != (

@@ -11,7 +11,10 @@ import tests.pipeline.example_stages  # noqa: F401  (registers the example stage
 from pipeline.stage import registered_stages
 from pipeline.workspace import Workspace
 
-EXAMPLE_STAGES = ("ex_numbers", "ex_sum", "ex_gather", "ex_slow", "ex_read_file")
+EXAMPLE_STAGES = (
+    *("ex_numbers", "ex_sum", "ex_gather", "ex_slow", "ex_read_file"),
+    *("ex_block", "ex_annex", "ex_decorate", "ex_publish"),
+)
 
 
 def write(path: Path, text: str) -> Path:

@@ -75,3 +75,46 @@ def ex_read_file(ctx: StageContext, params: FileParams) -> None:
     """Numbers parsed from a text file named by the recipe (``numbers.npy``)."""
     values = np.array([float(x) for x in params.source.read_text().split()])
     np.save(ctx.output / "numbers.npy", values)
+
+
+class BlockParams(Params):
+    size: Annotated[float, Field(gt=0)] = 1.0
+
+
+@stage(name="ex_block", outputs=["geometry"])
+def ex_block(ctx: StageContext, params: BlockParams) -> None:
+    """A target's own 'geometry': one size (``geometry.json``)."""
+    (ctx.output / "geometry.json").write_text(json.dumps({"size": params.size, "target": ctx.target}))
+
+
+class AnnexParams(Params):
+    pass
+
+
+@stage(name="ex_annex", inputs=["geometry", Input("building", artifact="geometry")], outputs=["annex"])
+def ex_annex(ctx: StageContext, params: AnnexParams) -> None:
+    """The target's geometry beside a building's geometry, read under another name (``annex.json``)."""
+    own = json.loads((ctx.input("geometry") / "geometry.json").read_text())
+    building = json.loads((ctx.input("building") / "geometry.json").read_text())
+    (ctx.output / "annex.json").write_text(json.dumps({"own": own, "building": building}))
+
+
+class DecorateParams(Params):
+    factor: float = 2.0
+
+
+@stage(name="ex_decorate", inputs=["total"], outputs=["decorated"], passthrough={"decorated": "total"})
+def ex_decorate(ctx: StageContext, params: DecorateParams) -> None:
+    """The total scaled by a factor (``total.json``); optional in a chain: skipped, it is the total."""
+    total = json.loads((ctx.input("total") / "total.json").read_text())["total"]
+    (ctx.output / "total.json").write_text(json.dumps({"total": total * params.factor}))
+
+
+class PublishParams(Params):
+    pass
+
+
+@stage(name="ex_publish", inputs=["decorated"], outputs=["published"])
+def ex_publish(ctx: StageContext, params: PublishParams) -> None:
+    """The decorated total as published (``total.json``)."""
+    (ctx.output / "total.json").write_bytes((ctx.input("decorated") / "total.json").read_bytes())
