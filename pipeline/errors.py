@@ -58,3 +58,7 @@ class TargetError(PipelineError):
 
 class StoreError(PipelineError):
     """The build directory cannot be used (e.g. an artifact is corrupt or the path is not writable)."""
+
+
+class CodeVersionError(PipelineError):
+    """A stage's code version cannot be computed: a project module it imports is missing or unreadable."""

@@ -21,7 +21,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-from navverse.assets import categories, make_object
+from navverse.assets.library import categories, make_object
 from navverse.scene.geometry import MeshData
 
 _LIGHT = np.array([0.35, 0.75, 0.9]) / np.linalg.norm([0.35, 0.75, 0.9])

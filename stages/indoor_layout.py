@@ -14,7 +14,7 @@ BuildingType = Literal[BUILDING_TYPES]  # type: ignore[valid-type]
 
 
 def _known_category(name: str) -> str:
-    from navverse.assets import categories
+    from navverse.assets.library import categories
 
     known = categories()
     if name not in known:

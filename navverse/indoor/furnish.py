@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from shapely.geometry import Polygon, box
 
-from navverse.assets import Asset, SupportArea, asset
+from navverse.assets.library import Asset, SupportArea, asset
 from navverse.indoor.floorplan import WALL_THICKNESS, Floorplan, Room
 from navverse.indoor.occupancy import FreeSpace, footprint_corners
 from navverse.indoor.programs import Furniture

@@ -12,16 +12,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from navverse.assets import (
-    Asset,
-    AssetSizeError,
-    SupportArea,
-    UnknownCategoryError,
-    asset,
-    categories,
-    make_object,
-    parts,
-)
+from navverse.assets import parts
+from navverse.assets.errors import AssetSizeError, UnknownCategoryError
+from navverse.assets.library import Asset, SupportArea, asset, categories, make_object
 from navverse.assets.materials import PHYSICAL_MATERIALS
 from navverse.errors import NavverseError
 from navverse.scene.geometry import MeshData

@@ -9,7 +9,7 @@ import pytest
 from shapely.geometry import Polygon
 
 from navverse import nav
-from navverse.assets import asset
+from navverse.assets.library import asset
 from navverse.errors import SceneError
 from navverse.indoor import BUILDING_TYPES, BuildingOptions, ExtraFurniture, generate_building
 from navverse.indoor.occupancy import footprint_corners

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from navverse.assets import make_object
+from navverse.assets.library import make_object
 from navverse.scene import (
     Bounds,
     MeshData,
