@@ -63,7 +63,7 @@ class Viewpoint:
 
 
 def _room(annotations: SceneAnnotations, room_type: str) -> RoomAnnotation:
-    rooms = [r for r in annotations.regions.rooms if r.room_type == room_type]
+    rooms = [r for r in annotations.rooms if r.room_type == room_type]
     if not rooms:
         raise NavverseError(f"{annotations.scene_id} has no room of type {room_type!r}")
     return max(rooms, key=lambda r: _extent(r)[1].prod())

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from collections import Counter
 from typing import Annotated, Literal
 
 import numpy as np
@@ -115,19 +114,14 @@ def blockout(ctx: StageContext, params: BlockoutParams) -> None:
     """A scene directory (scene.usdc, scene.json, bev.png) built from the recipe's primitive solids."""
     import navverse
     from navverse.scene import (
-        Bounds,
         MeshData,
-        ObjectAnnotation,
-        Scene,
-        SceneAnnotations,
-        SceneObject,
+        ObjectPart,
         SceneSource,
-        SceneStatistics,
         Surface,
+        assemble_scene,
         terrain_classes,
         write_scene_dir,
     )
-    from navverse.scene.naming import object_prim_path
 
     surfaces = []
     for solid in params.surfaces:
@@ -135,42 +129,26 @@ def blockout(ctx: StageContext, params: BlockoutParams) -> None:
         local = MeshData(vertices=vertices, faces=faces)
         mesh = local.transformed(solid.center, math.radians(solid.yaw_deg))
         surfaces.append(Surface(name=solid.name, terrain_class=solid.terrain, mesh=mesh))
-
     objects = []
-    for instance_id, solid in enumerate(params.objects, start=1):
+    for solid in params.objects:
         vertices, faces = solid.local_mesh()
-        annotation = ObjectAnnotation(
-            id=instance_id,
-            category=solid.category,
-            prim_path=object_prim_path(solid.category, instance_id),
-            center=solid.center,
-            size=solid.size(),
-            yaw=math.radians(solid.yaw_deg),
+        mesh = MeshData(vertices=vertices, faces=faces)
+        objects.append(
+            ObjectPart(solid.category, mesh, solid.center, math.radians(solid.yaw_deg), solid.size())
         )
-        objects.append(SceneObject(annotation=annotation, mesh=MeshData(vertices=vertices, faces=faces)))
-
-    all_vertices = np.concatenate(
-        [s.mesh.vertices for s in surfaces]
-        + [o.mesh.transformed(o.annotation.center, o.annotation.yaw).vertices for o in objects]
-    )
-    faces = sum(s.mesh.num_faces for s in surfaces) + sum(o.mesh.num_faces for o in objects)
-    annotations = SceneAnnotations(
+    scene = assemble_scene(
         scene_id=ctx.target,
         scene_type=params.scene_type,
-        bounds=Bounds(min=tuple(all_vertices.min(axis=0)), max=tuple(all_vertices.max(axis=0))),
-        objects=[o.annotation for o in objects],
+        surfaces=surfaces,
+        objects=objects,
         terrain_classes=terrain_classes(
             sorted({s.terrain for s in params.surfaces}), overrides=params.friction
-        ),
-        statistics=SceneStatistics(
-            faces=faces,
-            objects_per_category=dict(sorted(Counter(o.category for o in params.objects).items())),
         ),
         source=SceneSource(
             recipe=ctx.recipe, recipe_hash=ctx.recipe_hash, toolkit_version=navverse.__version__
         ),
     )
-    scene = Scene(annotations=annotations, surfaces=tuple(surfaces), objects=tuple(objects))
+    faces = scene.annotations.statistics.faces
     write_scene_dir(scene, ctx.output)
     ctx.record(faces=faces, surfaces=len(surfaces), objects=len(objects))
     ctx.log.info(

@@ -5,7 +5,6 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import re
-from collections import Counter
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
@@ -230,18 +229,8 @@ def _roles(params: ImportMeshParams, nodes: list[MeshNode]) -> tuple[list[NodeRo
 @stage(name="import_mesh", outputs=["raw_geometry"])
 def import_mesh(ctx: StageContext, params: ImportMeshParams) -> None:
     """A scene directory (scene.usdc, scene.json, bev.png) of a mesh file's nodes as objects and surfaces."""
-    import numpy as np
-
     import navverse
-    from navverse.scene import (
-        Bounds,
-        Scene,
-        SceneAnnotations,
-        SceneSource,
-        SceneStatistics,
-        terrain_classes,
-        write_scene_dir,
-    )
+    from navverse.scene import SceneSource, assemble_scene, terrain_classes, write_scene_dir
     from navverse.scene.mesh_import import MeshImportError, MeshNode, read_mesh_nodes, scene_parts, to_z_up
 
     nodes, frame = read_mesh_nodes(params.source, progress=ctx.progress)
@@ -263,31 +252,21 @@ def import_mesh(ctx: StageContext, params: ImportMeshParams) -> None:
             f"nothing of {params.source.name} is kept: every one of its {len(nodes)} nodes is dropped; "
             "change the rules or set 'default' to a terrain class"
         )
-
-    world = [s.mesh for s in surfaces] + [o.world_mesh() for o in objects]
-    lo = np.min([m.vertices.min(axis=0) for m in world], axis=0)
-    hi = np.max([m.vertices.max(axis=0) for m in world], axis=0)
-    faces = sum(m.num_faces for m in world)
-    categories = Counter(o.annotation.category for o in objects)
-    annotations = SceneAnnotations(
+    used = {s.terrain_class for s in surfaces}
+    scene = assemble_scene(
         scene_id=ctx.target,
         scene_type=params.scene_type,
-        bounds=Bounds(min=tuple(float(v) for v in lo), max=tuple(float(v) for v in hi)),
-        objects=[o.annotation for o in objects],
+        surfaces=surfaces,
+        objects=objects,
         terrain_classes=terrain_classes(
-            sorted({s.terrain_class for s in surfaces}),
-            overrides={
-                k: v for k, v in params.friction.items() if any(s.terrain_class == k for s in surfaces)
-            },
+            sorted(used), overrides={k: v for k, v in params.friction.items() if k in used}
         ),
-        statistics=SceneStatistics(faces=faces, objects_per_category=dict(sorted(categories.items()))),
         source=SceneSource(
             recipe=ctx.recipe, recipe_hash=ctx.recipe_hash, toolkit_version=navverse.__version__
         ),
     )
-    write_scene_dir(
-        Scene(annotations=annotations, surfaces=tuple(surfaces), objects=tuple(objects)), ctx.output
-    )
+    write_scene_dir(scene, ctx.output)
+    faces = scene.annotations.statistics.faces
     ctx.record(
         source=params.source.name,
         up_axis=up_axis,

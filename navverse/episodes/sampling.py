@@ -195,7 +195,7 @@ def _inside_indoor(annotations: SceneAnnotations, point: np.ndarray) -> bool:
     from shapely.geometry import Point, Polygon
 
     p = Point(float(point[0]), float(point[1]))
-    return any(Polygon(polygon).contains(p) for polygon in annotations.regions.indoor)
+    return any(Polygon(polygon).contains(p) for polygon in annotations.indoor_polygons)
 
 
 def sample_scene_episodes(

@@ -11,22 +11,20 @@ from navverse.errors import SceneError
 from navverse.indoor.floorplan import Floorplan, generate_floorplan
 from navverse.indoor.furnish import Placement, furnish_room
 from navverse.indoor.programs import PROGRAMS, ROOM_FURNITURE, Furniture
-from navverse.indoor.structure import build_structure
+from navverse.indoor.structure import SLAB, build_structure
 from navverse.scene import (
-    Bounds,
+    BuildingAnnotation,
     DoorAnnotation,
     ExitAnnotation,
     MeshData,
-    ObjectAnnotation,
-    Regions,
+    ObjectPart,
     RoomAnnotation,
     Scene,
-    SceneAnnotations,
-    SceneObject,
     SceneSource,
-    SceneStatistics,
     Surface,
-    object_prim_path,
+    assemble_scene,
+    footprint_facades,
+    nearest_facade,
     terrain_classes,
 )
 from navverse.scene.categories import CategoryRule, assign_category
@@ -126,7 +124,7 @@ def generate_building(
     surfaces = build_structure(plan)
     placements = _furnish(plan, options, _spawn(rng))
 
-    objects: list[SceneObject] = []
+    objects: list[ObjectPart] = []
     dropped: list[MeshData] = []
     for item in placements:
         name = f"{sanitize_identifier(item.category)}_{len(objects) + 1:04d}"  # its prim name, if annotated
@@ -136,55 +134,61 @@ def generate_building(
         if category is None:
             dropped.append(item.mesh.transformed(item.center, item.yaw))
             continue
-        annotation = ObjectAnnotation(
-            id=len(objects) + 1,
-            category=category,
-            prim_path=object_prim_path(item.category, len(objects) + 1),
-            center=item.center,
-            size=item.size,
-            yaw=item.yaw,
+        objects.append(
+            ObjectPart(
+                category=category,
+                mesh=item.mesh,
+                center=item.center,
+                yaw=item.yaw,
+                size=item.size,
+                kind=item.category,
+            )
         )
-        objects.append(SceneObject(annotation=annotation, mesh=item.mesh))
     if dropped:
         surfaces.append(Surface("unannotated", "obstacle", MeshData.concatenate(dropped)))
 
-    vertices = np.concatenate(
-        [s.mesh.vertices for s in surfaces] + [o.world_mesh().vertices for o in objects]
-    )
-    fp = plan.footprint
     classes = ["floor", "wall", "ceiling"] + (["sidewalk"] if plan.exits else [])
     classes += ["obstacle"] if dropped else []
-    annotations = SceneAnnotations(
+    return assemble_scene(
         scene_id=scene_id,
         scene_type="indoor",
-        bounds=Bounds(min=tuple(vertices.min(axis=0)), max=tuple(vertices.max(axis=0))),
-        objects=[o.annotation for o in objects],
-        regions=Regions(
-            indoor=[fp.corners()],
-            rooms=[
-                RoomAnnotation(id=r.id, room_type=r.room_type, polygon=r.rect.corners()) for r in plan.rooms
-            ],
-            doors=[
-                DoorAnnotation(
-                    id=d.id, center=(*d.center, 0.0), width=d.width, facing=d.facing, rooms=d.rooms
-                )
-                for d in plan.doors
-            ],
-            exits=[
-                ExitAnnotation(id=e.id, center=(*e.center, 0.0), width=e.width, facing=e.facing)
-                for e in plan.exits
-            ],
-        ),
+        surfaces=surfaces,
+        objects=objects,
+        buildings=[_building_annotation(plan)],
         terrain_classes=terrain_classes(classes),
-        statistics=SceneStatistics(
-            faces=sum(s.mesh.num_faces for s in surfaces) + sum(o.mesh.num_faces for o in objects),
-            objects_per_category=dict(sorted(Counter(o.annotation.category for o in objects).items())),
-        ),
         source=source,
     )
-    return Scene(annotations=annotations, surfaces=tuple(surfaces), objects=tuple(objects))
+
+
+def _building_annotation(plan: Floorplan) -> BuildingAnnotation:
+    """The generated building: its footprint, rooms, doorways, exits (each in its facade) and facades."""
+    height = plan.ceiling_height + SLAB
+    facades = footprint_facades(plan.footprint.corners(), height=height)
+    return BuildingAnnotation(
+        id=1,
+        footprint=plan.footprint.corners(),
+        base_height=0.0,
+        height=height,
+        indoor=True,
+        rooms=[RoomAnnotation(id=r.id, room_type=r.room_type, polygon=r.rect.corners()) for r in plan.rooms],
+        doors=[
+            DoorAnnotation(id=d.id, center=(*d.center, 0.0), width=d.width, facing=d.facing, rooms=d.rooms)
+            for d in plan.doors
+        ],
+        exits=[
+            ExitAnnotation(
+                id=e.id,
+                center=(*e.center, 0.0),
+                width=e.width,
+                facing=e.facing,
+                facade=nearest_facade(facades, e.center).id,
+            )
+            for e in plan.exits
+        ],
+        facades=facades,
+    )
 
 
 def describe_rooms(scene: Scene) -> dict[str, int]:
     """Rooms per type of a generated building (for logs)."""
-    return dict(Counter(r.room_type for r in scene.annotations.regions.rooms))
+    return dict(Counter(r.room_type for r in scene.annotations.rooms))

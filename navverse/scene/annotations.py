@@ -8,13 +8,16 @@ than a silently ignored field. :func:`save_annotations` writes deterministic byt
 from __future__ import annotations
 
 import json
+import math
 import re
+import typing
 from collections import Counter
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from shapely.geometry import LinearRing, Point, Polygon
 
 from navverse.errors import SceneError
 from navverse.scene.naming import OBJECTS_ROOT, is_identifier
@@ -22,10 +25,11 @@ from navverse.scene.naming import OBJECTS_ROOT, is_identifier
 __all__ = [
     "SCENE_FORMAT_VERSION",
     "Bounds",
+    "BuildingAnnotation",
     "DoorAnnotation",
     "ExitAnnotation",
+    "FacadeAnnotation",
     "ObjectAnnotation",
-    "Regions",
     "RoomAnnotation",
     "SceneAnnotations",
     "SceneSource",
@@ -37,9 +41,12 @@ __all__ = [
     "save_annotations",
 ]
 
-SCENE_FORMAT_VERSION = "1.1"
-"""Version of the ``scene.json`` layout. A different major version cannot be read; 1.1 added
-``regions.rooms`` and ``regions.doors``."""
+SCENE_FORMAT_VERSION = "2.0"
+"""Version of the ``scene.json`` layout. 1.1 added ``regions.rooms`` and ``regions.doors``; 2.0 holds
+``buildings`` (footprint, heights, rooms, doors, exits, facades) in place of ``regions``, and
+storefronts name their building and facade. 1.x files are upgraded when read (see
+:func:`upgrade_annotations`); a newer 2.x file is read without the fields this version does not know;
+another major version cannot be read."""
 
 _MODEL_CONFIG = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 _VERSION = re.compile(r"^(\d+)\.(\d+)$")
@@ -122,7 +129,8 @@ class ObjectAnnotation(BaseModel):
 
 
 class StorefrontAnnotation(BaseModel):
-    """A storefront on a facade: a PlaceNav goal. ``facing`` is the yaw of the outward normal."""
+    """A storefront on a facade: a PlaceNav goal. ``facing`` is the yaw of the outward normal;
+    ``building`` and ``facade`` are the ids of the building and facade it stands on (when known)."""
 
     model_config = _MODEL_CONFIG
 
@@ -132,6 +140,8 @@ class StorefrontAnnotation(BaseModel):
     facing: float
     size: PositiveVec3
     entrance: Vec3
+    building: Annotated[int, Field(ge=1)] | None = None
+    facade: Annotated[int, Field(ge=1)] | None = None
 
     @field_validator("place_category")
     @classmethod
@@ -140,7 +150,8 @@ class StorefrontAnnotation(BaseModel):
 
 
 class ExitAnnotation(BaseModel):
-    """A doorway between the indoor region and the outside; ``facing`` points outwards."""
+    """A doorway between a building's inside and the outside; ``facing`` points outwards and
+    ``facade`` is the id of the facade it opens in (when known)."""
 
     model_config = _MODEL_CONFIG
 
@@ -148,6 +159,7 @@ class ExitAnnotation(BaseModel):
     center: Vec3
     width: PositiveFloat
     facing: float
+    facade: Annotated[int, Field(ge=1)] | None = None
 
 
 class RoomAnnotation(BaseModel):
@@ -180,49 +192,73 @@ class DoorAnnotation(BaseModel):
     rooms: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]]
 
 
-class Regions(BaseModel):
-    """Indoor footprint polygons (xy), rooms and the doorways between them, building exits and the
-    indoor anchor point."""
+class FacadeAnnotation(BaseModel):
+    """One outer wall of a building: its base ``segment`` (xy, at the building's base height), the
+    unit ``normal`` pointing out of the building (xy) and its ``height`` above the base."""
 
     model_config = _MODEL_CONFIG
 
-    indoor: list[list[Vec2]] = Field(default_factory=list)
+    id: Annotated[int, Field(ge=1)]
+    segment: tuple[Vec2, Vec2]
+    normal: Vec2
+    height: PositiveFloat
+
+    @model_validator(mode="after")
+    def _geometry(self) -> FacadeAnnotation:
+        (x0, y0), (x1, y1) = self.segment
+        if math.hypot(x1 - x0, y1 - y0) <= 0.0:
+            raise ValueError(f"facade {self.id} has a segment of zero length")
+        if abs(math.hypot(*self.normal) - 1.0) > 1e-6:
+            raise ValueError(f"facade {self.id}: normal {self.normal} must have unit length")
+        return self
+
+    @property
+    def width(self) -> float:
+        """Length of the facade's base segment (m)."""
+        (x0, y0), (x1, y1) = self.segment
+        return math.hypot(x1 - x0, y1 - y0)
+
+    @property
+    def facing(self) -> float:
+        """Yaw of the outward normal (radians)."""
+        return math.atan2(self.normal[1], self.normal[0])
+
+
+class BuildingAnnotation(BaseModel):
+    """A building: footprint polygon (xy, counter-clockwise), base height and height, whether its
+    inside is part of the scene (``indoor``: rooms a robot can enter), and its rooms, the doors
+    between them, its exits to the outside and its facades."""
+
+    model_config = _MODEL_CONFIG
+
+    id: Annotated[int, Field(ge=1)]
+    footprint: list[Vec2]
+    base_height: float = 0.0
+    height: PositiveFloat
+    indoor: bool = False
     rooms: list[RoomAnnotation] = Field(default_factory=list)
     doors: list[DoorAnnotation] = Field(default_factory=list)
     exits: list[ExitAnnotation] = Field(default_factory=list)
-    indoor_anchor: Vec3 | None = None
+    facades: list[FacadeAnnotation] = Field(default_factory=list)
+
+    @field_validator("footprint")
+    @classmethod
+    def _footprint(cls, value: list[Vec2]) -> list[Vec2]:
+        if len(value) < 3:
+            raise ValueError(f"a building footprint needs at least 3 vertices, got {len(value)}")
+        return value
 
     @model_validator(mode="after")
-    def _rooms_and_doors(self) -> Regions:
-        room_ids = [r.id for r in self.rooms]
-        dup = _duplicates(room_ids)
-        if dup:
-            raise ValueError(f"room ids must be unique; repeated: {dup}")
-        dup = _duplicates(d.id for d in self.doors)
-        if dup:
-            raise ValueError(f"door ids must be unique; repeated: {dup}")
-        unknown = sorted({r for d in self.doors for r in d.rooms} - set(room_ids))
+    def _parts(self) -> BuildingAnnotation:
+        room_ids = {r.id for r in self.rooms}
+        unknown = sorted({r for d in self.doors for r in d.rooms} - room_ids)
         if unknown:
-            raise ValueError(f"doors name rooms that do not exist: {unknown}")
+            raise ValueError(f"building {self.id}: doors name rooms it does not have: {unknown}")
+        facade_ids = {f.id for f in self.facades}
+        unknown = sorted({e.facade for e in self.exits if e.facade is not None} - facade_ids)
+        if unknown:
+            raise ValueError(f"building {self.id}: exits name facades it does not have: {unknown}")
         return self
-
-    @field_validator("indoor")
-    @classmethod
-    def _polygons(cls, value: list[list[Vec2]]) -> list[list[Vec2]]:
-        for i, polygon in enumerate(value):
-            if len(polygon) < 3:
-                raise ValueError(
-                    f"indoor polygon {i} has {len(polygon)} vertices; a polygon needs at least 3"
-                )
-        return value
-
-    @field_validator("exits")
-    @classmethod
-    def _exit_ids(cls, value: list[ExitAnnotation]) -> list[ExitAnnotation]:
-        dup = _duplicates(e.id for e in value)
-        if dup:
-            raise ValueError(f"exit ids must be unique; repeated: {dup}")
-        return value
 
 
 class TerrainClass(BaseModel):
@@ -287,7 +323,8 @@ class SceneAnnotations(BaseModel):
     bounds: Bounds
     objects: list[ObjectAnnotation] = Field(default_factory=list)
     storefronts: list[StorefrontAnnotation] = Field(default_factory=list)
-    regions: Regions = Field(default_factory=Regions)
+    buildings: list[BuildingAnnotation] = Field(default_factory=list)
+    indoor_anchor: Vec3 | None = None
     terrain_classes: dict[str, TerrainClass]
     statistics: SceneStatistics = Field(default_factory=SceneStatistics)
     source: SceneSource | None = None
@@ -322,10 +359,70 @@ class SceneAnnotations(BaseModel):
         dup = _duplicates(s.id for s in self.storefronts)
         if dup:
             raise ValueError(f"storefront ids must be unique; repeated: {dup}")
+        for what, ids in (
+            ("building", [b.id for b in self.buildings]),
+            ("room", [r.id for r in self.rooms]),
+            ("door", [d.id for d in self.doors]),
+            ("exit", [e.id for e in self.exits]),
+            ("facade", [f.id for b in self.buildings for f in b.facades]),
+        ):
+            dup = _duplicates(ids)
+            if dup:
+                raise ValueError(f"{what} ids must be unique in the scene; repeated: {dup}")
+        facades = {b.id: {f.id for f in b.facades} for b in self.buildings}
+        for storefront in self.storefronts:
+            if storefront.building is not None and storefront.building not in facades:
+                raise ValueError(
+                    f"storefront {storefront.id} names building {storefront.building}, which does not exist"
+                )
+            if storefront.facade is not None and storefront.facade not in facades.get(
+                storefront.building, ()
+            ):
+                raise ValueError(
+                    f"storefront {storefront.id} names facade {storefront.facade}, which is not a facade of "
+                    f"its building {storefront.building}"
+                )
         for key, terrain_class in self.terrain_classes.items():
             if key != terrain_class.name:
                 raise ValueError(f"terrain class stored under key {key!r} is named {terrain_class.name!r}")
         return self
+
+    @property
+    def indoor_polygons(self) -> list[list[Vec2]]:
+        """The indoor region: the footprints of the buildings marked ``indoor``."""
+        return [b.footprint for b in self.buildings if b.indoor]
+
+    @property
+    def rooms(self) -> list[RoomAnnotation]:
+        """Every building's rooms, building by building."""
+        return [room for b in self.buildings for room in b.rooms]
+
+    @property
+    def doors(self) -> list[DoorAnnotation]:
+        """Every building's doors between rooms, building by building."""
+        return [door for b in self.buildings for door in b.doors]
+
+    @property
+    def exits(self) -> list[ExitAnnotation]:
+        """Every building's exits to the outside, building by building."""
+        return [exit_ for b in self.buildings for exit_ in b.exits]
+
+    def building_of(self, *, room: int | None = None, exit: int | None = None) -> BuildingAnnotation:
+        """The building that holds room ``room`` or exit ``exit``.
+
+        Raises
+        ------
+        KeyError
+            If no building holds it.
+        """
+        for building in self.buildings:
+            if room is not None and any(r.id == room for r in building.rooms):
+                return building
+            if exit is not None and any(e.id == exit for e in building.exits):
+                return building
+        raise KeyError(
+            f"no building holds room {room}" if room is not None else f"no building holds exit {exit}"
+        )
 
 
 def save_annotations(annotations: SceneAnnotations, path: Path) -> None:
@@ -392,21 +489,183 @@ def load_annotations(path: Path) -> SceneAnnotations:
             f"{path} has no valid format_version (found {version!r}); this toolkit reads scene format "
             f"{SCENE_FORMAT_VERSION}; {_rebuild_hint(scene_id)}"
         )
-    ours = SCENE_FORMAT_VERSION.split(".")[0]
-    if match.group(1) != ours:
+    major, minor = int(match.group(1)), int(match.group(2))
+    ours_major, ours_minor = (int(v) for v in SCENE_FORMAT_VERSION.split("."))
+    if major == 1:
+        raw = upgrade_annotations(raw)
+    elif major != ours_major:
         raise SceneError(
-            f"{path} has scene format version {version}, but this toolkit reads version {ours}.x; "
-            f"{_rebuild_hint(scene_id)}, or use the navverse version that wrote it"
+            f"{path} has scene format version {version}, but this toolkit reads versions 1.x and "
+            f"{ours_major}.x; {_rebuild_hint(scene_id)}, or use the navverse version that wrote it"
         )
+    elif minor > ours_minor:
+        raw = _known_fields(SceneAnnotations, raw)
     try:
         return SceneAnnotations.model_validate(raw)
     except ValidationError as exc:
-        if int(match.group(2)) > int(SCENE_FORMAT_VERSION.split(".")[1]):
-            raise SceneError(
-                f"{path} has scene format version {version}, newer than this toolkit's "
-                f"{SCENE_FORMAT_VERSION}, and fields this version does not know: update navverse"
-            ) from None
         problems = "; ".join(
             f"{'.'.join(str(p) for p in err['loc']) or '<root>'}: {err['msg']}" for err in exc.errors()
         )
         raise SceneError(f"{path} is not a valid scene.json: {problems}; {_rebuild_hint(scene_id)}") from None
+
+
+def _model_of(annotation: Any) -> type[BaseModel] | None:
+    """The model class inside a field annotation (``Model``, ``list[Model]``, ``Model | None``...)."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in getattr(annotation, "__args__", ()) or ():
+        found = _model_of(arg)
+        if found is not None:
+            return found
+    return None
+
+
+def _known_fields(model: type[BaseModel], data: Any) -> Any:
+    """``data`` without the keys ``model`` (and its nested models) do not know: a newer minor
+    format's additions, which this version reads past."""
+    if isinstance(data, list):
+        return [_known_fields(model, item) for item in data]
+    if not isinstance(data, dict):
+        return data
+    kept: dict[str, Any] = {}
+    for key, value in data.items():
+        field = model.model_fields.get(key)
+        if field is None:
+            continue
+        nested = _model_of(field.annotation)
+        if nested is None:
+            kept[key] = value
+        elif typing.get_origin(field.annotation) is dict and isinstance(value, dict):
+            kept[key] = {k: _known_fields(nested, v) for k, v in value.items()}
+        else:
+            kept[key] = _known_fields(nested, value)
+    return kept
+
+
+def footprint_facades(
+    footprint: Sequence[Vec2], *, height: float, first_id: int = 1
+) -> list[FacadeAnnotation]:
+    """One facade per edge of a footprint polygon, numbered from ``first_id``, normals pointing out.
+
+    Parameters
+    ----------
+    footprint : sequence of (x, y)
+        The polygon, in either orientation (closing vertex optional).
+    height : float
+        The facades' height above the building's base.
+    first_id : int
+        Id of the first facade.
+
+    Returns
+    -------
+    list of FacadeAnnotation
+        In the order of the footprint's edges; edges of zero length are skipped.
+    """
+    points = [tuple(map(float, p)) for p in footprint]
+    if len(points) > 1 and points[0] == points[-1]:
+        points = points[:-1]
+    sign = 1.0 if LinearRing(points).is_ccw else -1.0  # counter-clockwise: the outside is to the right
+    facades: list[FacadeAnnotation] = []
+    for (x0, y0), (x1, y1) in zip(points, [*points[1:], points[0]], strict=True):
+        length = math.hypot(x1 - x0, y1 - y0)
+        if length <= 1e-9:
+            continue
+        normal = (sign * (y1 - y0) / length, -sign * (x1 - x0) / length)
+        facades.append(
+            FacadeAnnotation(
+                id=first_id + len(facades), segment=((x0, y0), (x1, y1)), normal=normal, height=height
+            )
+        )
+    return facades
+
+
+def nearest_facade(facades: Sequence[FacadeAnnotation], point: Sequence[float]) -> FacadeAnnotation:
+    """The facade whose base segment is closest to ``point`` (xy; ties: the first).
+
+    Raises
+    ------
+    ValueError
+        If there are no facades.
+    """
+    if not facades:
+        raise ValueError("no facades to choose from")
+    px, py = float(point[0]), float(point[1])
+
+    def distance(facade: FacadeAnnotation) -> float:
+        (x0, y0), (x1, y1) = facade.segment
+        dx, dy = x1 - x0, y1 - y0
+        t = min(1.0, max(0.0, ((px - x0) * dx + (py - y0) * dy) / (dx * dx + dy * dy)))
+        return math.hypot(px - x0 - t * dx, py - y0 - t * dy)
+
+    return min(facades, key=distance)
+
+
+def upgrade_annotations(raw: dict[str, Any]) -> dict[str, Any]:
+    """Turn a format 1.x ``scene.json`` (a parsed dict) into format 2.0.
+
+    1.x had one ``regions`` object for the whole scene: indoor polygons, rooms, doors, exits and an
+    anchor. Each indoor polygon becomes a building marked ``indoor`` (rooms, doors and exits go to the
+    building whose footprint holds their centre, else the first); rooms without an indoor polygon
+    make one building (not indoor) with the rooms' bounding rectangle as footprint. Buildings stand on
+    ``z = 0`` (or the scene's floor, if higher) and reach the top of the scene's bounds; their
+    facades are their footprint's edges, and each exit opens in its nearest facade.
+    """
+    data = {k: v for k, v in raw.items() if k != "regions"}
+    regions = raw.get("regions") or {}
+    if not isinstance(regions, dict):
+        return {**data, "regions": regions}  # invalid; validation reports the unknown key
+    indoor = list(regions.get("indoor") or [])
+    rooms = list(regions.get("rooms") or [])
+    doors = list(regions.get("doors") or [])
+    exits = list(regions.get("exits") or [])
+    data["format_version"] = SCENE_FORMAT_VERSION
+    data["indoor_anchor"] = regions.get("indoor_anchor")
+    data["buildings"] = []
+    if not (indoor or rooms or doors or exits):
+        return data
+    try:
+        bounds = raw["bounds"]
+        base = max(0.0, float(bounds["min"][2])) if float(bounds["max"][2]) > 0.0 else float(bounds["min"][2])
+        height = max(float(bounds["max"][2]) - base, 1e-3)
+        footprints = [[tuple(map(float, p)) for p in polygon] for polygon in indoor]
+        if not footprints:
+            corners = [tuple(map(float, p)) for room in rooms for p in room["polygon"]]
+            if not corners:
+                corners = [tuple(map(float, b[:2])) for b in (bounds["min"], bounds["max"])]
+            xs, ys = [c[0] for c in corners], [c[1] for c in corners]
+            footprints = [[(min(xs), min(ys)), (max(xs), min(ys)), (max(xs), max(ys)), (min(xs), max(ys))]]
+
+        shapes = [Polygon(fp) for fp in footprints]
+
+        def owner(x: float, y: float) -> int:
+            return next((i for i, shape in enumerate(shapes) if shape.contains(Point(x, y))), 0)
+
+        buildings = [
+            {"id": i + 1, "footprint": fp, "base_height": base, "height": height, "indoor": bool(indoor),
+             "rooms": [], "doors": [], "exits": [], "facades": []}
+            for i, fp in enumerate(footprints)
+        ]  # fmt: skip
+        room_owner: dict[int, int] = {}
+        for room in rooms:
+            xs = [float(p[0]) for p in room["polygon"]]
+            ys = [float(p[1]) for p in room["polygon"]]
+            index = owner(sum(xs) / len(xs), sum(ys) / len(ys))
+            room_owner[room["id"]] = index
+            buildings[index]["rooms"].append(room)
+        for door in doors:
+            buildings[room_owner.get(door["rooms"][0], 0)]["doors"].append(door)
+        next_facade = 1
+        for building in buildings:
+            facades = footprint_facades(building["footprint"], height=height, first_id=next_facade)
+            next_facade += len(facades)
+            building["facades"] = [f.model_dump(mode="json") for f in facades]
+        for exit_ in exits:
+            x, y = float(exit_["center"][0]), float(exit_["center"][1])
+            building = buildings[owner(x, y)]
+            facades = [FacadeAnnotation.model_validate(f) for f in building["facades"]]
+            chosen = nearest_facade(facades, (x, y)) if facades else None
+            building["exits"].append({**exit_, "facade": chosen.id if chosen else None})
+    except (KeyError, TypeError, ValueError, IndexError, ValidationError):
+        return {**data, "regions": regions}  # malformed 1.x regions: validation reports them
+    data["buildings"] = buildings
+    return data

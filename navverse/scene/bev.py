@@ -331,7 +331,7 @@ def _draw_rooms_and_doors(ax: Axes, ann: SceneAnnotations, handles: list[Artist]
     """Room outlines with their type at a point inside, and each doorway as a bar across its opening."""
     from shapely.geometry import Polygon as ShapelyPolygon
 
-    for room in ann.regions.rooms:
+    for room in ann.rooms:
         ring = np.asarray(room.polygon)
         ax.add_patch(
             PolygonPatch(ring, closed=True, fill=False, edgecolor=(0.25, 0.25, 0.3), linestyle=(0, (4, 3)),
@@ -341,13 +341,13 @@ def _draw_rooms_and_doors(ax: Axes, ann: SceneAnnotations, handles: list[Artist]
         ax.text(inside.x, inside.y, room.room_type.replace("_", " "), fontsize=7, ha="center", va="center",
                 zorder=8, bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "alpha": 0.75,
                                 "edgecolor": "none"})  # fmt: skip
-    if ann.regions.rooms:
+    if ann.rooms:
         handles.append(
             Line2D([], [], color=(0.25, 0.25, 0.3), linestyle=(0, (4, 3)), linewidth=0.7, label="room")
         )
-    if ann.regions.doors:
+    if ann.doors:
         bars = []
-        for door in ann.regions.doors:
+        for door in ann.doors:
             along = np.array([-math.sin(door.facing), math.cos(door.facing)]) * door.width / 2
             center = np.asarray(door.center[:2])
             bars.append([center - along, center + along])
@@ -355,16 +355,37 @@ def _draw_rooms_and_doors(ax: Axes, ann: SceneAnnotations, handles: list[Artist]
         handles.append(Line2D([], [], color="tab:green", linewidth=3.0, label="doorway"))
 
 
+def _draw_buildings(ax: Axes, ann: SceneAnnotations, handles: list[Artist]) -> None:
+    """Each building's footprint, its id, and a short outward tick at the middle of each facade."""
+    ticks = []
+    for building in ann.buildings:
+        ring = np.asarray(building.footprint)
+        ax.add_patch(
+            PolygonPatch(ring, closed=True, fill=False, edgecolor=(0.15, 0.15, 0.15), linewidth=1.0, zorder=2)
+        )
+        center = ring.mean(axis=0)
+        ax.text(center[0], center[1], f"B{building.id}", fontsize=8, ha="center", va="center", zorder=8,
+                color=(0.15, 0.15, 0.15), fontweight="bold")  # fmt: skip
+        for facade in building.facades:
+            middle = 0.5 * (np.asarray(facade.segment[0]) + np.asarray(facade.segment[1]))
+            ticks.append([middle, middle + 0.6 * np.asarray(facade.normal)])
+    if ticks:
+        ax.add_collection(LineCollection(ticks, colors=(0.15, 0.15, 0.15), linewidths=1.0, zorder=2))
+    if ann.buildings:
+        handles.append(Line2D([], [], color=(0.15, 0.15, 0.15), linewidth=1.0, label="building, facades"))
+
+
 def _draw_annotations(ax: Axes, ann: SceneAnnotations, overlays: Sequence[BevOverlay]) -> list[Artist]:
     """Draw regions, objects, storefronts, exits, the anchor and overlays; return legend handles."""
     handles: list[Artist] = []
+    _draw_buildings(ax, ann, handles)
     _draw_rooms_and_doors(ax, ann, handles)
-    for polygon in ann.regions.indoor:
+    for polygon in ann.indoor_polygons:
         ax.add_patch(
             PolygonPatch(np.asarray(polygon), closed=True, fill=False, edgecolor="tab:purple", linestyle="--",
                          linewidth=1.2, zorder=2)
         )  # fmt: skip
-    if ann.regions.indoor:
+    if ann.indoor_polygons:
         handles.append(Line2D([], [], color="tab:purple", linestyle="--", label="indoor region"))
     for category in sorted({o.category for o in ann.objects}):
         centers = np.array([o.center[:2] for o in ann.objects if o.category == category])
@@ -375,14 +396,14 @@ def _draw_annotations(ax: Axes, ann: SceneAnnotations, overlays: Sequence[BevOve
         ax.scatter(centers[:, 0], centers[:, 1], marker="s", s=40, color="yellow", edgecolors="black",
                    linewidths=0.7, zorder=4)  # fmt: skip
         handles.append(_marker("s", "yellow", "storefront"))
-    for exit_ in ann.regions.exits:
+    for exit_ in ann.exits:
         # Marker (3, 0, angle) is a triangle pointing up (+y) rotated by `angle` degrees.
         ax.scatter([exit_.center[0]], [exit_.center[1]], marker=(3, 0, math.degrees(exit_.facing) - 90.0),
                    s=70, color="red", edgecolors="black", linewidths=0.5, zorder=5)  # fmt: skip
-    if ann.regions.exits:
+    if ann.exits:
         handles.append(_marker("^", "red", "exit"))
-    if ann.regions.indoor_anchor is not None:
-        x, y = ann.regions.indoor_anchor[:2]
+    if ann.indoor_anchor is not None:
+        x, y = ann.indoor_anchor[:2]
         ax.scatter([x], [y], marker="*", s=220, color="red", edgecolors="black", linewidths=0.6, zorder=6)
         handles.append(_marker("*", "red", "indoor anchor", size=12.0))
     for overlay in overlays:

@@ -29,8 +29,8 @@ and where there is no walkable ground it is the class of the top visible terrain
 seen from above. ``distance`` is the Euclidean distance transform of the free cells: the horizontal
 distance (m) from a cell centre to the nearest obstacle cell. The fields are what the metrics ADO
 (distance), NSR (terrain class) and the footprint collision check (distance) read. ``indoor`` marks the
-cells whose centre lies inside the union of the scene's indoor footprint polygons (``regions.indoor``;
-all False when there are none): the indoor-to-outdoor transition measures read it.
+cells whose centre lies inside the union of the scene's indoor region (the footprints of the buildings
+marked ``indoor``; all False when there are none): the indoor-to-outdoor transition measures read it.
 
 Solids are assumed closed (the toolkit's walls and most assets are): the inside test reads the face
 by which a ray leaves the solid below the band, so a solid without a bottom face and with no face in
@@ -346,7 +346,7 @@ def scene_fields(scene: Scene, *, cell: float | None = None) -> SceneFields:
         if obstacle.any()
         else np.full(shape, np.float32(np.hypot(*shape) * cell))
     )
-    indoor = indoor_raster(ann.regions.indoor, origin, shape, cell)
+    indoor = indoor_raster(ann.indoor_polygons, origin, shape, cell)
     return SceneFields((float(x0), float(y0)), cell, terrain, obstacle, distance, names, indoor)
 
 

@@ -6,7 +6,7 @@ for OBJ files the objects, groups and materials; for USD files the ``UsdGeom.Mes
 node's transform applied, in the file's own units and axes, and a colour on every face: the file's
 vertex or face colours, else its material's diffuse colour (or the mean colour of its texture),
 else a colour derived from the node's name. :func:`to_z_up` converts a node to meters and the
-project's z-up frame; :func:`scene_parts` makes :class:`Surface` and :class:`SceneObject` values from
+project's z-up frame; :func:`scene_parts` makes :class:`Surface` and :class:`ObjectPart` values from
 nodes and the roles a recipe gives them.
 """
 
@@ -21,10 +21,10 @@ from typing import Literal
 import numpy as np
 
 from navverse.errors import NavverseError
-from navverse.scene.annotations import ObjectAnnotation
 from navverse.scene.colors import default_color
-from navverse.scene.geometry import MeshData, SceneObject, Surface
-from navverse.scene.naming import object_prim_path, sanitize_identifier
+from navverse.scene.compose import ObjectPart
+from navverse.scene.geometry import MeshData, Surface
+from navverse.scene.naming import sanitize_identifier, unique_name
 from navverse.scene.simplify import clean_mesh
 
 __all__ = [
@@ -482,23 +482,14 @@ def _join_boxes(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 # ------------------------------------------------------------------------------------ scene parts
 
 
-def _unique_name(base: str, taken: set[str]) -> str:
-    name, suffix = base, 1
-    while name in taken:
-        suffix += 1
-        name = f"{base}_{suffix}"
-    taken.add(name)
-    return name
-
-
 def scene_parts(
     nodes: Sequence[MeshNode],
     roles: Sequence[NodeRole | None],
     *,
     subdivisions: int = 0,
     progress: ProgressFn | None = None,
-) -> tuple[list[Surface], list[SceneObject]]:
-    """Turn z-up, metric nodes into terrain surfaces and annotated objects.
+) -> tuple[list[Surface], list[ObjectPart]]:
+    """Turn z-up, metric nodes into terrain surfaces and objects.
 
     Parameters
     ----------
@@ -515,12 +506,12 @@ def scene_parts(
     -------
     surfaces : list of Surface
         One per node (or component), named after the node (made a unique USD identifier).
-    objects : list of SceneObject
-        One per node (or component), ids 1, 2, ... in node order, meshes in a frame centred on their
-        bounding box (yaw 0), prim paths from :func:`~navverse.scene.naming.object_prim_path`.
+    objects : list of ObjectPart
+        One per node (or component), in node order, meshes in a frame centred on their bounding box
+        (yaw 0); :func:`~navverse.scene.compose.assemble_scene` numbers them.
     """
     surfaces: list[Surface] = []
-    objects: list[SceneObject] = []
+    objects: list[ObjectPart] = []
     taken: set[str] = set()
     for index, (node, role) in enumerate(zip(nodes, roles, strict=True)):
         if role is not None:
@@ -532,27 +523,23 @@ def scene_parts(
                 if subdivisions:
                     piece = subdivide(piece, subdivisions)
                 if role.kind == "surface":
-                    name = _unique_name(f"{base}_{number + 1:03d}" if role.split else base, taken)
+                    name = unique_name(f"{base}_{number + 1:03d}" if role.split else base, taken)
                     surfaces.append(Surface(name=name, terrain_class=role.label, mesh=piece))
                 else:
-                    objects.append(_scene_object(piece, role.label, len(objects) + 1))
+                    objects.append(_object_part(piece, role.label))
         if progress is not None:
             progress(index + 1, len(nodes), "scene parts")
     return surfaces, objects
 
 
-def _scene_object(mesh: MeshData, category: str, instance_id: int) -> SceneObject:
+def _object_part(mesh: MeshData, category: str) -> ObjectPart:
     lo, hi = mesh.bounds()
     center = 0.5 * (lo + hi)
     size = np.maximum(hi - lo, MIN_OBJECT_SIZE)
-    annotation = ObjectAnnotation(
-        id=instance_id,
+    return ObjectPart(
         category=category,
-        prim_path=object_prim_path(category, instance_id),
+        mesh=MeshData(mesh.vertices - center, mesh.faces, mesh.face_colors),
         center=(float(center[0]), float(center[1]), float(center[2])),
-        size=(float(size[0]), float(size[1]), float(size[2])),
         yaw=0.0,
-    )
-    return SceneObject(
-        annotation=annotation, mesh=MeshData(mesh.vertices - center, mesh.faces, mesh.face_colors)
+        size=(float(size[0]), float(size[1]), float(size[2])),
     )

@@ -9,6 +9,7 @@ from __future__ import annotations
 import re
 
 __all__ = [
+    "BUILDINGS_ROOT",
     "LOOKS_ROOT",
     "OBJECTS_ROOT",
     "PHYSICS_ROOT",
@@ -17,6 +18,7 @@ __all__ = [
     "is_identifier",
     "object_prim_path",
     "sanitize_identifier",
+    "unique_name",
 ]
 
 WORLD_PATH = "/World"
@@ -24,6 +26,7 @@ TERRAIN_ROOT = "/World/Terrain"
 OBJECTS_ROOT = "/World/Objects"
 LOOKS_ROOT = "/World/Looks"
 PHYSICS_ROOT = "/World/Physics"
+BUILDINGS_ROOT = "/World/Buildings"
 
 _IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _INVALID_CHARS = re.compile(r"[^A-Za-z0-9_]")
@@ -84,3 +87,13 @@ def object_prim_path(category: str, instance_id: int) -> str:
         Absolute prim path under :data:`OBJECTS_ROOT`.
     """
     return f"{OBJECTS_ROOT}/{sanitize_identifier(category)}_{instance_id:04d}"
+
+
+def unique_name(base: str, taken: set[str]) -> str:
+    """``base``, or ``base_2``, ``base_3``... if taken; the name returned is added to ``taken``."""
+    name, suffix = base, 1
+    while name in taken:
+        suffix += 1
+        name = f"{base}_{suffix}"
+    taken.add(name)
+    return name

@@ -14,7 +14,7 @@ a scene. All are deterministic: the same mesh gives the same arrays.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Literal
 
 import numpy as np
@@ -23,8 +23,8 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from navverse.errors import NavverseError
-from navverse.scene.annotations import Bounds
-from navverse.scene.geometry import MeshData, Scene, SceneObject, Surface
+from navverse.scene.compose import object_parts, replace_parts
+from navverse.scene.geometry import MeshData, Scene, Surface
 
 __all__ = [
     "MIN_TRIANGLE_AREA",
@@ -326,7 +326,7 @@ def decimate_scene(
     Returns
     -------
     Scene
-        Same annotations but for ``statistics.faces`` and the bounds.
+        Same annotations but for ``statistics.faces`` and the bounds, derived again.
     SimplifyReport
         Face and vertex counts.
 
@@ -347,27 +347,15 @@ def decimate_scene(
         simplified.append(decimate_mesh(mesh, keep, min_faces=min_faces, method=method) if keep < 1 else mesh)
         if progress is not None:
             progress(index + 1, len(cleaned), "decimate")
-    surfaces = tuple(
+    surfaces = [
         Surface(s.name, s.terrain_class, m)
         for s, m in zip(scene.surfaces, simplified[: len(scene.surfaces)], strict=True)
-    )
-    objects = tuple(
-        SceneObject(o.annotation, m)
-        for o, m in zip(scene.objects, simplified[len(scene.surfaces) :], strict=True)
-    )
-    world = [s.mesh for s in surfaces if s.mesh.num_vertices] + [
-        o.world_mesh() for o in objects if o.mesh.num_vertices
     ]
-    annotations = scene.annotations
-    if world:
-        lo = np.min([m.vertices.min(axis=0) for m in world], axis=0)
-        hi = np.max([m.vertices.max(axis=0) for m in world], axis=0)
-        bounds = Bounds(min=tuple(float(v) for v in lo), max=tuple(float(v) for v in hi))
-    else:
-        bounds = annotations.bounds
+    objects = [
+        replace(part, mesh=m)
+        for part, m in zip(object_parts(scene), simplified[len(scene.surfaces) :], strict=True)
+    ]
     faces_after = sum(m.num_faces for m in simplified)
-    statistics = annotations.statistics.model_copy(update={"faces": faces_after})
-    annotations = annotations.model_copy(update={"statistics": statistics, "bounds": bounds})
     report = SimplifyReport(
         faces_before=sum(m.num_faces for m in meshes),
         faces_cleaned=sum(m.num_faces for m in cleaned),
@@ -376,4 +364,4 @@ def decimate_scene(
         vertices_after=sum(m.num_vertices for m in simplified),
         ratio=keep,
     )
-    return Scene(annotations=annotations, surfaces=surfaces, objects=objects), report
+    return replace_parts(scene, surfaces=surfaces, objects=objects), report

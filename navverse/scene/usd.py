@@ -8,6 +8,7 @@ Layout of the stage (z up, meters, default prim ``/World``)::
     /World/Terrain/<surface>      Mesh, collider, terrain class, semantic label
     /World/Objects/<name>         Xform (translate, rotateZ) with category, instance id, size, label
     /World/Objects/<name>/mesh    Mesh in the object's local frame, collider
+    /World/Buildings/<building>   footprint, heights, rooms, doors, exits, facades (see usd_buildings)
 
 Vertex positions are stored as ``point3f`` (float32, ~0.1 mm at 1 km from the origin); object
 placements use double-precision xform ops. Colours are stored in ``displayColor`` as linear RGB
@@ -26,10 +27,11 @@ import numpy as np
 from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdPhysics, UsdSemantics, UsdShade, Vt
 
 from navverse.errors import SceneError
-from navverse.scene.annotations import SceneAnnotations
+from navverse.scene.annotations import BuildingAnnotation, SceneAnnotations
 from navverse.scene.colors import default_color
 from navverse.scene.geometry import MeshData, Scene, SceneObject, Surface
 from navverse.scene.naming import LOOKS_ROOT, OBJECTS_ROOT, PHYSICS_ROOT, TERRAIN_ROOT, WORLD_PATH
+from navverse.scene.usd_buildings import read_buildings, write_buildings
 
 __all__ = [
     "ATTR_CATEGORY",
@@ -158,6 +160,7 @@ def _populate(stage: Usd.Stage, scene: Scene) -> None:
     UsdGeom.Xform.Define(stage, OBJECTS_ROOT)
     for obj in scene.objects:
         _define_object(stage, obj, looks[OBJECT_MATERIAL], physics[OBJECT_MATERIAL])
+    write_buildings(stage, scene.annotations.buildings)
 
 
 def _define_look(stage: Usd.Stage, name: str, color: tuple[int, int, int]) -> UsdShade.Material:
@@ -272,13 +275,15 @@ class UsdObject:
 
 @dataclass(frozen=True, eq=False)
 class UsdScene:
-    """What a scene USD file says: stage metadata, terrain surfaces and objects, in file order."""
+    """What a scene USD file says: stage metadata, terrain surfaces, objects and buildings, in file
+    order (``buildings`` is ``None`` for a file written before scenes held buildings)."""
 
     up_axis: str
     meters_per_unit: float
     default_prim: str
     surfaces: tuple[UsdSurface, ...]
     objects: tuple[UsdObject, ...]
+    buildings: tuple[BuildingAnnotation, ...] | None = None
 
 
 def _open(path: Path) -> Usd.Stage:
@@ -424,6 +429,10 @@ def read_usd(path: Path) -> UsdScene:
                 dynamic_friction=dynamic,
             )
         )
+    try:
+        buildings = read_buildings(stage)
+    except ValueError as exc:
+        raise _malformed(path, str(exc)) from None
     default_prim = stage.GetDefaultPrim()
     return UsdScene(
         up_axis=str(UsdGeom.GetStageUpAxis(stage)),
@@ -431,6 +440,7 @@ def read_usd(path: Path) -> UsdScene:
         default_prim=str(default_prim.GetPath()) if default_prim else "",
         surfaces=tuple(surfaces),
         objects=tuple(objects),
+        buildings=buildings,
     )
 
 
@@ -531,6 +541,11 @@ def scene_from_usd(path: Path, annotations: SceneAnnotations) -> Scene:
         ):
             raise disagree(f"object {ann.id} ({ann.category}) has moved")
         objects.append(SceneObject(ann, obj.mesh))
+    if usd.buildings is not None and list(usd.buildings) != annotations.buildings:
+        raise disagree(
+            f"buildings {[b.id for b in usd.buildings]} in the USD file differ from "
+            f"{[b.id for b in annotations.buildings]} in scene.json"
+        )
     try:
         return Scene(annotations, tuple(surfaces), tuple(objects))
     except ValueError as exc:

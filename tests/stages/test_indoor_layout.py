@@ -34,12 +34,12 @@ def test_builds_a_complete_scene(built: Built):
     for path in (files.usd, files.annotations, files.bev, files.navmesh, files.navmesh_info):
         assert path.is_file(), path.name
     ann = read_annotations(scene_dir)
-    assert ann.scene_type == "indoor" and ann.regions.rooms and ann.regions.exits
+    assert ann.scene_type == "indoor" and ann.rooms and ann.exits
     assert len(ann.objects) >= 20 and len(ann.statistics.objects_per_category) >= 10
     info = read_navmesh_info(files.navmesh_info)
     assert info.preset == "indoor" and info.island_areas_m2[0] >= 0.95 * info.navigable_area_m2
     finder = load_scene_navmesh(scene_dir)
-    for ex in ann.regions.exits:
+    for ex in ann.exits:
         assert finder.island_of([ex.center[0], ex.center[1], 0.0]) == finder.largest_island
     stats = built.manifest("cafe-s0", "raw_geometry")["stats"]
     assert stats["building_type"] == "cafe" and stats["objects"] == len(ann.objects)
@@ -57,7 +57,7 @@ def test_same_recipe_and_seed_give_the_same_bytes(built: Built, tmp_path: Path):
             assert _digest(first.usd) == _digest(second.usd), (target, artifact)
     a = json.loads(SceneFiles(built.output("cafe-s0", "scene")).annotations.read_text())
     b = json.loads(SceneFiles(built.output("cafe-s1", "scene")).annotations.read_text())
-    assert a["regions"]["rooms"] != b["regions"]["rooms"] or a["objects"] != b["objects"]
+    assert a["buildings"] != b["buildings"] or a["objects"] != b["objects"]
 
 
 @pytest.mark.parametrize(

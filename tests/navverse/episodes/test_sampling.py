@@ -93,7 +93,7 @@ def test_indoor_to_outdoor_scenes_start_inside_the_building(sample, apartment: S
     from shapely.geometry import Point, Polygon
 
     finder, goals, _ = sample
-    indoor = [Polygon(p) for p in apartment.annotations.regions.indoor]
+    indoor = [Polygon(p) for p in apartment.annotations.indoor_polygons]
     assert indoor, "the apartment has an indoor region"
     settings = SamplingSettings(start_region="indoor")
     drawn = sample_scene_episodes(

@@ -36,10 +36,10 @@ def test_connected_for_the_robot_with_reachable_exits(building: Scene):
     # Nearly all of the robot's navigable floor is one island...
     assert finder.island_areas[0] >= 0.95 * finder.navigable_area
     # ...which holds every exit, every doorway and a point of every room.
-    regions = building.annotations.regions
-    for point in [e.center for e in regions.exits] + [d.center for d in regions.doors]:
+    ann = building.annotations
+    for point in [e.center for e in ann.exits] + [d.center for d in ann.doors]:
         assert finder.island_of([point[0], point[1], 0.0]) == finder.largest_island
-    for room in regions.rooms:
+    for room in ann.rooms:
         xs, ys = zip(*room.polygon, strict=True)
         center = [(min(xs) + max(xs)) / 2, (min(ys) + max(ys)) / 2, 0.0]
         assert finder.island_of(center, max_horizontal=3.0) == finder.largest_island, room.room_type
@@ -59,7 +59,7 @@ def test_no_interpenetration_and_objects_stand_on_something(building: Scene):
     assert len(floor) >= 15
     for a, b in itertools.combinations(floor, 2):
         assert _footprint(a).intersection(_footprint(b)).area <= 1e-4, (a.prim_path, b.prim_path)  # 1 cm²
-    rooms = [Polygon(r.polygon) for r in ann.regions.rooms]
+    rooms = [Polygon(r.polygon) for r in ann.rooms]
     for obj in ann.objects:  # inside a room, clear of the walls (the room polygons run along wall centres)
         assert any(room.buffer(-0.079).contains(_footprint(obj)) for room in rooms), obj.prim_path
     for obj in lifted:
@@ -81,10 +81,10 @@ def test_room_types_match_the_program(building: Scene):
     from navverse.indoor import PROGRAMS
 
     program = PROGRAMS[building.scene_id.rsplit("-", 1)[0]]
-    rooms = building.annotations.regions.rooms
+    rooms = building.annotations.rooms
     assert rooms[0].room_type == program.spine.room_type
     assert {r.room_type for r in rooms[1:]} <= {spec.room_type for spec in program.rooms}
-    assert len(building.annotations.regions.doors) == len(rooms) - 1
+    assert len(building.annotations.doors) == len(rooms) - 1
 
 
 def test_same_seed_same_bytes_other_seed_other_layout(tmp_path):

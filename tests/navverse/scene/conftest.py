@@ -8,19 +8,16 @@ import numpy as np
 import pytest
 
 from navverse.scene import (
-    Bounds,
+    BuildingAnnotation,
     ExitAnnotation,
     MeshData,
-    ObjectAnnotation,
-    Regions,
+    ObjectPart,
     Scene,
-    SceneAnnotations,
-    SceneObject,
     SceneSource,
-    SceneStatistics,
     StorefrontAnnotation,
     Surface,
-    object_prim_path,
+    assemble_scene,
+    footprint_facades,
     terrain_classes,
 )
 
@@ -46,21 +43,13 @@ OBJECTS = (
 
 def build_scene() -> Scene:
     objects = []
-    for object_id, category, center, size, yaw in OBJECTS:
-        annotation = ObjectAnnotation(
-            id=object_id,
-            category=category,
-            prim_path=object_prim_path(category, object_id),
-            center=center,
-            size=size,
-            yaw=yaw,
-        )
+    for _, category, center, size, yaw in OBJECTS:
         mesh = MeshData.box(size)
         if category == "table":
             colors = np.tile(np.array([[140, 90, 40]], dtype=np.uint8), (mesh.num_faces, 1))
             colors[::2] = (10, 200, 30)
             mesh = MeshData(mesh.vertices, mesh.faces, colors)
-        objects.append(SceneObject(annotation, mesh))
+        objects.append(ObjectPart(category, mesh, center, yaw))
     road = quad(-2.0, -4.0, 12.0, -1.0, -0.1)
     road = MeshData(road.vertices, road.faces, np.array([[50, 50, 60], [70, 60, 50]], dtype=np.uint8))
     surfaces = (
@@ -70,11 +59,21 @@ def build_scene() -> Scene:
         Surface("ceiling", "ceiling", quad(0.0, 0.0, 10.0, 8.0, 2.5)),
         Surface("road_0", "road", road),
     )
-    annotations = SceneAnnotations(
+    footprint = [(0.0, 0.0), (10.0, 0.0), (10.0, 8.0), (0.0, 8.0)]
+    room = BuildingAnnotation(
+        id=1,
+        footprint=footprint,
+        height=2.5,
+        indoor=True,
+        exits=[ExitAnnotation(id=1, center=(5.0, 0.0, 0.0), width=1.2, facing=-math.pi / 2, facade=1)],
+        facades=footprint_facades(footprint, height=2.5),
+    )
+    return assemble_scene(
         scene_id="tiny_room",
         scene_type="i2o",
-        bounds=Bounds(min=(-2.0, -4.0, -0.1), max=(12.0, 8.0, 2.5)),
-        objects=[o.annotation for o in objects],
+        surfaces=surfaces,
+        objects=objects,
+        buildings=[room],
         storefronts=[
             StorefrontAnnotation(
                 id=1,
@@ -83,22 +82,18 @@ def build_scene() -> Scene:
                 facing=-math.pi / 2,
                 size=(3.0, 0.2, 2.5),
                 entrance=(5.0, -1.0, 0.0),
+                building=1,
+                facade=1,
             )
         ],
-        regions=Regions(
-            indoor=[[(0.0, 0.0), (10.0, 0.0), (10.0, 8.0), (0.0, 8.0)]],
-            exits=[ExitAnnotation(id=1, center=(5.0, 0.0, 0.0), width=1.2, facing=-math.pi / 2)],
-            indoor_anchor=(5.0, 4.0, 0.0),
-        ),
+        indoor_anchor=(5.0, 4.0, 0.0),
         terrain_classes=terrain_classes(
             ["floor", "wall", "ceiling", "road"], overrides={"road": ROAD_FRICTION}
         ),
-        statistics=SceneStatistics(faces=58, objects_per_category={"chair": 2, "table": 1}),
         source=SceneSource(
             recipe="recipes/scenes/i2o/tiny.yaml", recipe_hash="abc123", toolkit_version="0.1.0"
         ),
     )
-    return Scene(annotations, surfaces, tuple(objects))
 
 
 @pytest.fixture(scope="session")
