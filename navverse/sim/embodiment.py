@@ -24,7 +24,15 @@ from navverse.sim.camera import optical_from_body
 if TYPE_CHECKING:
     from navverse.sim.world import Contact, World
 
-__all__ = ["FALL_TILT", "Embodiment", "camera_mount", "clip_command", "is_support_contact", "tilt"]
+__all__ = [
+    "FALL_TILT",
+    "Embodiment",
+    "RobotBody",
+    "camera_mount",
+    "clip_command",
+    "is_support_contact",
+    "tilt",
+]
 
 FALL_TILT = math.radians(45.0)
 """A robot whose base z axis is more than this far from world +z has fallen (radians)."""
@@ -85,6 +93,36 @@ class Embodiment(Protocol):
 
 
 # ---------------------------------------------------------------------------------------------- helpers
+
+
+class RobotBody:
+    """What the built-in robots share: one PyBullet body in one world, a velocity command, removal.
+
+    A subclass calls ``super().__init__()``, sets :attr:`body` and ``_world`` when it spawns and keeps its
+    clipped command in ``_command``.
+
+    Attributes
+    ----------
+    body : int
+        PyBullet body id once spawned (-1 before and after :meth:`remove`).
+    """
+
+    def __init__(self) -> None:
+        self.body = -1
+        self._world: World | None = None
+        self._command = (0.0, 0.0, 0.0)
+
+    def remove(self) -> None:
+        """Remove the robot from its world (it can be spawned again)."""
+        if self._world is not None and self.body >= 0 and self._world.client is not None:
+            self._world.client.removeBody(self.body)
+        self.body = -1
+        self._world = None
+
+    @property
+    def command(self) -> tuple[float, float, float]:
+        """The current (clipped) velocity target."""
+        return self._command
 
 
 def clip_command(
