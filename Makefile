@@ -43,9 +43,10 @@ bench: $(STAMP)  ## run every benchmark in bench/ (prints ratios against peers; 
 status: $(STAMP)  ## fresh / stale / missing per target
 	$(NAVVERSE) status
 
-lint: $(STAMP)  ## ruff
+lint: $(STAMP)  ## ruff, then the layer contracts of pyproject.toml (import-linter)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
+	$(BIN)/lint-imports
 
 test: $(STAMP)  ## the whole test suite
 	$(BIN)/python -m pytest -n 2 -q

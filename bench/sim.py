@@ -36,7 +36,7 @@ from rich.table import Table
 from navverse.errors import NavverseError
 from navverse.nav.sampling import sample_paths
 from navverse.nav.scene_navmesh import load_scene_navmesh
-from navverse.sim.embodiment import make_embodiment
+from navverse.sim.embodiments import make_embodiment
 from navverse.sim.rollout import follow_path
 from navverse.sim.simulator import Simulator
 from navverse.sim.world import PHYSICS_HZ, World

@@ -22,7 +22,6 @@ import json
 import math
 import os
 import shutil
-import tempfile
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -30,6 +29,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from navverse.errors import NavverseError
+from navverse.files import atomic_dir
 
 __all__ = [
     "FORMAT_VERSION",
@@ -443,13 +443,8 @@ def publish(built: str | os.PathLike[str], episodes_dir: str | os.PathLike[str])
             f"delete {target} if it was never shared"
         )
     target.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
-    try:
+    with atomic_dir(target) as staging:
         shutil.copytree(dataset.root, staging, dirs_exist_ok=True)
-        os.replace(staging, target)
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
     return target, True
 
 

@@ -40,7 +40,7 @@ from navverse.errors import NavverseError
 from navverse.sim.actions import DISCRETE_ACTIONS, ActionRunner, step_size
 from navverse.sim.camera import CameraIntrinsics
 from navverse.sim.controller import Waypoint
-from navverse.sim.embodiment import make_embodiment
+from navverse.sim.embodiments import make_embodiment
 from navverse.sim.recorder import RolloutRecorder
 from navverse.sim.render import SceneRenderer
 from navverse.sim.simulator import Simulator

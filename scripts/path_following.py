@@ -34,7 +34,7 @@ from navverse.errors import NavverseError
 from navverse.nav.sampling import sample_paths
 from navverse.nav.scene_navmesh import load_scene_navmesh
 from navverse.scene.bev import BevOverlay, render_bev
-from navverse.sim.embodiment import make_embodiment
+from navverse.sim.embodiments import make_embodiment
 from navverse.sim.rollout import PathRollout, follow_path
 from navverse.sim.simulator import Simulator
 from navverse.sim.world import World

@@ -38,7 +38,7 @@ def instructions(ctx: StageContext, params: InstructionsParams) -> None:
     from navverse.episodes import files
     from navverse.episodes.instructions import InstructionSettings, InstructionWriter, load_refiner
     from navverse.scene import read_annotations, read_scene
-    from navverse.sim.embodiment import make_embodiment
+    from navverse.sim.embodiments import make_embodiment
 
     refiner = load_refiner(params.refiner) if params.refiner else None
     verified = read_json_gz(ctx.input("verified") / files.EPISODES)

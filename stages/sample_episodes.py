@@ -12,7 +12,7 @@ from pipeline import Input, Params, StageContext, stage
 
 
 def _known_embodiment(name: str) -> str:
-    from navverse.sim.embodiment import EMBODIMENTS
+    from navverse.sim.embodiments import EMBODIMENTS
 
     if name not in EMBODIMENTS:
         raise ValueError(f"unknown embodiment {name!r} (known: {', '.join(sorted(EMBODIMENTS))})")
@@ -66,7 +66,7 @@ def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
     from navverse.episodes.sampling import SamplingSettings, object_goals, place_goals, sample_scene_episodes
     from navverse.nav.scene_navmesh import load_scene_navmesh
     from navverse.scene import read_annotations
-    from navverse.sim.embodiment import make_embodiment
+    from navverse.sim.embodiments import make_embodiment
 
     robot = make_embodiment(params.embodiment)
     settings = SamplingSettings(

@@ -137,7 +137,7 @@ def verify_scene(
     progress : callable, optional
         Called with 1 after each episode.
     """
-    from navverse.sim.embodiment import make_embodiment
+    from navverse.sim.embodiments import make_embodiment
     from navverse.sim.rollout import follow_path
     from navverse.sim.simulator import Simulator
     from navverse.sim.terminations import TerminationMonitor

@@ -23,7 +23,6 @@ import base64
 import html
 import io
 import math
-import os
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
@@ -39,6 +38,7 @@ from navverse.eval.metrics import LABELS
 from navverse.eval.scoring import EvalResult, robot_for
 from navverse.eval.submission import Submission
 from navverse.eval.tables import HEADERS, PERCENT, TABLES, cell_text, table_rows
+from navverse.files import atomic_write
 from navverse.scene.colors import default_color, lighten
 from navverse.scene.fields import SceneFields, load_scene_fields
 
@@ -602,11 +602,6 @@ def write_report(
         ]
     )
     target = out_dir / REPORT_HTML
-    tmp = out_dir / f".{REPORT_HTML}.{os.getpid()}.tmp"
-    try:
-        tmp.write_text(page, encoding="utf-8")
-        os.replace(tmp, target)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    with atomic_write(target, mode="w") as handle:
+        handle.write(page)
     return target

@@ -40,7 +40,7 @@ BATCH_ROWS = 2_000_000
 
 def robot_for(embodiment: str) -> Robot:
     """The scoring view of an embodiment: r_robot, footprint, surfaces."""
-    from navverse.sim.embodiment import make_embodiment
+    from navverse.sim.embodiments import make_embodiment
 
     body = make_embodiment(embodiment)
     return Robot(

@@ -41,6 +41,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
+from navverse.files import atomic_write
 from navverse.nav.errors import NavMeshError
 
 try:
@@ -625,13 +626,8 @@ class PathFinder:
 
         See :mod:`navverse.nav.fileformat` for the layout.
         """
-        target = Path(path)
-        tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
-        try:
-            tmp.write_bytes(self.to_bytes())
-            os.replace(tmp, target)
-        finally:
-            tmp.unlink(missing_ok=True)
+        with atomic_write(path) as handle:
+            handle.write(self.to_bytes())
 
     @classmethod
     def load(cls, path: str | os.PathLike[str]) -> PathFinder:

@@ -52,6 +52,7 @@ from numpy.typing import ArrayLike
 from scipy import ndimage
 
 from navverse.cache import cache_root
+from navverse.files import atomic_write
 from navverse.scene.geometry import MeshData, Scene
 
 __all__ = [
@@ -157,8 +158,7 @@ class SceneFields:
         """Write the fields as a compressed ``.npz`` (atomically)."""
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-        with open(tmp, "wb") as handle:
+        with atomic_write(path) as handle:
             np.savez_compressed(
                 handle,
                 format=np.int64(_FORMAT),
@@ -170,7 +170,6 @@ class SceneFields:
                 class_names=np.asarray(self.class_names, dtype=str),
                 indoor=self.indoor,
             )
-        os.replace(tmp, path)
         return path
 
     @classmethod

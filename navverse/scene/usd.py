@@ -19,7 +19,6 @@ per-face colours show in usdview and Isaac Sim.
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,6 +26,7 @@ import numpy as np
 from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdPhysics, UsdSemantics, UsdShade, Vt
 
 from navverse.errors import SceneError
+from navverse.files import atomic_path
 from navverse.scene.annotations import BuildingAnnotation, SceneAnnotations
 from navverse.scene.colors import default_color
 from navverse.scene.geometry import MeshData, Scene, SceneObject, Surface
@@ -112,17 +112,12 @@ def export_usd(scene: Scene, path: Path) -> None:
         raise SceneError(f"USD scenes are written as crate files; give a path ending in '.usdc', not {path}")
     if not path.parent.is_dir():
         raise SceneError(f"cannot write {path}: directory {path.parent} does not exist; create it first")
-    # CreateNew refuses a path whose layer is still open in this process, so write a fresh name.
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.usdc")
-    try:
+    # CreateNew refuses a path whose layer is still open in this process: the temporary name is fresh.
+    with atomic_path(path) as tmp:
         stage = Usd.Stage.CreateNew(str(tmp))
         _populate(stage, scene)
         stage.Save()
         del stage
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
 
 
 def _populate(stage: Usd.Stage, scene: Scene) -> None:

@@ -9,13 +9,13 @@ memory and optionally on disk, so every identical part is decomposed once.
 from __future__ import annotations
 
 import hashlib
-import os
 from pathlib import Path
 
 import numpy as np
 import trimesh
 
 from navverse.cache import cache_root
+from navverse.files import atomic_path, atomic_write
 from navverse.scene.geometry import MeshData
 
 __all__ = ["ConvexParts", "convex_parts", "default_cache_dir", "hulls_file"]
@@ -63,9 +63,8 @@ def _decompose(part: trimesh.Trimesh, cache_dir: Path | None) -> list[np.ndarray
         hulls = [np.asarray(v, dtype=np.float64) for v, _ in result]
         if cached is not None:
             cached.parent.mkdir(parents=True, exist_ok=True)
-            tmp = cached.with_name(f".{cached.name}.{os.getpid()}.tmp.npz")
-            np.savez(tmp, **{f"hull_{i}": v for i, v in enumerate(hulls)})
-            os.replace(tmp, cached)
+            with atomic_path(cached) as tmp:
+                np.savez(tmp, **{f"hull_{i}": v for i, v in enumerate(hulls)})
     _MEMORY[key] = hulls
     return hulls
 
@@ -140,7 +139,6 @@ def hulls_file(hulls: list[np.ndarray], directory: Path) -> Path:
         lines.extend(f"f {a} {b} {c}" for a, b, c in faces)
         offset += len(v)
     directory.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text("\n".join(lines) + "\n")
-    os.replace(tmp, path)
+    with atomic_write(path, mode="w") as handle:
+        handle.write("\n".join(lines) + "\n")
     return path

@@ -1,19 +1,11 @@
-"""The robot interface the controller, environment and evaluator are written against, and the registry.
+"""The robot interface the controller, environment and evaluator are written against, and its helpers.
 
 An embodiment is a simulated robot in a :class:`~navverse.sim.world.World`: it is spawned at a ground
 point, takes body-frame velocity targets (:meth:`Embodiment.set_command`), turns them into forces or
 motor targets before every physics step (:meth:`Embodiment.before_step`) and reports its base pose and
-velocity. Two are built in: ``"spot"`` (:class:`~navverse.sim.spot.Spot`, a legged robot) and
-``"turtlebot"`` (:class:`~navverse.sim.turtlebot.TurtleBot`, a differential-drive robot).
-
-A loop that drives a robot for one control period::
-
-    robot = make_embodiment("spot")
-    robot.spawn(world, (0.0, 0.0, 0.0), yaw=0.0)
-    robot.set_command(1.0, 0.0, 0.2)
-    for _ in range(PHYSICS_HZ // CONTROL_HZ):
-        robot.before_step()
-        world.step()
+velocity. The robots (:mod:`navverse.sim.spot`, :mod:`navverse.sim.turtlebot`) build on the helpers
+here; they are created by name through the registry, :mod:`navverse.sim.embodiments`. This module
+imports no robot.
 
 Frames: the base frame is x forward, y left, z up; poses are world-frame positions and ``[x, y, z, w]``
 quaternions. A robot has fallen when :func:`tilt` of its base exceeds :data:`FALL_TILT`.
@@ -22,27 +14,23 @@ quaternions. A robot has fallen when :func:`tilt` of its base exceeds :data:`FAL
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
-from types import MappingProxyType
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 import numpy as np
 
-from navverse.errors import NavverseError
 from navverse.sim.camera import optical_from_body
 
 if TYPE_CHECKING:
     from navverse.sim.world import Contact, World
 
 __all__ = [
-    "EMBODIMENTS",
     "FALL_TILT",
     "Embodiment",
-    "UnknownEmbodimentError",
+    "RobotBody",
     "camera_mount",
     "clip_command",
     "is_support_contact",
-    "make_embodiment",
     "tilt",
 ]
 
@@ -50,10 +38,6 @@ FALL_TILT = math.radians(45.0)
 """A robot whose base z axis is more than this far from world +z has fallen (radians)."""
 SUPPORT_MAX_SLOPE = math.radians(45.0)
 """A contact whose normal is steeper than this is a collision, not support."""
-
-
-class UnknownEmbodimentError(NavverseError):
-    """An embodiment name that is not registered."""
 
 
 @runtime_checkable
@@ -109,6 +93,36 @@ class Embodiment(Protocol):
 
 
 # ---------------------------------------------------------------------------------------------- helpers
+
+
+class RobotBody:
+    """What the built-in robots share: one PyBullet body in one world, a velocity command, removal.
+
+    A subclass calls ``super().__init__()``, sets :attr:`body` and ``_world`` when it spawns and keeps its
+    clipped command in ``_command``.
+
+    Attributes
+    ----------
+    body : int
+        PyBullet body id once spawned (-1 before and after :meth:`remove`).
+    """
+
+    def __init__(self) -> None:
+        self.body = -1
+        self._world: World | None = None
+        self._command = (0.0, 0.0, 0.0)
+
+    def remove(self) -> None:
+        """Remove the robot from its world (it can be spawned again)."""
+        if self._world is not None and self.body >= 0 and self._world.client is not None:
+            self._world.client.removeBody(self.body)
+        self.body = -1
+        self._world = None
+
+    @property
+    def command(self) -> tuple[float, float, float]:
+        """The current (clipped) velocity target."""
+        return self._command
 
 
 def clip_command(
@@ -182,41 +196,3 @@ def is_support_contact(contact: Contact, support_links: frozenset[int]) -> bool:
         and contact.body.navigable
         and contact.normal[2] >= math.cos(SUPPORT_MAX_SLOPE)
     )
-
-
-# ---------------------------------------------------------------------------------------------- registry
-
-
-def _spot() -> Embodiment:
-    from navverse.sim.spot import Spot
-
-    return Spot()
-
-
-def _turtlebot() -> Embodiment:
-    from navverse.sim.turtlebot import TurtleBot
-
-    return TurtleBot()
-
-
-EMBODIMENTS: Mapping[str, Callable[[], Embodiment]] = MappingProxyType(
-    {"spot": _spot, "turtlebot": _turtlebot}
-)
-"""Factories of the built-in embodiments, by name (read-only)."""
-
-
-def make_embodiment(name: str) -> Embodiment:
-    """Create an unspawned embodiment by registry name.
-
-    Raises
-    ------
-    UnknownEmbodimentError
-        If `name` is not in :data:`EMBODIMENTS`.
-    """
-    try:
-        factory = EMBODIMENTS[name]
-    except KeyError:
-        raise UnknownEmbodimentError(
-            f"unknown embodiment {name!r}; choose one of: {', '.join(sorted(EMBODIMENTS))}"
-        ) from None
-    return factory()

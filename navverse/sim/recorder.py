@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import gzip
 import json
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from navverse.files import atomic_write
 from navverse.sim.simulator import Simulator
 from navverse.sim.world import CONTROL_HZ
 
@@ -80,10 +80,6 @@ def write_submission(records: list[dict[str, Any]], path: str | Path) -> Path:
     path = Path(path)
     text = "".join(json.dumps(r, separators=(",", ":")) + "\n" for r in records).encode()
     data = gzip.compress(text, mtime=0) if path.suffix == ".gz" else text
-    tmp = path.with_name(f".{path.name}.tmp")
-    try:
-        tmp.write_bytes(data)
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
+    with atomic_write(path) as handle:
+        handle.write(data)
     return path

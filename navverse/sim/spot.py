@@ -64,7 +64,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from navverse.sim.bullet import pybullet
-from navverse.sim.embodiment import camera_mount, clip_command
+from navverse.sim.embodiment import RobotBody, camera_mount, clip_command
 from navverse.sim.world import GRAVITY, OBJECT_FRICTION
 
 if TYPE_CHECKING:
@@ -117,7 +117,7 @@ _TRUNK_INERTIA = tuple(
 _SHARE = MASS / 4.0 * TRACTION_GAIN  # traction per unit velocity error of one foot (N s/m)
 
 
-class Spot:
+class Spot(RobotBody):
     """A Spot-sized legged robot (reduced-order model, see the module docstring).
 
     The robot is created unspawned; :meth:`spawn` puts it in a world.
@@ -131,10 +131,8 @@ class Spot:
     """Height of the base origin (trunk centre) above flat ground when standing (m)."""
 
     def __init__(self) -> None:
+        super().__init__()
         self.camera_to_base = camera_mount((BODY_SIZE[0] / 2.0 - 0.05, 0.0, 0.6 - self.standing_height))
-        self.body = -1
-        self._world: World | None = None
-        self._command = (0.0, 0.0, 0.0)
         self._legs = [0.0] * 4
         self._ray_from = [(x, y, -_HALF_HEIGHT - _RAY_START) for x, y in HIPS]
         self._ray_to = [(x, y, -_HALF_HEIGHT - LEG_REACH) for x, y in HIPS]
@@ -192,23 +190,11 @@ class Spot:
         self._force = c.applyExternalForce
         self._torque = c.applyExternalTorque
 
-    def remove(self) -> None:
-        """Remove the robot from its world (it can be spawned again)."""
-        if self._world is not None and self.body >= 0 and self._world.client is not None:
-            self._world.client.removeBody(self.body)
-        self.body = -1
-        self._world = None
-
     # ------------------------------------------------------------------ control
 
     def set_command(self, vx: float, vy: float, wz: float) -> None:
         """Set the body-frame velocity target, clipped to :attr:`max_velocity`; held until the next call."""
         self._command = clip_command(vx, vy, wz, self.max_velocity)
-
-    @property
-    def command(self) -> tuple[float, float, float]:
-        """The current (clipped) velocity target."""
-        return self._command
 
     def before_step(self) -> None:
         """Cast the leg rays and apply the legs' spring, damping and traction forces for one step."""

@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from navverse.sim.bullet import pybullet
-from navverse.sim.embodiment import camera_mount, clip_command, is_support_contact
+from navverse.sim.embodiment import RobotBody, camera_mount, clip_command, is_support_contact
 
 if TYPE_CHECKING:
     from navverse.sim.world import Contact, World
@@ -84,7 +84,7 @@ _BASE_Z = CLEARANCE + BASE_HEIGHT / 2.0  # base origin (cylinder centre) above t
 _LEFT, _RIGHT, _FRONT, _BACK = 0, 1, 2, 3
 
 
-class TurtleBot:
+class TurtleBot(RobotBody):
     """A Kobuki-like differential-drive robot (see the module docstring).
 
     The robot is created unspawned; :meth:`spawn` builds it in a world.
@@ -100,12 +100,10 @@ class TurtleBot:
     """Joint indices of the left and right wheels."""
 
     def __init__(self) -> None:
+        super().__init__()
         self.camera_to_base = camera_mount(
             (MAST_X + MAST_RADIUS - AXLE_X, 0.0, CAMERA_HEIGHT - self.standing_height)
         )
-        self.body = -1
-        self._world: World | None = None
-        self._command = (0.0, 0.0, 0.0)
         self._support = frozenset((_LEFT, _RIGHT, _FRONT, _BACK))
 
     # ------------------------------------------------------------------ lifecycle
@@ -200,13 +198,6 @@ class TurtleBot:
         center = np.array((x + nx * up, y + ny * up, ground + nz * up)) - rotation[:, 0] * AXLE_X
         return tuple(center.tolist()), tuple(orientation)  # type: ignore[return-value]
 
-    def remove(self) -> None:
-        """Remove the robot from its world (it can be spawned again)."""
-        if self._world is not None and self.body >= 0 and self._world.client is not None:
-            self._world.client.removeBody(self.body)
-        self.body = -1
-        self._world = None
-
     # ------------------------------------------------------------------ control
 
     def set_command(self, vx: float, vy: float, wz: float) -> None:
@@ -219,11 +210,6 @@ class TurtleBot:
             self._command = command
             if self.body >= 0:
                 self._apply_command()
-
-    @property
-    def command(self) -> tuple[float, float, float]:
-        """The current (clipped) velocity target."""
-        return self._command
 
     def wheel_speeds(self) -> tuple[float, float]:
         """Target angular speeds (rad/s) of the left and right wheels for the current command."""

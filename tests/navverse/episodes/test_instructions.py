@@ -35,7 +35,7 @@ from navverse.scene import (
     terrain_classes,
 )
 from navverse.sim.camera import CameraIntrinsics
-from navverse.sim.embodiment import make_embodiment
+from navverse.sim.embodiments import make_embodiment
 from navverse.sim.render import SceneRenderer
 
 SPOT = make_embodiment("spot")

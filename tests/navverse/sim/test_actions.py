@@ -10,7 +10,7 @@ import pytest
 from navverse.scene import Bounds, MeshData, Scene, SceneAnnotations, Surface, terrain_classes
 from navverse.sim.actions import DISCRETE_ACTIONS, DISCRETE_TIMEOUT, ActionRunner, step_size
 from navverse.sim.controller import REACH_DISTANCE, REACH_YAW, Waypoint, wrap_angle
-from navverse.sim.embodiment import make_embodiment
+from navverse.sim.embodiments import make_embodiment
 from navverse.sim.simulator import Simulator
 from navverse.sim.world import World
 

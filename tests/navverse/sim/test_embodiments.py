@@ -10,14 +10,8 @@ import pytest
 
 from navverse.errors import NavverseError
 from navverse.scene import Bounds, MeshData, Scene, SceneAnnotations, Surface, terrain_classes
-from navverse.sim.embodiment import (
-    EMBODIMENTS,
-    FALL_TILT,
-    Embodiment,
-    UnknownEmbodimentError,
-    make_embodiment,
-    tilt,
-)
+from navverse.sim.embodiment import FALL_TILT, Embodiment, tilt
+from navverse.sim.embodiments import EMBODIMENTS, UnknownEmbodimentError, make_embodiment
 from navverse.sim.turtlebot import AXLE_X
 from navverse.sim.world import CONTROL_HZ, GRAVITY, PHYSICS_HZ, World
 

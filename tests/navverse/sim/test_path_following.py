@@ -9,7 +9,7 @@ from navverse import nav
 from navverse.indoor import generate_building
 from navverse.nav.sampling import sample_paths
 from navverse.nav.scene_navmesh import build_scene_navmesh
-from navverse.sim.embodiment import make_embodiment
+from navverse.sim.embodiments import make_embodiment
 from navverse.sim.rollout import follow_path
 from navverse.sim.simulator import Simulator
 from navverse.sim.world import World

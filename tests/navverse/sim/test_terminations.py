@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from navverse.scene import Bounds, MeshData, Scene, SceneAnnotations, Surface, terrain_classes
-from navverse.sim.embodiment import make_embodiment
+from navverse.sim.embodiments import make_embodiment
 from navverse.sim.rollout import follow_path
 from navverse.sim.simulator import Simulator
 from navverse.sim.terminations import STUCK_WINDOW, TerminationMonitor
