@@ -30,10 +30,10 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from navverse.errors import NavverseError
 from navverse.files import atomic_dir
+from navverse.scene_types import SceneType, scene_profile
 
 __all__ = [
     "FORMAT_VERSION",
-    "SUCCESS_MARGIN",
     "TASKS",
     "Dataset",
     "DatasetError",
@@ -58,12 +58,9 @@ __all__ = [
 FORMAT_VERSION = "1.0"
 """Format of the dataset files (``major.minor``); a reader takes its own major, minors up to its own."""
 TASKS = ("objnav", "placenav", "vln")
-SUCCESS_MARGIN = 1.0
-"""Success tolerance beyond the goal's radius is ``SUCCESS_MARGIN + r_robot`` (m): 1.6 m for Spot."""
 
 Vec3 = tuple[float, float, float]
 Task = Literal["objnav", "placenav", "vln"]
-SceneType = Literal["indoor", "outdoor", "i2o"]
 _CONFIG = ConfigDict(extra="forbid", frozen=True)
 
 
@@ -194,9 +191,10 @@ class DatasetManifest(BaseModel):
 # ---------------------------------------------------------------------------------------------- geometry
 
 
-def success_distance(robot_radius: float) -> float:
-    """Largest goal distance that counts as success: ``SUCCESS_MARGIN + r_robot`` (m)."""
-    return SUCCESS_MARGIN + float(robot_radius)
+def success_distance(robot_radius: float, *, scene_type: str) -> float:
+    """Largest goal distance that counts as success in a scene of ``scene_type``: the profile's
+    success margin plus ``r_robot`` (:mod:`navverse.scene_types`; 1.6 m for Spot)."""
+    return scene_profile(scene_type).success_distance(robot_radius)
 
 
 def goal_distance(position: Sequence[float], goal: Goal) -> float:

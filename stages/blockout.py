@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import math
-from typing import Annotated, Literal
+from typing import Annotated
 
 import numpy as np
 from pydantic import Field, field_validator, model_validator
 
+from navverse.scene_types import SceneType
 from pipeline import Params, StageContext, stage
 
 PositiveFloat = Annotated[float, Field(gt=0)]
@@ -92,7 +93,7 @@ class ObjectSolid(Solid):
 class BlockoutParams(Params):
     """Parameters of :func:`blockout`."""
 
-    scene_type: Literal["indoor", "outdoor", "i2o"] = "indoor"
+    scene_type: SceneType = "indoor"
     friction: dict[str, Annotated[float, Field(ge=0, le=5)]] = {}
     surfaces: Annotated[list[SurfaceSolid], Field(min_length=1)]
     objects: list[ObjectSolid] = []

@@ -63,9 +63,9 @@ def _navmesh_figures(
 def decimate(ctx: StageContext, params: DecimateParams) -> None:
     """The scene directory with every surface and object mesh cleaned and simplified, colours kept."""
     from navverse.nav import NavMeshSettings
-    from navverse.nav.scene_navmesh import preset_for_scene_type
     from navverse.scene import read_scene, write_scene_dir
     from navverse.scene.simplify import decimate_scene
+    from navverse.scene_types import scene_profile
 
     source = read_scene(ctx.input("raw_geometry"))
     scene, report = decimate_scene(
@@ -95,7 +95,7 @@ def decimate(ctx: StageContext, params: DecimateParams) -> None:
     if not params.measure_navmesh:
         return
 
-    preset = preset_for_scene_type(scene.annotations.scene_type)
+    preset = scene_profile(scene.annotations.scene_type).navmesh_preset
     settings = NavMeshSettings.preset(preset)
     before = _navmesh_figures(ctx, source, settings)
     after = _navmesh_figures(ctx, scene, settings)

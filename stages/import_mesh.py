@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from pydantic import AfterValidator, BeforeValidator, Field, ValidationInfo, field_validator, model_validator
 
+from navverse.scene_types import SceneType
 from pipeline import Params, SourceFile, StageContext, stage
 
 if TYPE_CHECKING:
@@ -149,7 +150,7 @@ class ImportMeshParams(Params):
     source: MeshSource
     units: Annotated[float, Field(gt=0.0)] | str | None = None
     up_axis: Literal["y", "z"] | None = None
-    scene_type: Literal["indoor", "outdoor", "i2o"] = "indoor"
+    scene_type: SceneType = "indoor"
     rules: list[NodeRule] = []
     default: str = "obstacle"
     friction: dict[TerrainName, Annotated[float, Field(ge=0, le=5)]] = {}

@@ -6,7 +6,7 @@ import os
 import shutil
 import time
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated
 
 from pydantic import AfterValidator, Field
 
@@ -28,16 +28,24 @@ def _known_class(name: str) -> str:
 TerrainName = Annotated[str, AfterValidator(_known_class)]
 
 
+def _known_preset(name: str) -> str:
+    from navverse.nav.settings import PRESETS
+
+    if name != "auto" and name not in PRESETS:
+        raise ValueError(f"unknown navmesh preset {name!r} (known: auto, {', '.join(PRESETS)})")
+    return name
+
+
 class NavmeshParams(Params):
     """Parameters of :func:`navmesh`.
 
-    ``preset: auto`` takes the preset of the scene's type (indoor scenes: ``indoor``; outdoor and
-    indoor-to-outdoor scenes: ``outdoor``); ``settings`` replaces single fields of it.
+    ``preset: auto`` takes the preset of the scene type's profile (:mod:`navverse.scene_types`); a
+    name picks one of :data:`navverse.nav.PRESETS`; ``settings`` replaces single fields of it.
     ``area_costs`` (cost per meter, >= 1) and ``excluded_classes`` name terrain classes; classes a
     scene does not have are ignored, so a preset can serve many scenes.
     """
 
-    preset: Literal["auto", "indoor", "outdoor"] = "auto"
+    preset: Annotated[str, AfterValidator(_known_preset)] = "auto"
     settings: NavMeshOverrides = Field(default_factory=NavMeshOverrides)
     area_costs: dict[TerrainName, Annotated[float, Field(ge=1.0, le=1000.0)]] = {}
     excluded_classes: list[TerrainName] = []
@@ -59,16 +67,18 @@ def navmesh(ctx: StageContext, params: NavmeshParams) -> None:
         build_scene_navmesh,
         describe_navmesh,
         navmesh_overlay,
-        preset_for_scene_type,
         write_navmesh_info,
     )
     from navverse.scene import Scene, SceneFiles, read_scene, render_bev, save_annotations
+    from navverse.scene_types import scene_profile
 
     source = SceneFiles(ctx.inputs["geometry"])
     files = SceneFiles(ctx.outputs["scene"])
     scene = read_scene(source.root)
     annotations = scene.annotations
-    preset = preset_for_scene_type(annotations.scene_type) if params.preset == "auto" else params.preset
+    preset = (
+        scene_profile(annotations.scene_type).navmesh_preset if params.preset == "auto" else params.preset
+    )
     settings = NavMeshSettings.preset(preset).with_overrides(params.settings)
 
     ctx.progress(0, 3, "navmesh")

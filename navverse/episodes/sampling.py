@@ -28,6 +28,7 @@ from navverse.dataset import Episode, EpisodeInfo, Goal, success_distance
 from navverse.nav.pathfinder import PathFinder
 from navverse.scene.annotations import SceneAnnotations
 from navverse.scene.categories import CategoryRule, assign_category
+from navverse.scene_types import scene_profile
 
 __all__ = [
     "GoalRegion",
@@ -61,8 +62,9 @@ class SamplingSettings:
     attempts : int
         Starts drawn per episode before the episode is given up.
     start_region : {"auto", "anywhere", "indoor"}
-        Where starts may be: ``indoor`` inside the scene's indoor region; ``auto`` is ``indoor`` for
-        indoor-to-outdoor scenes, else ``anywhere``.
+        Where starts may be: ``indoor`` inside the scene's indoor region; ``auto`` follows the scene
+        type's profile (:mod:`navverse.scene_types`: ``indoor`` for indoor-to-outdoor scenes, else
+        ``anywhere``).
     """
 
     robot_radius: float = 0.6
@@ -72,11 +74,6 @@ class SamplingSettings:
     yaw_jitter_deg: float = 30.0
     attempts: int = 50
     start_region: str = "auto"
-
-    @property
-    def success_distance(self) -> float:
-        """Goal distance counted as success (m)."""
-        return success_distance(self.robot_radius)
 
 
 @dataclass(frozen=True)
@@ -235,7 +232,7 @@ def sample_scene_episodes(
     SceneSample
         Fewer than ``count`` episodes when the scene cannot give more (every category's attempts used).
     """
-    success = settings.success_distance
+    success = success_distance(settings.robot_radius, scene_type=annotations.scene_type)
     regions_by_category: dict[str, list[GoalRegion]] = {}
     for category, goals in goals_by_category.items():
         regions = goal_regions(finder, goals, success=success, base_height=settings.base_height)
@@ -249,7 +246,7 @@ def sample_scene_episodes(
     island = int(islands.argmax())
     categories = sorted(c for c, rs in regions_by_category.items() if any(r.island == island for r in rs))
     indoor_only = settings.start_region == "indoor" or (
-        settings.start_region == "auto" and annotations.scene_type == "i2o"
+        settings.start_region == "auto" and scene_profile(annotations.scene_type).start_region == "indoor"
     )
     number = id_offset
     for _ in range(count):
@@ -314,6 +311,6 @@ def _episode(
             geodesic_distance=round(length, 4),
             euclidean_distance=round(float(np.linalg.norm(goal_xy - points[0, :2])), 4),
             closest_goal_object_id=closest.goal.object_id,
-            success_distance=settings.success_distance,
+            success_distance=success_distance(settings.robot_radius, scene_type=annotations.scene_type),
         ),
     )

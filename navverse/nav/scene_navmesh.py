@@ -33,7 +33,6 @@ __all__ = [
     "describe_navmesh",
     "load_scene_navmesh",
     "navmesh_overlay",
-    "preset_for_scene_type",
     "read_navmesh_info",
     "scene_area_types",
     "write_navmesh_info",
@@ -41,22 +40,6 @@ __all__ = [
 
 NAVMESH_INFO_VERSION = "1.0"
 NAVMESH_COLOR = "#1e88ff"
-
-_PRESET_BY_SCENE_TYPE = {"indoor": "indoor", "outdoor": "outdoor", "i2o": "outdoor"}
-
-
-def preset_for_scene_type(scene_type: str) -> str:
-    """The navmesh preset of a scene type: ``indoor`` for indoor scenes, ``outdoor`` otherwise.
-
-    Indoor-to-outdoor scenes take the outdoor preset: their streets have 0.2 m curbs, which the
-    indoor climb of 0.20 m leaves at the limit, and they span city blocks.
-    """
-    try:
-        return _PRESET_BY_SCENE_TYPE[scene_type]
-    except KeyError:
-        raise NavMeshError(
-            f"unknown scene type {scene_type!r}; expected one of {', '.join(_PRESET_BY_SCENE_TYPE)}"
-        ) from None
 
 
 def scene_area_types(annotations: SceneAnnotations) -> dict[str, int]:
@@ -116,7 +99,7 @@ def build_scene_navmesh(
     scene : Scene
         The scene; all its surfaces and objects are obstacles, navigable classes are walkable.
     settings : NavMeshSettings
-        Build settings (see :func:`preset_for_scene_type`).
+        Build settings (the preset of the scene's type: :mod:`navverse.scene_types`).
     area_costs : mapping of str to float, optional
         Path cost per meter by terrain class (>= 1.0; others cost 1.0). Classes the scene does not
         have are ignored, so one mapping can serve many scenes.

@@ -14,13 +14,14 @@ import typing
 from collections import Counter
 from collections.abc import Iterable, Sequence
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 from shapely.geometry import LinearRing, Point, Polygon
 
 from navverse.errors import SceneError
 from navverse.scene.naming import OBJECTS_ROOT, is_identifier
+from navverse.scene_types import SceneType
 
 __all__ = [
     "SCENE_FORMAT_VERSION",
@@ -319,7 +320,7 @@ class SceneAnnotations(BaseModel):
 
     format_version: str = SCENE_FORMAT_VERSION
     scene_id: str
-    scene_type: Literal["indoor", "outdoor", "i2o"]
+    scene_type: SceneType
     bounds: Bounds
     objects: list[ObjectAnnotation] = Field(default_factory=list)
     storefronts: list[StorefrontAnnotation] = Field(default_factory=list)

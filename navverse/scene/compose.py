@@ -15,7 +15,6 @@ import math
 from collections import Counter
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -35,6 +34,7 @@ from navverse.scene.annotations import (
 from navverse.scene.geometry import MeshData, Scene, SceneObject, Surface, yaw_matrix
 from navverse.scene.naming import object_prim_path, unique_name
 from navverse.scene.terrain import terrain_classes as default_terrain_classes
+from navverse.scene_types import SceneType
 
 __all__ = [
     "ObjectPart",
@@ -46,8 +46,6 @@ __all__ = [
     "scene_bounds",
     "transform_scene",
 ]
-
-SceneType = Literal["indoor", "outdoor", "i2o"]
 
 
 @dataclass(frozen=True, eq=False)

@@ -54,6 +54,7 @@ from scipy import ndimage
 from navverse.cache import cache_root
 from navverse.files import atomic_write
 from navverse.scene.geometry import MeshData, Scene
+from navverse.scene_types import scene_profile
 
 __all__ = [
     "BODY_HEIGHT",
@@ -283,13 +284,14 @@ def scene_fields(scene: Scene, *, cell: float | None = None) -> SceneFields:
     scene : Scene
         The scene.
     cell : float, optional
-        Cell size (m); by default 0.05 m indoors and 0.1 m elsewhere, coarsened so that the longer
+        Cell size (m); by default the ``field_cell_m`` of the scene type's profile
+        (:mod:`navverse.scene_types`: 0.05 m indoors, 0.1 m elsewhere), coarsened so that the longer
         side has at most 8000 cells.
     """
     ann = scene.annotations
     (x0, y0, _), (x1, y1, z1) = ann.bounds.min, ann.bounds.max
     longer = max(x1 - x0, y1 - y0)
-    cell = float(cell) if cell is not None else (0.05 if ann.scene_type == "indoor" else 0.1)
+    cell = float(cell) if cell is not None else scene_profile(ann.scene_type).field_cell_m
     cell = max(cell, longer / 8000.0)
     shape = (max(1, math.ceil((y1 - y0) / cell - 1e-9)), max(1, math.ceil((x1 - x0) / cell - 1e-9)))
     origin = np.array([x0, y0])

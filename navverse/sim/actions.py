@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 
+from navverse.scene_types import scene_profile
 from navverse.sim.controller import BRAKING, Waypoint, WaypointFollower, wrap_angle
 from navverse.sim.simulator import Simulator
 from navverse.sim.world import CONTROL_HZ
@@ -59,8 +60,9 @@ def _same_waypoint(a: Waypoint, b: Waypoint) -> bool:
 
 
 def step_size(scene_type: str) -> float:
-    """Translation of ``forward``/``left``/``right`` (m): 0.25 indoor, 1.0 outdoor and i2o."""
-    return 0.25 if scene_type == "indoor" else 1.0
+    """Translation of ``forward``/``left``/``right`` (m): the scene type's ``discrete_step_m``
+    (:mod:`navverse.scene_types`: 0.25 indoor, 1.0 outdoor and i2o)."""
+    return scene_profile(scene_type).discrete_step_m
 
 
 def discrete_waypoint(action: str, x: float, y: float, yaw: float, *, step: float) -> Waypoint | None:

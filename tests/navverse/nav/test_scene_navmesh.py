@@ -14,7 +14,6 @@ from navverse.nav.scene_navmesh import (
     build_scene_navmesh,
     describe_navmesh,
     navmesh_overlay,
-    preset_for_scene_type,
     read_navmesh_info,
     scene_area_types,
     write_navmesh_info,
@@ -33,14 +32,6 @@ def scene() -> Scene:
 @pytest.fixture(scope="module")
 def finder(scene: Scene) -> PathFinder:
     return build_scene_navmesh(scene, nav.OUTDOOR, area_costs={"road": 2.0, "sidewalk": 5.0})
-
-
-def test_presets_by_scene_type():
-    assert preset_for_scene_type("indoor") == "indoor"
-    assert preset_for_scene_type("outdoor") == "outdoor"
-    assert preset_for_scene_type("i2o") == "outdoor"
-    with pytest.raises(NavMeshError, match="unknown scene type 'attic'"):
-        preset_for_scene_type("attic")
 
 
 def test_navigable_classes_are_numbered_in_order(scene: Scene):

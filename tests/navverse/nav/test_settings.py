@@ -42,13 +42,11 @@ def test_presets_match_the_paper(name: str):
 
 
 @pytest.mark.parametrize("name", ["indoor", "outdoor"])
-def test_recipe_presets_match_the_constants(name: str):
+def test_recipe_presets_name_the_constants_and_repeat_no_setting(name: str):
     data = yaml.safe_load((REPO / "recipes" / "presets" / f"navmesh-{name}.yaml").read_text())
     assert list(data) == ["stages"] and list(data["stages"]) == ["navmesh"]
     assert data["stages"]["navmesh"]["preset"] == name
-    settings = data["stages"]["navmesh"]["settings"]
-    assert settings == nav.PRESETS[name].model_dump()  # every field, same values
-    assert NavMeshSettings.model_validate(settings) == nav.PRESETS[name]
+    assert "settings" not in data["stages"]["navmesh"]  # one source: navverse.nav.PRESETS
 
 
 def test_defaults_are_the_indoor_preset():
