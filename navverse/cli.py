@@ -12,13 +12,10 @@ from pathlib import Path
 
 from rich.console import Console
 
-from navverse.errors import NavverseError, SceneError
+from navverse.errors import NavverseError
 from pipeline.errors import PipelineError
 
 STAGES_PACKAGE = "stages"
-SCENE_ARTIFACTS = ("scene", "geometry")
-"""Artifacts that are scene directories, most complete first: a scene with its navmesh, or the
-geometry a scene stage produced before the navmesh is built."""
 
 
 def _workspace():
@@ -78,26 +75,6 @@ def _publish_datasets(targets, store, console: Console) -> None:
         path, written = publish(built_version(built), episodes_dir)
         shown = path.relative_to(episodes_dir.parent)
         console.print(f"{'published' if written else 'up to date'}: {shown}")
-
-
-def built_scene_dirs(episodes) -> dict[str, Path]:
-    """The built scene directory of every scene the episodes are in (a SceneError names a missing one)."""
-    from pipeline.store import ArtifactStore
-
-    store = ArtifactStore(_workspace().built_dir)
-    return {scene: _scene_dir(store, scene) for scene in sorted({e.scene_id for e in episodes})}
-
-
-def _scene_dir(store, scene_id: str) -> Path:
-    """A built scene's directory (with its navmesh when built), or a SceneError saying how to build it."""
-    found = (store.target_output(scene_id, artifact) for artifact in SCENE_ARTIFACTS)
-    scene_dir = next((path for path in found if path is not None), None)
-    if scene_dir is None:
-        raise SceneError(
-            f"scene {scene_id!r} is not built: run 'navverse build {scene_id}' "
-            "('navverse status' lists the scenes)"
-        )
-    return scene_dir
 
 
 def cmd_status(args: argparse.Namespace, console: Console) -> int:
@@ -165,11 +142,9 @@ def cmd_show_scene(args: argparse.Namespace, console: Console) -> int:
     """Draw a built scene's bird's-eye view, with its navmesh when it has one."""
     from navverse.nav.scene_navmesh import load_scene_navmesh, navmesh_overlay
     from navverse.scene import SceneFiles, read_scene, render_bev
-    from pipeline.store import ArtifactStore
+    from navverse.scene.locate import built_scene_dir
 
-    workspace = _workspace()
-    store = ArtifactStore(workspace.built_dir)
-    scene_dir = _scene_dir(store, args.scene_id)
+    scene_dir = built_scene_dir(_workspace().built_dir, args.scene_id)
     out = Path(args.output or f"{args.scene_id}-bev.png")
     has_navmesh = SceneFiles(scene_dir).navmesh.is_file()
     overlays = [navmesh_overlay(load_scene_navmesh(scene_dir))] if has_navmesh else []
@@ -198,11 +173,11 @@ def cmd_show_episode(args: argparse.Namespace, console: Console) -> int:
     """Draw one episode on its scene's bird's-eye view."""
     from navverse.dataset import Dataset
     from navverse.episodes.inspect import draw_episode
-    from pipeline.store import ArtifactStore
+    from navverse.scene.locate import built_scene_dir
 
     dataset = Dataset(args.dataset)
     episode = dataset.episode(args.episode_id)
-    scene_dir = _scene_dir(ArtifactStore(_workspace().built_dir), episode.scene_id)
+    scene_dir = built_scene_dir(_workspace().built_dir, episode.scene_id)
     out = draw_episode(
         scene_dir, episode, dataset.rollout(episode), Path(args.output or f"{args.episode_id}.png")
     )
@@ -220,6 +195,7 @@ def cmd_validate_dataset(args: argparse.Namespace, console: Console) -> int:
     from navverse.dataset import Dataset, DatasetError
     from navverse.episodes.inspect import check_bounds, replay
     from navverse.scene.directory import scene_hash
+    from navverse.scene.locate import built_scene_dirs
 
     dataset = Dataset(args.dataset)
     bad = dataset.verify_checksums()
@@ -245,7 +221,7 @@ def cmd_validate_dataset(args: argparse.Namespace, console: Console) -> int:
                 episodes[i]
                 for i in sorted(rng.choice(len(episodes), min(count, len(episodes)), replace=False))
             ]
-        scene_dirs = built_scene_dirs(chosen)
+        scene_dirs = built_scene_dirs(chosen, built_dir=_workspace().built_dir)
         changed = [s for s, d in scene_dirs.items() if scene_hash(d) != dataset.manifest.scene_hashes.get(s)]
         if changed:
             console.print(
@@ -310,11 +286,12 @@ def cmd_eval(args: argparse.Namespace, console: Console) -> int:
     from navverse.eval.scoring import score
     from navverse.eval.submission import read_submission
     from navverse.eval.tables import table_rows, write_outputs
+    from navverse.scene.locate import built_scene_dirs
 
     dataset = Dataset(args.dataset)
     ids = _split_of(dataset, args.split)
     submission = read_submission(args.submission, episode_ids=ids)
-    scene_dirs = built_scene_dirs(dataset.episodes(split=args.split))
+    scene_dirs = built_scene_dirs(dataset.episodes(split=args.split), built_dir=_workspace().built_dir)
     with Progress(console=console, transient=True) as bar:
         task = bar.add_task("scoring", total=len(submission.records) or 1)
         result = score(
@@ -374,11 +351,12 @@ def cmd_run_agent(args: argparse.Namespace, console: Console) -> int:
 
     from navverse.dataset import Dataset
     from navverse.eval.runner import run_agent
+    from navverse.scene.locate import built_scene_dirs
 
     dataset = Dataset(args.dataset)
     _split_of(dataset, args.split)
     embodiment = args.embodiment or dataset.manifest.embodiment
-    scene_dirs = built_scene_dirs(dataset.episodes(split=args.split))
+    scene_dirs = built_scene_dirs(dataset.episodes(split=args.split), built_dir=_workspace().built_dir)
     jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
     with Progress(*columns, console=console, transient=True) as bar:
