@@ -129,7 +129,26 @@ def landmark_text(
     goal_seen: bool,
     rng: np.random.Generator,
 ) -> str:
-    """The landmark-grounded instruction: one pattern per directive, drawn with `rng`; no distances."""
+    """The landmark-grounded instruction: one pattern per directive, drawn with `rng`; no distances.
+
+    Parameters
+    ----------
+    directives : sequence of Directive
+        The directives, in path order.
+    landmarks : sequence of SeenLandmark or None
+        The landmark of each directive, or None.
+    goal : str
+        Goal category (underscores read as spaces).
+    goal_seen : bool
+        Whether the goal was seen before arriving; if not, the arrival says "you will arrive at".
+    rng : numpy.random.Generator
+        Chooses the patterns, turn verbs and joiners.
+
+    Returns
+    -------
+    str
+        The instruction, sentences capitalised, ending with a full stop.
+    """
     clauses = []
     for d, lm in zip(directives, landmarks, strict=True):
         if d.kind == "start":
