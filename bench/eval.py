@@ -1,4 +1,4 @@
-"""Scoring benchmark: ``navverse.eval.metrics`` against a plain-Python implementation of the same formulas.
+"""Scoring benchmark: ``navverse.eval`` scoring against a plain-Python implementation of the same formulas.
 
 On synthetic data (numpy only, deterministic from ``--seed``):
 
@@ -17,7 +17,7 @@ On synthetic data (numpy only, deterministic from ``--seed``):
    VLN, whose reference path is the first (up to) 50 m the robot walked, half a meter off (nDTW). One
    to four goal instances; collisions are not reported, so CR is the footprint against the obstacle
    field.
-3. Ours: :func:`navverse.eval.metrics.measure` on batches of ``scoring.BATCH_ROWS`` rows (as
+3. Ours: :func:`navverse.eval.measures.measure` on batches of ``scoring.BATCH_ROWS`` rows (as
    ``navverse eval`` batches them), then :func:`~navverse.eval.metrics.compute_metrics` over every
    episode. The records are generated a batch at a time (10 000 x 15 001 rows would be 9.6 GB);
    generation is timed apart from scoring.
@@ -52,7 +52,8 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 from rich.table import Table
 from scipy import ndimage, signal
 
-from navverse.eval.metrics import MEASURES, EpisodeTarget, Robot, compute_metrics, measure
+from navverse.eval.measures import MEASURES, EpisodeTarget, Robot, measure
+from navverse.eval.metrics import compute_metrics
 from navverse.eval.scoring import BATCH_ROWS, robot_for
 from navverse.scene.fields import SceneFields
 
@@ -638,7 +639,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ref, fields = r["reference"], r["fields"]
     labels = ", ".join(f"{k} {v}" for k, v in r["labels"].items())
     console.print(
-        f"ours: navverse.eval.metrics.measure on batches of {r['batch_trajectories']} records "
+        f"ours: navverse.eval.measures.measure on batches of {r['batch_trajectories']} records "
         f"(scoring.BATCH_ROWS = {BATCH_ROWS:,} rows), then compute_metrics over all; not included: "
         f"generating the records ({r['generate_s']:.1f} s) and the scene fields ({fields['seconds']:.1f} s, "
         f"{fields['shape'][0]} x {fields['shape'][1]} cells). Plain Python: bench/eval.py reference_scores, "

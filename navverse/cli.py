@@ -1,30 +1,38 @@
 """The ``navverse`` command. The composition root: the only navverse module that imports
-``pipeline`` and ``stages``."""
+``pipeline`` and ``stages``.
+
+It holds the argument parser, :func:`main` and the build commands (build, status, clean, validate
+recipe); the data and evaluation commands are in :mod:`navverse.cli_data`, given the build store
+(``data/built``) of the workspace here when they need built scenes.
+"""
 
 from __future__ import annotations
 
 import argparse
-import os
 import shutil
 import sys
 from collections.abc import Sequence
+from functools import partial
 from pathlib import Path
 
 from rich.console import Console
 
-from navverse.errors import NavverseError, SceneError
+from navverse import cli_data
+from navverse.errors import NavverseError
 from pipeline.errors import PipelineError
 
 STAGES_PACKAGE = "stages"
-SCENE_ARTIFACTS = ("scene", "geometry")
-"""Artifacts that are scene directories, most complete first: a scene with its navmesh, or the
-geometry a scene stage produced before the navmesh is built."""
 
 
 def _workspace():
     from pipeline.workspace import Workspace
 
     return Workspace.find()
+
+
+def _built_dir() -> Path:
+    """The build store of the workspace (``data/built``)."""
+    return _workspace().built_dir
 
 
 def _load_targets(workspace, files: Sequence[Path] | None = None):
@@ -78,26 +86,6 @@ def _publish_datasets(targets, store, console: Console) -> None:
         path, written = publish(built_version(built), episodes_dir)
         shown = path.relative_to(episodes_dir.parent)
         console.print(f"{'published' if written else 'up to date'}: {shown}")
-
-
-def built_scene_dirs(episodes) -> dict[str, Path]:
-    """The built scene directory of every scene the episodes are in (a SceneError names a missing one)."""
-    from pipeline.store import ArtifactStore
-
-    store = ArtifactStore(_workspace().built_dir)
-    return {scene: _scene_dir(store, scene) for scene in sorted({e.scene_id for e in episodes})}
-
-
-def _scene_dir(store, scene_id: str) -> Path:
-    """A built scene's directory (with its navmesh when built), or a SceneError saying how to build it."""
-    found = (store.target_output(scene_id, artifact) for artifact in SCENE_ARTIFACTS)
-    scene_dir = next((path for path in found if path is not None), None)
-    if scene_dir is None:
-        raise SceneError(
-            f"scene {scene_id!r} is not built: run 'navverse build {scene_id}' "
-            "('navverse status' lists the scenes)"
-        )
-    return scene_dir
 
 
 def cmd_status(args: argparse.Namespace, console: Console) -> int:
@@ -161,259 +149,6 @@ def cmd_validate_recipe(args: argparse.Namespace, console: Console) -> int:
     return 0
 
 
-def cmd_show_scene(args: argparse.Namespace, console: Console) -> int:
-    """Draw a built scene's bird's-eye view, with its navmesh when it has one."""
-    from navverse.nav.scene_navmesh import load_scene_navmesh, navmesh_overlay
-    from navverse.scene import SceneFiles, read_scene, render_bev
-    from pipeline.store import ArtifactStore
-
-    workspace = _workspace()
-    store = ArtifactStore(workspace.built_dir)
-    scene_dir = _scene_dir(store, args.scene_id)
-    out = Path(args.output or f"{args.scene_id}-bev.png")
-    has_navmesh = SceneFiles(scene_dir).navmesh.is_file()
-    overlays = [navmesh_overlay(load_scene_navmesh(scene_dir))] if has_navmesh else []
-    render_bev(read_scene(scene_dir), out, meters_per_pixel=args.meters_per_pixel, overlays=overlays)
-    console.print(f"wrote {out}")
-    return 0
-
-
-def cmd_show_dataset(args: argparse.Namespace, console: Console) -> int:
-    """Print a dataset's episode counts and goal categories."""
-    from navverse.dataset import Dataset
-    from navverse.episodes.inspect import category_table, counts_table
-
-    dataset = Dataset(args.dataset)
-    manifest = dataset.manifest
-    console.print(counts_table(dataset))
-    console.print(category_table(dataset, top=args.top))
-    for task, (low, high) in manifest.difficulty_thresholds.items():
-        console.print(f"{task}: easy < {low:.2f} m <= medium < {high:.2f} m <= hard (geodesic length)")
-    splits = "; ".join(f"{name}: {', '.join(scenes)}" for name, scenes in manifest.splits.items())
-    console.print(f"splits (scene-disjoint): {splits}", highlight=False)
-    return 0
-
-
-def cmd_show_episode(args: argparse.Namespace, console: Console) -> int:
-    """Draw one episode on its scene's bird's-eye view."""
-    from navverse.dataset import Dataset
-    from navverse.episodes.inspect import draw_episode
-    from pipeline.store import ArtifactStore
-
-    dataset = Dataset(args.dataset)
-    episode = dataset.episode(args.episode_id)
-    scene_dir = _scene_dir(ArtifactStore(_workspace().built_dir), episode.scene_id)
-    out = draw_episode(
-        scene_dir, episode, dataset.rollout(episode), Path(args.output or f"{args.episode_id}.png")
-    )
-    text = episode.instruction.instruction_text if episode.instruction else episode.goal_category
-    console.print(f"{episode.episode_id} ({episode.task}, {episode.info.geodesic_distance:.1f} m): {text}")
-    console.print(f"wrote {out}")
-    return 0
-
-
-def cmd_validate_dataset(args: argparse.Namespace, console: Console) -> int:
-    """Check a dataset: format, checksums, bounds, and (with --replay) its oracle rollouts under physics."""
-    import numpy as np
-    from rich.progress import Progress
-
-    from navverse.dataset import Dataset, DatasetError
-    from navverse.episodes.inspect import check_bounds, replay
-    from navverse.scene.directory import scene_hash
-
-    dataset = Dataset(args.dataset)
-    bad = dataset.verify_checksums()
-    if bad:
-        raise DatasetError(f"{dataset.root}: files differ from the manifest's checksums: {', '.join(bad)}")
-    episodes = list(dataset.episodes())
-    violations = [(e.episode_id, r) for e in episodes if (r := check_bounds(e)) is not None]
-    console.print(
-        f"{dataset.root}: format {dataset.manifest.format_version}, {len(episodes)} episodes, checksums ok"
-    )
-    console.print(
-        f"distance and duration bounds: {len(episodes) - len(violations)} of {len(episodes)} keep them"
-    )
-    for episode_id, reason in violations[:10]:
-        console.print(f"  {episode_id}: {reason}", highlight=False)
-    failures = bool(violations)
-    if args.replay:
-        chosen = episodes
-        if args.replay != "all":
-            count = int(args.replay)
-            rng = np.random.default_rng(args.seed)
-            chosen = [
-                episodes[i]
-                for i in sorted(rng.choice(len(episodes), min(count, len(episodes)), replace=False))
-            ]
-        scene_dirs = built_scene_dirs(chosen)
-        changed = [s for s, d in scene_dirs.items() if scene_hash(d) != dataset.manifest.scene_hashes.get(s)]
-        if changed:
-            console.print(
-                f"[yellow]warning:[/] built scenes differ from the dataset's: {', '.join(changed)} "
-                "(rebuilt since packaging?); replaying in the scenes as built now"
-            )
-        with Progress(console=console, transient=True) as bar:
-            task = bar.add_task("replaying (scenes)", total=len(scene_dirs))
-            report = replay(
-                chosen,
-                scene_dirs,
-                embodiment=dataset.manifest.embodiment,
-                jobs=args.jobs,
-                progress=lambda done, total: bar.update(task, completed=done),
-            )
-        console.print(f"replayed oracle rollouts: {report.reached} of {report.replayed} reach a goal")
-        for episode_id, reason in report.failures[:10]:
-            console.print(f"  {episode_id}: {reason}", highlight=False)
-        failures = failures or bool(report.failures)
-    return 1 if failures else 0
-
-
-def _split_of(dataset, split: str) -> list[str]:
-    """The episode ids of a split, or a DatasetError naming the splits there are."""
-    from navverse.dataset import DatasetError
-
-    if split not in dataset.splits:
-        raise DatasetError(f"{dataset.root} has no split {split!r}; it has: {', '.join(dataset.splits)}")
-    return [e.episode_id for e in dataset.episodes(split=split)]
-
-
-def cmd_validate_submission(args: argparse.Namespace, console: Console) -> int:
-    """Report every problem of a submission against a dataset split."""
-    from navverse.dataset import Dataset
-    from navverse.eval.submission import read_submission
-
-    dataset = Dataset(args.dataset)
-    ids = _split_of(dataset, args.split)
-    submission = read_submission(args.submission, episode_ids=ids)
-    missing = sorted(set(ids) - set(submission.records) - {p.episode_id for p in submission.problems})
-    for problem in submission.problems:
-        console.print(str(problem), highlight=False, markup=False)
-    for episode_id in missing[:20]:
-        console.print(f"missing: {episode_id}", highlight=False, markup=False)
-    if len(missing) > 20:
-        console.print(f"missing: ... and {len(missing) - 20} more episodes")
-    console.print(
-        f"{args.submission}: {len(submission.records)} of {len(ids)} episodes of {args.split} valid; "
-        f"{len(submission.problems)} problems, {len(missing)} missing"
-    )
-    return 1 if submission.problems or missing else 0
-
-
-def cmd_eval(args: argparse.Namespace, console: Console) -> int:
-    """Score a submission: metrics.json, tables (md, csv), report.html, and the headline table."""
-    from rich.progress import Progress
-    from rich.table import Table
-
-    from navverse import __version__
-    from navverse.dataset import Dataset
-    from navverse.eval.report import write_report
-    from navverse.eval.scoring import score
-    from navverse.eval.submission import read_submission
-    from navverse.eval.tables import table_rows, write_outputs
-
-    dataset = Dataset(args.dataset)
-    ids = _split_of(dataset, args.split)
-    submission = read_submission(args.submission, episode_ids=ids)
-    scene_dirs = built_scene_dirs(dataset.episodes(split=args.split))
-    with Progress(console=console, transient=True) as bar:
-        task = bar.add_task("scoring", total=len(submission.records) or 1)
-        result = score(
-            dataset,
-            submission,
-            split=args.split,
-            scene_dirs=scene_dirs,
-            embodiment=args.embodiment,
-            progress=lambda done, total: bar.update(task, completed=done),
-        )
-    meta = {
-        "dataset": str(dataset.root),
-        "dataset_version": dataset.manifest.version,
-        "split": args.split,
-        "submission": str(args.submission),
-        "embodiment": args.embodiment or dataset.manifest.embodiment,
-        "toolkit_version": __version__,
-    }
-    out = write_outputs(result, args.out, meta=meta)
-    with Progress(console=console, transient=True) as bar:
-        task = bar.add_task("report", total=len(result.episodes) or 1)
-        report = write_report(
-            result,
-            dataset=dataset,
-            submission=submission,
-            scene_dirs=scene_dirs,
-            out_dir=Path(out),
-            embodiment=args.embodiment,
-            progress=lambda done, total: bar.update(task, completed=done),
-        )
-    if submission.problems:
-        console.print(f"[yellow]{len(submission.problems)} submission problems[/] (listed in metrics.json):")
-        for problem in submission.problems[:10]:
-            console.print(f"  {problem}", highlight=False, markup=False)
-    invalid = [row["episode_id"] for row in result.episodes if row["label"] == "invalid"]
-    if invalid:
-        console.print(
-            f"[yellow]{len(invalid)} episodes have no valid trajectory, scored as failures:[/] "
-            + ", ".join(invalid[:10])
-            + (f" ... ({len(invalid) - 10} more)" if len(invalid) > 10 else ""),
-            highlight=False,
-        )
-    header, rows = table_rows(result, "task_scene")
-    table = Table(title=f"{dataset.manifest.name} v{dataset.manifest.version} / {args.split}")
-    for column in header:
-        table.add_column(column, justify="left" if column == header[0] else "right")
-    for row in rows:
-        table.add_row(*row)
-    console.print(table)
-    console.print(f"wrote {out}/metrics.json, tables.md, *.csv, {report.name}", highlight=False)
-    return 0
-
-
-def cmd_run_agent(args: argparse.Namespace, console: Console) -> int:
-    """Run an agent online over a split and write its submission."""
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
-
-    from navverse.dataset import Dataset
-    from navverse.eval.runner import run_agent
-
-    dataset = Dataset(args.dataset)
-    _split_of(dataset, args.split)
-    embodiment = args.embodiment or dataset.manifest.embodiment
-    scene_dirs = built_scene_dirs(dataset.episodes(split=args.split))
-    jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)
-    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
-    with Progress(*columns, console=console, transient=True) as bar:
-        task = bar.add_task(f"{args.agent} on {args.split}", total=None)
-        summary = run_agent(
-            dataset,
-            agent=args.agent,
-            split=args.split,
-            embodiment=embodiment,
-            scene_dirs=scene_dirs,
-            out=args.out,
-            jobs=jobs,
-            limit=args.limit,
-            seed=args.seed,
-            max_steps=args.max_steps,
-            terrain_friction=args.friction,
-            progress=lambda done, total: bar.update(task, completed=done, total=total),
-        )
-    ended = ", ".join(f"{label} {count}" for label, count in sorted(summary.terminations.items()))
-    resumed = f" ({summary.resumed} resumed from an interrupted run)" if summary.resumed else ""
-    console.print(
-        f"{args.agent} ({embodiment}): {summary.episodes} episodes{resumed} in {summary.seconds:.0f} s; "
-        f"ended: {ended}",
-        highlight=False,
-        markup=False,
-    )
-    console.print(
-        f"wrote {summary.out}; score it with: navverse eval --dataset {args.dataset} "
-        f"--submission {summary.out} --split {args.split}",
-        highlight=False,
-        markup=False,
-    )
-    return 0
-
-
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every sub-command."""
     parser = argparse.ArgumentParser(
@@ -462,14 +197,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     vdataset.add_argument("--seed", type=int, default=0, help="which episodes --replay N samples")
     vdataset.add_argument("--jobs", "-j", type=int, default=None, help="processes for --replay")
-    vdataset.set_defaults(func=cmd_validate_dataset)
+    vdataset.set_defaults(func=partial(cli_data.cmd_validate_dataset, built_dir=_built_dir))
     vsubmission = vsub.add_parser(
         "submission", help="report every problem of a submission, with line numbers"
     )
     vsubmission.add_argument("submission", help="JSONL file (optionally .gz), one episode per line")
     vsubmission.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
     vsubmission.add_argument("--split", default="eval", help="the split it answers (default: eval)")
-    vsubmission.set_defaults(func=cmd_validate_submission)
+    vsubmission.set_defaults(func=cli_data.cmd_validate_submission)
 
     evaluate = sub.add_parser("eval", help="score a submission against a dataset split")
     evaluate.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
@@ -477,7 +212,7 @@ def build_parser() -> argparse.ArgumentParser:
     evaluate.add_argument("--split", default="eval", help="split scored (default: eval)")
     evaluate.add_argument("--embodiment", default=None, help="robot scored (default: the dataset's)")
     evaluate.add_argument("--out", default="eval-out", help="output folder (default: eval-out)")
-    evaluate.set_defaults(func=cmd_eval)
+    evaluate.set_defaults(func=partial(cli_data.cmd_eval, built_dir=_built_dir))
 
     run = sub.add_parser("run-agent", help="run an agent over a dataset split and write its submission")
     run.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
@@ -496,7 +231,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--friction", type=float, default=None, help="friction of every terrain class (a diagnostic)"
     )
-    run.set_defaults(func=cmd_run_agent)
+    run.set_defaults(func=partial(cli_data.cmd_run_agent, built_dir=_built_dir))
 
     show = sub.add_parser("show", help="draw or print what was built")
     ssub = show.add_subparsers(dest="what", required=True, metavar="WHAT")
@@ -504,16 +239,16 @@ def build_parser() -> argparse.ArgumentParser:
     scene.add_argument("scene_id")
     scene.add_argument("-o", "--output", help="PNG path (default: <scene_id>-bev.png)")
     scene.add_argument("--meters-per-pixel", type=float, default=None)
-    scene.set_defaults(func=cmd_show_scene)
+    scene.set_defaults(func=partial(cli_data.cmd_show_scene, built_dir=_built_dir))
     dataset = ssub.add_parser("dataset", help="episode counts and goal categories of a dataset")
     dataset.add_argument("dataset", help="episodes/<name>/v<version> (or episodes/<name>: the newest)")
     dataset.add_argument("--top", type=int, default=25, help="goal categories listed")
-    dataset.set_defaults(func=cmd_show_dataset)
+    dataset.set_defaults(func=cli_data.cmd_show_dataset)
     episode = ssub.add_parser("episode", help="draw an episode on its scene's bird's-eye view")
     episode.add_argument("dataset")
     episode.add_argument("episode_id")
     episode.add_argument("-o", "--output", help="PNG path (default: <episode_id>.png)")
-    episode.set_defaults(func=cmd_show_episode)
+    episode.set_defaults(func=partial(cli_data.cmd_show_episode, built_dir=_built_dir))
     return parser
 
 

@@ -23,12 +23,13 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from navverse.cli import built_scene_dirs
 from navverse.dataset import Dataset
 from navverse.errors import NavverseError
 from navverse.eval.runner import run_agent
 from navverse.eval.scoring import score
 from navverse.eval.submission import read_submission
+from navverse.scene.locate import built_scene_dirs
+from pipeline.workspace import Workspace
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -45,7 +46,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     console = Console()
     try:
         dataset = Dataset(args.dataset)
-        scene_dirs = built_scene_dirs(dataset.episodes(split=args.split))
+        scene_dirs = built_scene_dirs(
+            dataset.episodes(split=args.split), built_dir=Workspace.find().built_dir
+        )
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
         rows = []

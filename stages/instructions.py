@@ -36,7 +36,8 @@ def instructions(ctx: StageContext, params: InstructionsParams) -> None:
 
     from navverse.dataset import Episode, read_json_gz, write_json_gz
     from navverse.episodes import files
-    from navverse.episodes.instructions import InstructionSettings, InstructionWriter, load_refiner
+    from navverse.episodes.instructions.settings import InstructionSettings
+    from navverse.episodes.instructions.writer import InstructionWriter, load_refiner
     from navverse.scene import read_annotations, read_scene
     from navverse.sim.embodiments import make_embodiment
 

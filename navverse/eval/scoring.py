@@ -2,7 +2,7 @@
 
 :func:`score` reads the episodes of the split, takes each one's valid record from the submission (a
 missing or invalid one is a failure, labelled ``invalid``), computes the measures in batches of rows
-(:func:`navverse.eval.metrics.measure`) and the metrics (:func:`navverse.eval.metrics.compute_metrics`),
+(:func:`navverse.eval.measures.measure`) and the metrics (:func:`navverse.eval.metrics.compute_metrics`),
 and groups them: overall, per task, per scene type, per task × scene type, per difficulty, and per task
 over the indoor-to-outdoor episodes alone (the transition analysis).
 """
@@ -17,16 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from navverse.dataset import Dataset, Episode
-from navverse.eval.metrics import (
-    LABELS,
-    MEASURES,
-    METRICS,
-    TRANSITION_SCENE_TYPES,
-    EpisodeTarget,
-    Robot,
-    compute_metrics,
-    measure,
-)
+from navverse.eval.measures import MEASURES, TRANSITION_SCENE_TYPES, EpisodeTarget, Robot, measure
+from navverse.eval.metrics import LABELS, METRICS, compute_metrics
 from navverse.eval.submission import Submission
 from navverse.scene.fields import SceneFields, load_scene_fields
 

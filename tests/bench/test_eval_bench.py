@@ -1,7 +1,8 @@
 """bench/eval.py on a few short records: the vectorised metrics and its plain-Python reference agree.
 
-This is the cross-check of ``navverse.eval.metrics`` against the definitions written out again, row by
-row, in ``bench/eval.py`` (:func:`reference_scores`); no timing is asserted.
+This is the cross-check of ``navverse.eval.measures`` and ``navverse.eval.metrics`` against the
+definitions written out again, row by row, in ``bench/eval.py`` (:func:`reference_scores`); no timing
+is asserted.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from navverse.eval import metrics
+from navverse.eval import measures, metrics
 from navverse.eval.scoring import robot_for
 
 BENCH = Path(__file__).resolve().parents[2] / "bench" / "eval.py"
@@ -72,9 +73,11 @@ def test_the_records_exercise_every_branch(bench):
         assert r.target.goal_centers.shape == (len(r.target.goal_radii), 3)
 
 
-@pytest.mark.parametrize(("name", "value"), [("TIMEOUT_S", 200.0), ("CE_EPSILON", 2.0)])
-def test_a_changed_definition_fails_the_run(bench, monkeypatch, name, value):
-    monkeypatch.setattr(metrics, name, value)
+@pytest.mark.parametrize(
+    ("module", "name", "value"), [(measures, "TIMEOUT_S", 200.0), (metrics, "CE_EPSILON", 2.0)]
+)
+def test_a_changed_definition_fails_the_run(bench, monkeypatch, module, name, value):
+    monkeypatch.setattr(module, name, value)
     assert bench.main(SMALL) == 1
 
 

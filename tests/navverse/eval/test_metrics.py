@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from navverse.eval.metrics import EpisodeTarget, Robot, compute_metrics, measure, ndtw
+from navverse.eval.measures import EpisodeTarget, Robot, measure, ndtw
+from navverse.eval.metrics import compute_metrics
 from navverse.scene.fields import SceneFields
 
 ROBOT = Robot(name="spot", radius=0.6, length=1.1, width=0.5)  # success distance 1.6 m

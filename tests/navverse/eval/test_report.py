@@ -18,7 +18,7 @@ import pytest
 from PIL import Image
 
 from navverse.dataset import FORMAT_VERSION, Dataset, Episode, EpisodeFile, write_json_gz
-from navverse.eval import report, screenshot
+from navverse.eval import figures, screenshot
 from navverse.eval.report import write_report
 from navverse.eval.scoring import EvalResult, score
 from navverse.eval.screenshot import ScreenshotError, find_browser, screenshot_report
@@ -183,7 +183,7 @@ def test_the_report_is_self_contained(scored):
         image = Image.open(io.BytesIO(data))
         image.verify()
     thumbnail = Image.open(io.BytesIO(base64.b64decode(pictures[-1])))
-    assert thumbnail.size == report.THUMB_SIZE_PX
+    assert thumbnail.size == figures.THUMB_SIZE_PX
 
 
 def test_rewriting_replaces_the_report_atomically(scored, tmp_path: Path):

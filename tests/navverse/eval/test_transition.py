@@ -13,7 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from navverse.eval.metrics import METRICS, EpisodeTarget, Robot, compute_metrics, measure
+from navverse.eval.measures import EpisodeTarget, Robot, measure
+from navverse.eval.metrics import METRICS, compute_metrics
 from navverse.eval.scoring import EvalResult, group_means, metric_rows
 from navverse.eval.tables import table_rows, write_outputs
 from navverse.scene.fields import SceneFields, indoor_raster

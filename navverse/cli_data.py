@@ -1,0 +1,281 @@
+"""The data and evaluation commands of ``navverse``: show, validate dataset / submission, eval, run-agent.
+
+They read datasets, submissions and built scenes, never the build engine: :mod:`navverse.cli`, the
+composition root, parses the arguments and passes the commands that need built scenes a ``built_dir``
+callable returning the build store (``data/built``), called only once a scene is needed, so the others
+run anywhere. Each command returns the exit code; its imports are inside it, so the command line starts
+quickly.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+from collections.abc import Callable
+from pathlib import Path
+
+from rich.console import Console
+
+__all__ = [
+    "cmd_eval",
+    "cmd_run_agent",
+    "cmd_show_dataset",
+    "cmd_show_episode",
+    "cmd_show_scene",
+    "cmd_validate_dataset",
+    "cmd_validate_submission",
+]
+
+
+def cmd_show_scene(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
+    """Draw a built scene's bird's-eye view, with its navmesh when it has one."""
+    from navverse.nav.scene_navmesh import load_scene_navmesh, navmesh_overlay
+    from navverse.scene import SceneFiles, read_scene, render_bev
+    from navverse.scene.locate import built_scene_dir
+
+    scene_dir = built_scene_dir(built_dir(), args.scene_id)
+    out = Path(args.output or f"{args.scene_id}-bev.png")
+    has_navmesh = SceneFiles(scene_dir).navmesh.is_file()
+    overlays = [navmesh_overlay(load_scene_navmesh(scene_dir))] if has_navmesh else []
+    render_bev(read_scene(scene_dir), out, meters_per_pixel=args.meters_per_pixel, overlays=overlays)
+    console.print(f"wrote {out}")
+    return 0
+
+
+def cmd_show_dataset(args: argparse.Namespace, console: Console) -> int:
+    """Print a dataset's episode counts and goal categories."""
+    from navverse.dataset import Dataset
+    from navverse.episodes.inspect import category_table, counts_table
+
+    dataset = Dataset(args.dataset)
+    manifest = dataset.manifest
+    console.print(counts_table(dataset))
+    console.print(category_table(dataset, top=args.top))
+    for task, (low, high) in manifest.difficulty_thresholds.items():
+        console.print(f"{task}: easy < {low:.2f} m <= medium < {high:.2f} m <= hard (geodesic length)")
+    splits = "; ".join(f"{name}: {', '.join(scenes)}" for name, scenes in manifest.splits.items())
+    console.print(f"splits (scene-disjoint): {splits}", highlight=False)
+    return 0
+
+
+def cmd_show_episode(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
+    """Draw one episode on its scene's bird's-eye view."""
+    from navverse.dataset import Dataset
+    from navverse.episodes.inspect import draw_episode
+    from navverse.scene.locate import built_scene_dir
+
+    dataset = Dataset(args.dataset)
+    episode = dataset.episode(args.episode_id)
+    scene_dir = built_scene_dir(built_dir(), episode.scene_id)
+    out = draw_episode(
+        scene_dir, episode, dataset.rollout(episode), Path(args.output or f"{args.episode_id}.png")
+    )
+    text = episode.instruction.instruction_text if episode.instruction else episode.goal_category
+    console.print(f"{episode.episode_id} ({episode.task}, {episode.info.geodesic_distance:.1f} m): {text}")
+    console.print(f"wrote {out}")
+    return 0
+
+
+def cmd_validate_dataset(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
+    """Check a dataset: format, checksums, bounds, and (with --replay) its oracle rollouts under physics."""
+    import numpy as np
+    from rich.progress import Progress
+
+    from navverse.dataset import Dataset, DatasetError
+    from navverse.episodes.inspect import check_bounds, replay
+    from navverse.scene.directory import scene_hash
+    from navverse.scene.locate import built_scene_dirs
+
+    dataset = Dataset(args.dataset)
+    bad = dataset.verify_checksums()
+    if bad:
+        raise DatasetError(f"{dataset.root}: files differ from the manifest's checksums: {', '.join(bad)}")
+    episodes = list(dataset.episodes())
+    violations = [(e.episode_id, r) for e in episodes if (r := check_bounds(e)) is not None]
+    console.print(
+        f"{dataset.root}: format {dataset.manifest.format_version}, {len(episodes)} episodes, checksums ok"
+    )
+    console.print(
+        f"distance and duration bounds: {len(episodes) - len(violations)} of {len(episodes)} keep them"
+    )
+    for episode_id, reason in violations[:10]:
+        console.print(f"  {episode_id}: {reason}", highlight=False)
+    failures = bool(violations)
+    if args.replay:
+        chosen = episodes
+        if args.replay != "all":
+            count = int(args.replay)
+            rng = np.random.default_rng(args.seed)
+            chosen = [
+                episodes[i]
+                for i in sorted(rng.choice(len(episodes), min(count, len(episodes)), replace=False))
+            ]
+        scene_dirs = built_scene_dirs(chosen, built_dir=built_dir())
+        changed = [s for s, d in scene_dirs.items() if scene_hash(d) != dataset.manifest.scene_hashes.get(s)]
+        if changed:
+            console.print(
+                f"[yellow]warning:[/] built scenes differ from the dataset's: {', '.join(changed)} "
+                "(rebuilt since packaging?); replaying in the scenes as built now"
+            )
+        with Progress(console=console, transient=True) as bar:
+            task = bar.add_task("replaying (scenes)", total=len(scene_dirs))
+            report = replay(
+                chosen,
+                scene_dirs,
+                embodiment=dataset.manifest.embodiment,
+                jobs=args.jobs,
+                progress=lambda done, total: bar.update(task, completed=done),
+            )
+        console.print(f"replayed oracle rollouts: {report.reached} of {report.replayed} reach a goal")
+        for episode_id, reason in report.failures[:10]:
+            console.print(f"  {episode_id}: {reason}", highlight=False)
+        failures = failures or bool(report.failures)
+    return 1 if failures else 0
+
+
+def _split_of(dataset, split: str) -> list[str]:
+    """The episode ids of a split, or a DatasetError naming the splits there are."""
+    from navverse.dataset import DatasetError
+
+    if split not in dataset.splits:
+        raise DatasetError(f"{dataset.root} has no split {split!r}; it has: {', '.join(dataset.splits)}")
+    return [e.episode_id for e in dataset.episodes(split=split)]
+
+
+def cmd_validate_submission(args: argparse.Namespace, console: Console) -> int:
+    """Report every problem of a submission against a dataset split."""
+    from navverse.dataset import Dataset
+    from navverse.eval.submission import read_submission
+
+    dataset = Dataset(args.dataset)
+    ids = _split_of(dataset, args.split)
+    submission = read_submission(args.submission, episode_ids=ids)
+    missing = sorted(set(ids) - set(submission.records) - {p.episode_id for p in submission.problems})
+    for problem in submission.problems:
+        console.print(str(problem), highlight=False, markup=False)
+    for episode_id in missing[:20]:
+        console.print(f"missing: {episode_id}", highlight=False, markup=False)
+    if len(missing) > 20:
+        console.print(f"missing: ... and {len(missing) - 20} more episodes")
+    console.print(
+        f"{args.submission}: {len(submission.records)} of {len(ids)} episodes of {args.split} valid; "
+        f"{len(submission.problems)} problems, {len(missing)} missing"
+    )
+    return 1 if submission.problems or missing else 0
+
+
+def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
+    """Score a submission: metrics.json, tables (md, csv), report.html, and the headline table."""
+    from rich.progress import Progress
+    from rich.table import Table
+
+    from navverse import __version__
+    from navverse.dataset import Dataset
+    from navverse.eval.report import write_report
+    from navverse.eval.scoring import score
+    from navverse.eval.submission import read_submission
+    from navverse.eval.tables import table_rows, write_outputs
+    from navverse.scene.locate import built_scene_dirs
+
+    dataset = Dataset(args.dataset)
+    ids = _split_of(dataset, args.split)
+    submission = read_submission(args.submission, episode_ids=ids)
+    scene_dirs = built_scene_dirs(dataset.episodes(split=args.split), built_dir=built_dir())
+    with Progress(console=console, transient=True) as bar:
+        task = bar.add_task("scoring", total=len(submission.records) or 1)
+        result = score(
+            dataset,
+            submission,
+            split=args.split,
+            scene_dirs=scene_dirs,
+            embodiment=args.embodiment,
+            progress=lambda done, total: bar.update(task, completed=done),
+        )
+    meta = {
+        "dataset": str(dataset.root),
+        "dataset_version": dataset.manifest.version,
+        "split": args.split,
+        "submission": str(args.submission),
+        "embodiment": args.embodiment or dataset.manifest.embodiment,
+        "toolkit_version": __version__,
+    }
+    out = write_outputs(result, args.out, meta=meta)
+    with Progress(console=console, transient=True) as bar:
+        task = bar.add_task("report", total=len(result.episodes) or 1)
+        report = write_report(
+            result,
+            dataset=dataset,
+            submission=submission,
+            scene_dirs=scene_dirs,
+            out_dir=Path(out),
+            embodiment=args.embodiment,
+            progress=lambda done, total: bar.update(task, completed=done),
+        )
+    if submission.problems:
+        console.print(f"[yellow]{len(submission.problems)} submission problems[/] (listed in metrics.json):")
+        for problem in submission.problems[:10]:
+            console.print(f"  {problem}", highlight=False, markup=False)
+    invalid = [row["episode_id"] for row in result.episodes if row["label"] == "invalid"]
+    if invalid:
+        console.print(
+            f"[yellow]{len(invalid)} episodes have no valid trajectory, scored as failures:[/] "
+            + ", ".join(invalid[:10])
+            + (f" ... ({len(invalid) - 10} more)" if len(invalid) > 10 else ""),
+            highlight=False,
+        )
+    header, rows = table_rows(result, "task_scene")
+    table = Table(title=f"{dataset.manifest.name} v{dataset.manifest.version} / {args.split}")
+    for column in header:
+        table.add_column(column, justify="left" if column == header[0] else "right")
+    for row in rows:
+        table.add_row(*row)
+    console.print(table)
+    console.print(f"wrote {out}/metrics.json, tables.md, *.csv, {report.name}", highlight=False)
+    return 0
+
+
+def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
+    """Run an agent online over a split and write its submission."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    from navverse.dataset import Dataset
+    from navverse.eval.runner import run_agent
+    from navverse.scene.locate import built_scene_dirs
+
+    dataset = Dataset(args.dataset)
+    _split_of(dataset, args.split)
+    embodiment = args.embodiment or dataset.manifest.embodiment
+    scene_dirs = built_scene_dirs(dataset.episodes(split=args.split), built_dir=built_dir())
+    jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
+    with Progress(*columns, console=console, transient=True) as bar:
+        task = bar.add_task(f"{args.agent} on {args.split}", total=None)
+        summary = run_agent(
+            dataset,
+            agent=args.agent,
+            split=args.split,
+            embodiment=embodiment,
+            scene_dirs=scene_dirs,
+            out=args.out,
+            jobs=jobs,
+            limit=args.limit,
+            seed=args.seed,
+            max_steps=args.max_steps,
+            terrain_friction=args.friction,
+            progress=lambda done, total: bar.update(task, completed=done, total=total),
+        )
+    ended = ", ".join(f"{label} {count}" for label, count in sorted(summary.terminations.items()))
+    resumed = f" ({summary.resumed} resumed from an interrupted run)" if summary.resumed else ""
+    console.print(
+        f"{args.agent} ({embodiment}): {summary.episodes} episodes{resumed} in {summary.seconds:.0f} s; "
+        f"ended: {ended}",
+        highlight=False,
+        markup=False,
+    )
+    console.print(
+        f"wrote {summary.out}; score it with: navverse eval --dataset {args.dataset} "
+        f"--submission {summary.out} --split {args.split}",
+        highlight=False,
+        markup=False,
+    )
+    return 0
