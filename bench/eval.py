@@ -250,6 +250,7 @@ def synthetic_record(index: int, *, seed: int, hz: float, seconds: float, fields
         goal_radii=radii,
         geodesic=geodesic,
         reference_path=reference,
+        scene_type="indoor",
     )
     return Record(rows=rows, target=target, stop=kind in ("success", "wrong_goal", "at_goal"))
 
@@ -497,8 +498,8 @@ def run(args: argparse.Namespace, console: Console) -> dict[str, Any]:
             sample.extend(records[: max(0, args.reference - len(sample))])
             progress.advance(task, len(records))
             del records, values
-    inputs = {**measures, "geodesic": geodesic, "success_distance": np.full(count, robot.success_distance),
-              "valid": np.ones(count)}  # fmt: skip
+    reach = np.full(count, robot.success_distance("indoor"))
+    inputs = {**measures, "geodesic": geodesic, "success_distance": reach, "valid": np.ones(count)}
     w0, c0 = time.perf_counter(), time.process_time()
     metrics = compute_metrics(inputs)
     compute_s, compute_cpu = time.perf_counter() - w0, time.process_time() - c0

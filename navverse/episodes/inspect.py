@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 from rich.table import Table
 
+from navverse.scene_types import SCENE_TYPES
 from navverse.dataset import Dataset, Episode
 
 __all__ = ["ReplayReport", "category_table", "check_bounds", "counts_table", "draw_episode", "replay"]
@@ -19,7 +20,7 @@ __all__ = ["ReplayReport", "category_table", "check_bounds", "counts_table", "dr
 def counts_table(dataset: Dataset) -> Table:
     """Episodes per split and task, by scene type (the paper's episode-count table)."""
     manifest = dataset.manifest
-    scene_types = ("indoor", "outdoor", "i2o")
+    scene_types = SCENE_TYPES
     table = Table(title=f"{manifest.name} v{manifest.version}: episodes ({manifest.embodiment})")
     for column in ("split", "task", *scene_types, "total"):
         table.add_column(column, justify="right" if column in (*scene_types, "total") else "left")

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from navverse.scene.fields import SceneFields
+from navverse.scene_types import PROFILES, scene_profile
 
 __all__ = [
     "CELL",
@@ -37,8 +38,8 @@ CELL = 1.0
 DENSIFY = 0.25
 """Rows farther apart than this (m) are subdivided for coverage."""
 DTW_SPACING = 0.5
-TRANSITION_SCENE_TYPES = ("i2o",)
-"""Scene types whose episodes get the transition (exit) measures."""
+TRANSITION_SCENE_TYPES = tuple(name for name, p in PROFILES.items() if p.transition_metrics)
+"""Scene types whose episodes get the transition (exit) measures (their profiles say so)."""
 EXIT_MEASURES = ("reached_outdoor", "pre_exit_cells", "pre_exit_traveled", "post_exit_cells",
                  "post_exit_traveled")  # fmt: skip
 MEASURES = ("dtg", "dtg_min", "dtg_start", "traveled", "duration", "cells", "collided", "clearance",
@@ -56,9 +57,9 @@ class Robot:
     width: float
     extra_surfaces: frozenset[str] = frozenset()
 
-    @property
-    def success_distance(self) -> float:
-        return 1.0 + self.radius
+    def success_distance(self, scene_type: str) -> float:
+        """Largest goal distance that counts as success in a scene of ``scene_type`` (m)."""
+        return scene_profile(scene_type).success_distance(self.radius)
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,7 +73,7 @@ class EpisodeTarget:
     goal_radii: np.ndarray  # (G,)
     geodesic: float
     reference_path: np.ndarray  # (R, 3)
-    scene_type: str = ""  # indoor | outdoor | i2o; only i2o episodes get the exit measures
+    scene_type: str  # indoor | outdoor | i2o: the success distance and the exit measures depend on it
 
 
 @dataclass(eq=False)
@@ -321,7 +322,9 @@ def measure(
     for i, target in enumerate(targets):
         if target.task == "vln" and len(target.reference_path) >= 2:
             rows = slice(batch.starts[i], batch.ends[i] + 1)
-            ndtw_values[i] = ndtw(batch.xyz[rows], target.reference_path, threshold=robot.success_distance)
+            ndtw_values[i] = ndtw(
+                batch.xyz[rows], target.reference_path, threshold=robot.success_distance(target.scene_type)
+            )
     exits = _exit_measures(batch, targets, fields, step)
     return {
         "dtg": d[batch.ends],

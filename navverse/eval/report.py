@@ -25,7 +25,7 @@ from collections.abc import Callable, Mapping, Sequence
 from importlib import resources
 from pathlib import Path
 
-from navverse.dataset import Dataset, success_distance
+from navverse.dataset import Dataset
 from navverse.eval.figures import (
     THUMB_COLORS,
     Backdrop,
@@ -220,7 +220,7 @@ def write_report(
     out_dir.mkdir(parents=True, exist_ok=True)
     manifest = dataset.manifest
     embodiment = embodiment or manifest.embodiment
-    reach = success_distance(robot_for(embodiment).radius)
+    robot = robot_for(embodiment)
     scene_ids = {str(row["scene_id"]) for row in result.episodes}
     splits = _split_of(dataset, scene_ids)
     wanted = {str(row["episode_id"]) for row in result.episodes}
@@ -251,7 +251,8 @@ def write_report(
                 heading = (f"{episode_id}\n{label_name(label)} · SR {_value(row, 'success')} · "
                            f"SPL {_value(row, 'spl')}")  # fmt: skip
                 fig = episode_figure(episode, record.trajectory, label=label, title=heading,
-                                     success_radius=reach, backdrop=backdrops[scene])  # fmt: skip
+                                     success_radius=robot.success_distance(episode.scene_type),
+                                     backdrop=backdrops[scene])  # fmt: skip
                 picture = png_data_uri(fig, colors=THUMB_COLORS)
             cards.append(_card_html(row, picture, problems_of.get(episode_id, [])))
             drawn += 1
@@ -285,11 +286,14 @@ def write_report(
         f"{_e(label_name(label))}</span>"
         for label in LABELS
     )
+    reach = ", ".join(
+        f"{d:.1f} m" for d in sorted({robot.success_distance(e.scene_type) for e in episodes.values()})
+    )
     legend += (
         "<span>━ trajectory (in its label's colour)</span><span>┅ reference path</span>"
         "<span>○ start</span><span>✕ end</span>"
         "<span>★ goal, circle: goal radius + success distance "
-        f"({reach:.1f} m)</span><span>grey: obstacles</span>"
+        f"({reach or '–'})</span><span>grey: obstacles</span>"
     )
     css = resources.files("navverse.eval").joinpath(REPORT_CSS).read_text(encoding="utf-8")
     nav = "".join(f'<a href="#label-{_e(label)}">{_e(label_name(label))}</a>' for label in groups)

@@ -154,7 +154,7 @@ def score(
             progress(done, len(records))
     inputs = {name: measures.get(name, np.full(count, np.nan)) for name in MEASURES}
     inputs["geodesic"] = np.array([e.info.geodesic_distance for e in episodes], dtype=float)
-    inputs["success_distance"] = np.full(count, robot.success_distance)
+    inputs["success_distance"] = np.array([robot.success_distance(e.scene_type) for e in episodes])
     inputs["valid"] = valid
     values = compute_metrics(inputs)
     facts = [

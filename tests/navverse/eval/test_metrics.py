@@ -40,6 +40,7 @@ def target(goal=(8.05, 5.05, 0.55), radius=0.5, geodesic=5.0, task="objnav", ref
         goal_radii=np.array([radius]),
         geodesic=geodesic,
         reference_path=np.zeros((0, 3)) if reference is None else np.asarray(reference, dtype=float),
+        scene_type="indoor",
     )
 
 
