@@ -28,17 +28,48 @@ __all__ = [
 
 
 def cmd_show_scene(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
-    """Draw a built scene's bird's-eye view, with its navmesh when it has one."""
+    """Draw a scene's bird's-eye view, with its navmesh when it has one: a built scene's id, or a scene
+    directory (one holding ``scene.json``)."""
     from navverse.nav.scene_navmesh import load_scene_navmesh, navmesh_overlay
     from navverse.scene import SceneFiles, read_scene, render_bev
     from navverse.scene.locate import built_scene_dir
 
-    scene_dir = built_scene_dir(built_dir(), args.scene_id)
-    out = Path(args.output or f"{args.scene_id}-bev.png")
+    given = Path(args.scene)
+    if SceneFiles(given).annotations.is_file():
+        scene_dir, name = given, given.resolve().name
+    else:
+        scene_dir, name = built_scene_dir(built_dir(), args.scene), args.scene
+    out = Path(args.output or f"{name}-bev.png")
     has_navmesh = SceneFiles(scene_dir).navmesh.is_file()
     overlays = [navmesh_overlay(load_scene_navmesh(scene_dir))] if has_navmesh else []
     render_bev(read_scene(scene_dir), out, meters_per_pixel=args.meters_per_pixel, overlays=overlays)
     console.print(f"wrote {out}")
+    return 0
+
+
+def cmd_show_presets(args: argparse.Namespace, console: Console) -> int:
+    """Print the navmesh presets and the scene-type profiles that pick them."""
+    from dataclasses import fields
+
+    from rich.table import Table
+
+    from navverse.nav.settings import PRESETS, NavMeshSettings
+    from navverse.scene_types import PROFILES, SceneTypeProfile
+
+    presets = Table(title="navmesh presets (navverse.nav.PRESETS)")
+    profiles = Table(title="scene types (navverse.scene_types)")
+    presets.add_column("setting")
+    profiles.add_column("profile")
+    for name in PRESETS:
+        presets.add_column(name, justify="right")
+    for name in PROFILES:
+        profiles.add_column(name, justify="right")
+    for field in NavMeshSettings.model_fields:
+        presets.add_row(field, *(str(getattr(preset, field)) for preset in PRESETS.values()))
+    for field in fields(SceneTypeProfile):
+        if field.name != "name":
+            profiles.add_row(field.name, *(str(getattr(p, field.name)) for p in PROFILES.values()))
+    console.print(presets, profiles)
     return 0
 
 

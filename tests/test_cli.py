@@ -150,3 +150,33 @@ def test_sigkill_mid_build_then_resume_matches_clean_build(tmp_path):
     assert resumed.returncode == 0, resumed.stderr + resumed.stdout
     assert built_files(killed) == built_files(clean)
     assert not list((killed / "data" / "built" / "tmp").iterdir())
+
+
+def test_show_presets_prints_every_preset_and_profile(tmp_path):
+    result = run(copy_recipes(tmp_path), "show", "presets")
+    assert result.returncode == 0, result.stderr
+    for word in ("cell_size", "indoor", "outdoor", "i2o", "discrete_step_m", "start_region"):
+        assert word in result.stdout, word
+
+
+def test_show_scene_draws_a_scene_directory_of_two_buildings(tmp_path):
+    import math
+
+    import numpy as np
+
+    from navverse.indoor import generate_building
+    from navverse.scene import merge_scenes, transform_scene, write_scene_dir
+
+    cafe = generate_building("cafe", np.random.default_rng(1), scene_id="cafe")
+    flat = generate_building("apartment", np.random.default_rng(2), scene_id="flat")
+    flat = transform_scene(flat, translation=(35.0, 0.0, 0.0), yaw=math.pi / 2)
+    scene_dir = tmp_path / "two"
+    scene_dir.mkdir()
+    write_scene_dir(merge_scenes([cafe, flat], scene_id="two", scene_type="indoor"), scene_dir, bev=False)
+    result = run(
+        copy_recipes(tmp_path / "ws"), "show", "scene", str(scene_dir), "-o", str(tmp_path / "two.png")
+    )
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "two.png").stat().st_size > 20_000
+    missing = run(tmp_path / "ws", "show", "scene", str(tmp_path / "nowhere"))
+    assert missing.returncode == 1 and "Traceback" not in missing.stderr

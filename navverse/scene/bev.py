@@ -363,8 +363,8 @@ def _draw_buildings(ax: Axes, ann: SceneAnnotations, handles: list[Artist]) -> N
         ax.add_patch(
             PolygonPatch(ring, closed=True, fill=False, edgecolor=(0.15, 0.15, 0.15), linewidth=1.0, zorder=2)
         )
-        center = ring.mean(axis=0)
-        ax.text(center[0], center[1], f"B{building.id}", fontsize=8, ha="center", va="center", zorder=8,
+        corner = ring[np.argmax(ring[:, 1] - 1e-3 * ring[:, 0])]  # the top-left corner, above the rooms
+        ax.text(corner[0], corner[1], f" B{building.id}", fontsize=8, ha="left", va="bottom", zorder=9,
                 color=(0.15, 0.15, 0.15), fontweight="bold")  # fmt: skip
         for facade in building.facades:
             middle = 0.5 * (np.asarray(facade.segment[0]) + np.asarray(facade.segment[1]))
