@@ -62,3 +62,13 @@ class StoreError(PipelineError):
 
 class CodeVersionError(PipelineError):
     """A stage's code version cannot be computed: a project module it imports is missing or unreadable."""
+
+
+class StageImportError(PipelineError):
+    """A stage module, or a project module it loads, cannot be imported (missing, unreadable, broken)."""
+
+    def __init__(self, module: str, exc: BaseException) -> None:
+        super().__init__(
+            f"{module} cannot be imported: {type(exc).__name__}: {exc}; restore the module it names, "
+            "or reinstall the toolkit (make setup)"
+        )

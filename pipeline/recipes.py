@@ -28,7 +28,7 @@ from typing import Annotated, Any
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from pipeline.errors import RecipeError, RecipeIssue, TargetError
+from pipeline.errors import RecipeError, RecipeIssue, StageImportError, TargetError
 from pipeline.hashing import hash_value
 from pipeline.params import Params
 from pipeline.stage import SKIP_KEY, StageSpec, registered_stages
@@ -302,6 +302,8 @@ class RecipeLoader:
                 continue
             try:
                 params = spec.params_model.model_validate(section, context={"recipe_dir": recipe_dir})
+            except (ImportError, SyntaxError) as exc:  # a validator's lazy import of a broken module
+                raise StageImportError(f"a module the params of stage {name!r} need", exc) from None
             except ValidationError as exc:
                 self._report(exc, located, ("stages", name), section, spec.params_model)
                 continue

@@ -17,7 +17,7 @@ from types import MappingProxyType
 from typing import Any
 
 from pipeline.code_version import module_code_hash
-from pipeline.errors import DagError
+from pipeline.errors import DagError, StageImportError
 from pipeline.params import Params
 
 _NAME_CHARS = frozenset("abcdefghijklmnopqrstuvwxyz0123456789_")
@@ -235,10 +235,20 @@ def registered_stages() -> dict[str, StageSpec]:
 
 
 def discover(package: str) -> dict[str, StageSpec]:
-    """Import every module of ``package`` so that its stages register, and return the registry."""
+    """Import every module of ``package`` so that its stages register, and return the registry.
+
+    Raises
+    ------
+    StageImportError
+        If a stage module cannot be imported (a module it needs is missing, unreadable or broken);
+        the message names the stage module and the import's own error.
+    """
     root = importlib.import_module(package)
     for info in pkgutil.iter_modules(root.__path__, prefix=f"{package}."):
-        importlib.import_module(info.name)
+        try:
+            importlib.import_module(info.name)
+        except (ImportError, SyntaxError) as exc:
+            raise StageImportError(f"stage module {info.name}", exc) from None
     return registered_stages()
 
 

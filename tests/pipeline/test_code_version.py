@@ -122,3 +122,21 @@ def test_blockout_covers_the_primitives_it_uses_and_no_other_asset_module():
     assert assets == ["navverse.assets", "navverse.assets.primitives"]
     indoor = {name for name, _ in module_closure("stages.indoor_layout")}
     assert {"navverse.assets.library", "navverse.assets.seating", "navverse.assets.retail"} <= indoor
+
+
+def test_a_stage_module_that_cannot_be_imported_is_a_clean_error(tmp_path: Path, monkeypatch):
+    from pipeline.errors import StageImportError
+    from pipeline.stage import discover
+
+    package = tmp_path / "brokenstages"
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    (package / "fine.py").write_text("VALUE = 1\n")
+    (package / "needs_gone.py").write_text("from brokenstages import gone\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    try:
+        with pytest.raises(StageImportError, match=r"stage module brokenstages\.needs_gone cannot be imported"):
+            discover("brokenstages")
+    finally:
+        for name in [m for m in sys.modules if m.startswith("brokenstages")]:
+            del sys.modules[name]
