@@ -135,7 +135,8 @@ def test_a_stage_module_that_cannot_be_imported_is_a_clean_error(tmp_path: Path,
     (package / "needs_gone.py").write_text("from brokenstages import gone\n")
     monkeypatch.syspath_prepend(str(tmp_path))
     try:
-        with pytest.raises(StageImportError, match=r"stage module brokenstages\.needs_gone cannot be imported"):
+        expected = r"stage module brokenstages\.needs_gone cannot be imported"
+        with pytest.raises(StageImportError, match=expected):
             discover("brokenstages")
     finally:
         for name in [m for m in sys.modules if m.startswith("brokenstages")]:
