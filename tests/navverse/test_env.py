@@ -15,57 +15,25 @@ from gymnasium.utils.env_checker import check_env
 from navverse import nav
 from navverse.env import ACTION_MODES, EnvError, NavVerseEnv
 from navverse.nav.scene_navmesh import build_scene_navmesh
-from navverse.scene import (
-    Bounds,
-    MeshData,
-    ObjectAnnotation,
-    Scene,
-    SceneAnnotations,
-    SceneObject,
-    Surface,
-    object_prim_path,
-    terrain_classes,
-)
+from navverse.scene import Scene
 from navverse.scene.directory import SceneFiles, write_scene_dir
 from navverse.sim.actions import DISCRETE_ACTIONS
 from navverse.sim.recorder import write_submission
+from tests.scenes import box_part, box_room, scene_of
 
 ROOM = (10.0, 8.0, 2.6)
 TABLE_CENTER = (7.0, 5.0, 0.375)
 
 
 def room_scene() -> Scene:
-    """A closed 10 m x 8 m room with a ceiling, a table and two chairs."""
+    """A closed 10 m x 8 m room with a ceiling, a table and two chairs (ids 1, 2, 3)."""
     lx, ly, h = ROOM
-    t = 0.2
-    surfaces = (
-        Surface("floor", "floor", MeshData.box((lx, ly, 0.1), center=(lx / 2, ly / 2, -0.05))),
-        Surface("wall_s", "wall", MeshData.box((lx + 2 * t, t, h), center=(lx / 2, -t / 2, h / 2))),
-        Surface("wall_n", "wall", MeshData.box((lx + 2 * t, t, h), center=(lx / 2, ly + t / 2, h / 2))),
-        Surface("wall_w", "wall", MeshData.box((t, ly, h), center=(-t / 2, ly / 2, h / 2))),
-        Surface("wall_e", "wall", MeshData.box((t, ly, h), center=(lx + t / 2, ly / 2, h / 2))),
-        Surface("ceiling", "ceiling", MeshData.box((lx, ly, 0.1), center=(lx / 2, ly / 2, h + 0.05))),
-    )
-    specs = [
-        (1, "table", TABLE_CENTER, (1.2, 0.8, 0.75), 0.0),
-        (2, "chair", (3.0, 2.0, 0.45), (0.5, 0.5, 0.9), 0.3),
-        (3, "chair", (3.0, 6.0, 0.45), (0.5, 0.5, 0.9), -1.2),
+    objects = [
+        box_part("table", TABLE_CENTER, (1.2, 0.8, 0.75)),
+        box_part("chair", (3.0, 2.0, 0.45), (0.5, 0.5, 0.9), 0.3),
+        box_part("chair", (3.0, 6.0, 0.45), (0.5, 0.5, 0.9), -1.2),
     ]
-    objects = tuple(
-        SceneObject(
-            ObjectAnnotation(id=i, category=c, prim_path=object_prim_path(c, i), center=p, size=s, yaw=y),
-            MeshData.box(s),
-        )
-        for i, c, p, s, y in specs
-    )
-    annotations = SceneAnnotations(
-        scene_id="env_room",
-        scene_type="indoor",
-        bounds=Bounds(min=(-t, -t, -0.1), max=(lx + t, ly + t, h + 0.1)),
-        objects=[o.annotation for o in objects],
-        terrain_classes=terrain_classes(["floor", "wall", "ceiling"]),
-    )
-    return Scene(annotations, surfaces, objects)
+    return scene_of(box_room((0.0, lx), (0.0, ly), h), objects, scene_id="env_room")
 
 
 def build_room(root: Path) -> Path:

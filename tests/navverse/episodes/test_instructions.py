@@ -23,20 +23,11 @@ from navverse.episodes.instructions import (
     template_text,
     turn_class,
 )
-from navverse.scene import (
-    Bounds,
-    MeshData,
-    ObjectAnnotation,
-    Scene,
-    SceneAnnotations,
-    SceneObject,
-    Surface,
-    object_prim_path,
-    terrain_classes,
-)
+from navverse.scene import ObjectPart, Scene, Surface
 from navverse.sim.camera import CameraIntrinsics
 from navverse.sim.embodiments import make_embodiment
 from navverse.sim.render import SceneRenderer
+from tests.scenes import box_part, quad, scene_of
 
 SPOT = make_embodiment("spot")
 BASE_Z = 0.5
@@ -49,45 +40,20 @@ def yaw_quat(yaw: float) -> tuple[float, float, float, float]:
     return (0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
 
 
-def _quad(x0: float, y0: float, x1: float, y1: float, z: float) -> MeshData:
-    vertices = [[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]]
-    return MeshData(np.array(vertices), np.array([[0, 1, 2], [0, 2, 3]]))
+# Box-shaped objects of one colour; a scene numbers its objects 1, 2, ... in the order given.
+BED = box_part("bed", (8.0, 9.4, 0.3), (1.6, 2.0, 0.6), rgb=(240, 240, 235))
+SOFA = box_part("sofa", (3.5, 1.3, 0.45), (1.8, 0.8, 0.9), rgb=(30, 60, 200))  # ahead of the start
+CABINET = box_part("cabinet", (9.4, -0.8, 0.6), (0.6, 0.6, 1.2), rgb=(200, 30, 30))  # at the corner
+PLANT = box_part("potted_plant", (6.8, 9.0, 0.5), (0.5, 0.5, 1.0), rgb=(40, 160, 50))  # beside the bed
 
 
-def _object(oid: int, category: str, center: Sequence[float], size: Sequence[float], rgb) -> SceneObject:
-    box = MeshData.box(tuple(size))
-    box = MeshData(box.vertices, box.faces, np.tile(np.array([rgb], dtype=np.uint8), (12, 1)))
-    annotation = ObjectAnnotation(
-        id=oid,
-        category=category,
-        prim_path=object_prim_path(category, oid),
-        center=tuple(center),
-        size=tuple(size),
-        yaw=0.0,
-    )
-    return SceneObject(annotation, box)  # local frame: placed by the annotation
-
-
-BED = _object(1, "bed", (8.0, 9.4, 0.3), (1.6, 2.0, 0.6), (240, 240, 235))
-SOFA = _object(2, "sofa", (3.5, 1.3, 0.45), (1.8, 0.8, 0.9), (30, 60, 200))  # ahead of the start
-CABINET = _object(3, "cabinet", (9.4, -0.8, 0.6), (0.6, 0.6, 1.2), (200, 30, 30))  # at the corner
-PLANT = _object(4, "potted_plant", (6.8, 9.0, 0.5), (0.5, 0.5, 1.0), (40, 160, 50))  # beside the bed
-
-
-def l_scene(objects: Sequence[SceneObject], scene_id: str = "l-room") -> Scene:
-    """An open 12 x 12 m room with a floor and a ceiling and the given objects."""
-    annotations = SceneAnnotations(
-        scene_id=scene_id,
-        scene_type="indoor",
-        bounds=Bounds(min=(-2.0, -2.0, 0.0), max=(11.0, 11.0, 3.0)),
-        objects=[o.annotation for o in objects],
-        terrain_classes=terrain_classes(["floor", "ceiling"]),
-    )
+def l_scene(objects: Sequence[ObjectPart], scene_id: str = "l-room") -> Scene:
+    """An open 12 x 12 m room with a floor and a ceiling and the given objects (the bed first: id 1)."""
     surfaces = (
-        Surface("floor", "floor", _quad(-2.0, -2.0, 11.0, 11.0, 0.0)),
-        Surface("ceiling", "ceiling", _quad(-2.0, -2.0, 11.0, 11.0, 3.0)),
+        Surface("floor", "floor", quad(-2.0, -2.0, 11.0, 11.0, 0.0)),
+        Surface("ceiling", "ceiling", quad(-2.0, -2.0, 11.0, 11.0, 3.0)),
     )
-    return Scene(annotations, surfaces, tuple(objects))
+    return scene_of(surfaces, objects, scene_id=scene_id)
 
 
 def l_episode(scene_id: str = "l-room", *, mirror: bool = False, start_yaw: float = 0.0) -> Episode:
@@ -214,13 +180,13 @@ def test_a_room_without_distinctive_objects_drops_the_episode():
     instruction, reason = _writer(bare).write(l_episode(), walk(L_PATH), np.random.default_rng(0))
     assert instruction is None and reason.startswith("too_few_landmarks")
     # Two sofas of one colour where one would be named: neither is distinctive.
-    twin = _object(5, "sofa", (5.0, 1.3, 0.45), (1.0, 0.8, 0.9), (30, 60, 200))
+    twin = box_part("sofa", (5.0, 1.3, 0.45), (1.0, 0.8, 0.9), rgb=(30, 60, 200))
     instruction, reason = _writer(l_scene([BED, SOFA, twin]), min_landmarks=1).write(
         l_episode(), walk(L_PATH), np.random.default_rng(0)
     )
     assert instruction is None and reason.startswith("too_few_landmarks")
     # Told apart by colour, both may be named.
-    red = _object(5, "sofa", (5.0, 1.3, 0.45), (1.0, 0.8, 0.9), (200, 30, 30))
+    red = box_part("sofa", (5.0, 1.3, 0.45), (1.0, 0.8, 0.9), rgb=(200, 30, 30))
     instruction, _ = _writer(l_scene([BED, SOFA, red]), min_landmarks=1).write(
         l_episode(), walk(L_PATH), np.random.default_rng(0)
     )
@@ -228,15 +194,21 @@ def test_a_room_without_distinctive_objects_drops_the_episode():
 
 
 def test_objects_hidden_behind_the_robot_or_far_away_are_not_landmarks():
-    behind = _object(6, "piano", (-1.5, 0.0, 0.6), (0.8, 1.4, 1.2), (20, 20, 20))
-    far = _object(7, "wardrobe", (8.0, -1.5, 1.0), (1.0, 0.6, 2.0), (200, 160, 40))
-    instruction, reason = _writer(l_scene([BED, behind, far]), min_landmarks=0, max_distance=3.0).write(
+    behind = box_part("piano", (-1.5, 0.0, 0.6), (0.8, 1.4, 1.2), rgb=(20, 20, 20))  # id 2
+    far = box_part("wardrobe", (8.0, -1.5, 1.0), (1.0, 0.6, 2.0), rgb=(200, 160, 40))  # id 3
+    scene = l_scene([BED, behind, far])
+    assert [(o.id, o.category) for o in scene.annotations.objects] == [
+        (1, "bed"),
+        (2, "piano"),
+        (3, "wardrobe"),
+    ]
+    instruction, reason = _writer(scene, min_landmarks=0, max_distance=3.0).write(
         l_episode(), walk([(0, 0, 0), (8, 0, 0), (8, 8, 0)]), np.random.default_rng(0)
     )
     assert reason is None
     ids = {lm.object_id for lm in instruction.landmarks}
-    assert 6 not in ids  # never in front of the camera
-    assert 7 in ids  # seen at the corner: the control that a landmark can be found here
+    assert 2 not in ids  # never in front of the camera
+    assert 3 in ids  # seen at the corner: the control that a landmark can be found here
     instruction, _ = _writer(l_scene([BED, far]), min_landmarks=0, max_distance=0.5).write(
         l_episode(), walk(L_PATH), np.random.default_rng(0)
     )

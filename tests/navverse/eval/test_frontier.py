@@ -25,54 +25,22 @@ from navverse.eval.agents.grid_planning import grid_dijkstra, trace_path
 from navverse.eval.agents.mapping import FREE, OCCUPIED, UNKNOWN, back_project, estimate_floor
 from navverse.indoor import generate_building
 from navverse.nav.scene_navmesh import build_scene_navmesh
-from navverse.scene import (
-    Bounds,
-    MeshData,
-    ObjectAnnotation,
-    Scene,
-    SceneAnnotations,
-    SceneObject,
-    Surface,
-    object_prim_path,
-    terrain_classes,
-)
+from navverse.scene import Scene
 from navverse.scene.directory import SceneFiles, write_scene_dir
 from navverse.sim.camera import CameraIntrinsics, look_at
+from tests.scenes import box_part, box_room, scene_of
 
 # A closed room x in [-2, 4], y in [-3, 3] (wall faces), 2.6 m high, with a chair and a table.
 ROOM_X, ROOM_Y, ROOM_H, WALL = (-2.0, 4.0), (-3.0, 3.0), 2.6, 0.2
-CHAIR = (7, "chair", (2.0, 0.6, 0.5), (0.4, 0.4, 1.0))
-TABLE = (8, "table", (2.5, -1.8, 0.375), (1.0, 0.6, 0.75))
+CHAIR = ("chair", (2.0, 0.6, 0.5), (0.4, 0.4, 1.0))
+TABLE = ("table", (2.5, -1.8, 0.375), (1.0, 0.6, 0.75))
 SPOT_RADIUS = 0.6
 
 
-def box_room() -> Scene:
+def room_scene() -> Scene:
     """The room, its walls as boxes outside the faces, and two box-shaped objects."""
-    (x0, x1), (y0, y1), h, t = ROOM_X, ROOM_Y, ROOM_H, WALL
-    lx, ly, cx, cy = x1 - x0, y1 - y0, (x0 + x1) / 2, (y0 + y1) / 2
-    surfaces = (
-        Surface("floor", "floor", MeshData.box((lx, ly, 0.1), center=(cx, cy, -0.05))),
-        Surface("wall_e", "wall", MeshData.box((t, ly + 2 * t, h), center=(x1 + t / 2, cy, h / 2))),
-        Surface("wall_w", "wall", MeshData.box((t, ly + 2 * t, h), center=(x0 - t / 2, cy, h / 2))),
-        Surface("wall_n", "wall", MeshData.box((lx, t, h), center=(cx, y1 + t / 2, h / 2))),
-        Surface("wall_s", "wall", MeshData.box((lx, t, h), center=(cx, y0 - t / 2, h / 2))),
-        Surface("ceiling", "ceiling", MeshData.box((lx, ly, 0.1), center=(cx, cy, h + 0.05))),
-    )
-    objects = tuple(
-        SceneObject(
-            ObjectAnnotation(id=i, category=c, prim_path=object_prim_path(c, i), center=p, size=s, yaw=0.0),
-            MeshData.box(s),  # in the object's frame, placed by the annotation's centre
-        )
-        for i, c, p, s in (CHAIR, TABLE)
-    )
-    annotations = SceneAnnotations(
-        scene_id="frontier_room",
-        scene_type="indoor",
-        bounds=Bounds(min=(x0 - t, y0 - t, -0.1), max=(x1 + t, y1 + t, h + 0.1)),
-        objects=[o.annotation for o in objects],
-        terrain_classes=terrain_classes(["floor", "wall", "ceiling"]),
-    )
-    return Scene(annotations, surfaces, objects)
+    objects = [box_part(c, p, s) for c, p, s in (CHAIR, TABLE)]
+    return scene_of(box_room(ROOM_X, ROOM_Y, ROOM_H, WALL), objects, scene_id="frontier_room")
 
 
 def footprints() -> list[tuple[float, float, float, float]]:
@@ -85,7 +53,7 @@ def footprints() -> list[tuple[float, float, float, float]]:
         (x0, x1, y0 - t, y0),
     ]
     objects = [
-        (p[0] - s[0] / 2, p[0] + s[0] / 2, p[1] - s[1] / 2, p[1] + s[1] / 2) for _, _, p, s in (CHAIR, TABLE)
+        (p[0] - s[0] / 2, p[0] + s[0] / 2, p[1] - s[1] / 2, p[1] + s[1] / 2) for _, p, s in (CHAIR, TABLE)
     ]
     return walls + objects
 
@@ -168,7 +136,7 @@ def nearest_goal_distance(scene: Scene, category: str, position: np.ndarray) -> 
 
 @pytest.fixture(scope="module")
 def room() -> Scene:
-    return box_room()
+    return room_scene()
 
 
 @pytest.fixture(scope="module")
@@ -304,7 +272,7 @@ def test_first_view_maps_the_wall_and_objects_where_they_are(first_view: Frontie
 def test_goal_points_lie_on_the_goal_instance(first_view: FrontierAgent):
     points = first_view.goal_points
     assert len(points) >= 10
-    (cx, cy, cz), (sx, sy, sz) = CHAIR[2], CHAIR[3]
+    (cx, cy, cz), (sx, sy, sz) = CHAIR[1], CHAIR[2]
     lo = np.array([cx - sx / 2, cy - sy / 2, cz - sz / 2]) - 0.05
     hi = np.array([cx + sx / 2, cy + sy / 2, cz + sz / 2]) + 0.05
     assert ((points >= lo) & (points <= hi)).all()  # on the chair, none on the table

@@ -20,17 +20,12 @@ from navverse.scene import (
     footprint_facades,
     terrain_classes,
 )
+from tests.scenes import quad
 
 ROAD_FRICTION = 0.7
 FLOOR_POINT = (8.0, 2.0)  # on the floor, away from walls and objects
 WALL_POINT = (5.0, 0.15)  # middle of the south wall's top
 ROAD_POINT = (5.0, -2.5)
-
-
-def quad(x0: float, y0: float, x1: float, y1: float, z: float) -> MeshData:
-    """An upward-facing rectangle at height z."""
-    vertices = [[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]]
-    return MeshData(np.array(vertices), np.array([[0, 1, 2], [0, 2, 3]]))
 
 
 OBJECTS = (

@@ -9,19 +9,17 @@ from PIL import Image
 from navverse.errors import SceneError
 from navverse.scene import (
     BevOverlay,
-    Bounds,
     MeshData,
     Scene,
-    SceneAnnotations,
     Surface,
     default_color,
     lighten,
     raster_bev,
     render_bev,
-    terrain_classes,
 )
 from navverse.scene.bev import auto_meters_per_pixel
 from tests.navverse.scene.conftest import FLOOR_POINT, OBJECTS, ROAD_POINT, WALL_POINT
+from tests.scenes import scene_of
 
 MPP = 0.02
 
@@ -118,22 +116,17 @@ def test_hillshade_brightens_slopes_facing_the_light() -> None:
         vertices = np.array([[x0, 0, z0], [x0 + 2, 0, z1], [x0 + 2, 2, z1], [x0, 2, z0]], dtype=float)
         return MeshData(vertices, np.array([[0, 1, 2], [0, 2, 3]]))
 
-    annotations = SceneAnnotations(
-        scene_id="ramps",
-        scene_type="outdoor",
-        bounds=Bounds(min=(0, 0, 0), max=(6, 2, 1)),
-        terrain_classes=terrain_classes(["ground"]),
-    )
     surfaces = (
         Surface("flat", "ground", ramp(0.0, 0.0, 0.0)),
         Surface("west", "ground", ramp(2.0, 0.0, 0.5)),  # rises towards +x: its normal tilts to -x
         Surface("east", "ground", ramp(4.0, 0.5, 0.0)),
     )
-    raster = raster_bev(Scene(annotations, surfaces, ()), meters_per_pixel=0.25)  # 6 cm rise per pixel
+    scene = scene_of(surfaces, scene_id="ramps", scene_type="outdoor")  # bounds x 0..6, y 0..2
+    raster = raster_bev(scene, meters_per_pixel=0.25)  # 6 cm rise per pixel
     flat, west, east = (
         raster.rgb[tuple(raster.info.world_to_raster((x, 1.0)))].astype(int) for x in (1.0, 3.0, 5.0)
     )
-    ground = np.array(annotations.terrain_classes["ground"].color)
+    ground = np.array(scene.annotations.terrain_classes["ground"].color)
     np.testing.assert_array_equal(flat, ground)
     assert (west > flat).all()
     assert (east < flat).all()

@@ -7,18 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from navverse.scene import (
-    Bounds,
-    MeshData,
-    ObjectAnnotation,
-    Scene,
-    SceneAnnotations,
-    SceneObject,
-    Surface,
-    object_prim_path,
-    terrain_classes,
-    write_scene_dir,
-)
+from navverse.scene import MeshData, ObjectPart, Scene, Surface, write_scene_dir
+from navverse.scene.compose import object_parts, replace_parts
 from navverse.scene.fields import (
     BODY_HEIGHT,
     NO_SURFACE,
@@ -28,8 +18,9 @@ from navverse.scene.fields import (
     load_scene_fields,
     scene_fields,
 )
+from tests.scenes import box_part, quad, scene_of
 
-from .conftest import FLOOR_POINT, ROAD_POINT, WALL_POINT, quad
+from .conftest import FLOOR_POINT, ROAD_POINT, WALL_POINT
 
 
 @pytest.fixture(scope="module")
@@ -91,13 +82,13 @@ def _table(size: tuple[float, float, float], top: float = 0.04, leg: float = 0.0
     return MeshData.concatenate(parts)
 
 
-#: (id, category, centre, mesh) of the objects of the door scene; their meshes are object-local.
+#: The objects of the door scene (ids 1 to 5 in this order); their meshes are object-local.
 DOOR_SCENE_OBJECTS = (
-    (1, "pendant_lamp", (6.0, 1.5, 2.15), MeshData.box((0.5, 0.5, 0.3))),  # hangs from 2.0 m to 2.3 m
-    (2, "table", (2.0, 1.5, 0.375), _table((1.2, 0.8, 0.75))),
-    (3, "rug", (6.0, 4.5, 0.005), MeshData.box((1.0, 1.0, 0.01))),
-    (4, "shelf", (6.5, 2.8, 1.4), MeshData.box((0.8, 0.3, 0.04))),  # wall shelf at 1.38-1.42 m
-    (5, "wardrobe", (1.0, 4.5, 1.0), MeshData.box((0.6, 0.6, 2.0))),  # taller than the band
+    ObjectPart("pendant_lamp", MeshData.box((0.5, 0.5, 0.3)), (6.0, 1.5, 2.15)),  # hangs from 2.0 to 2.3 m
+    ObjectPart("table", _table((1.2, 0.8, 0.75)), (2.0, 1.5, 0.375)),
+    ObjectPart("rug", MeshData.box((1.0, 1.0, 0.01)), (6.0, 4.5, 0.005)),
+    ObjectPart("shelf", MeshData.box((0.8, 0.3, 0.04)), (6.5, 2.8, 1.4)),  # wall shelf at 1.38-1.42 m
+    ObjectPart("wardrobe", MeshData.box((0.6, 0.6, 2.0)), (1.0, 4.5, 1.0)),  # taller than the band
 )
 DOORWAY = (3.5, 3.0)  # middle of the opening, under the header
 WALL = ((1.5, 3.0), (6.0, 3.0), (0.5, 5.9))  # the dividing wall either side of the door; the north wall
@@ -105,14 +96,15 @@ WALL = ((1.5, 3.0), (6.0, 3.0), (0.5, 5.9))  # the dividing wall either side of 
 
 def build_door_scene() -> Scene:
     """Two rooms on a floor slab (x 0..8, y 0..6, top at z = 0) divided at y = 3 by a 2.5 m wall with a
-    door x 3..4 under a header from 2.1 m; a north wall; objects; a puddle of water on the floor; and
-    bounds reaching beyond the floor (x -1..9), over nothing."""
+    door x 3..4 under a header from 2.1 m; a north wall that runs on 1 m past both ends of the floor,
+    over nothing, so that the scene (its bounds: x -1..9) reaches beyond the floor; objects; a puddle
+    of water on the floor."""
     wall = MeshData.concatenate(
         [
             _box((3.0, 0.2, 2.5), (0.0, 2.9, 0.0)),
             _box((4.0, 0.2, 2.5), (4.0, 2.9, 0.0)),
             _box((1.0, 0.2, 0.4), (3.0, 2.9, 2.1)),  # the header above the door
-            _box((8.0, 0.2, 2.5), (0.0, 5.8, 0.0)),
+            _box((10.0, 0.2, 2.5), (-1.0, 5.8, 0.0)),
         ]
     )
     surfaces = (
@@ -121,28 +113,7 @@ def build_door_scene() -> Scene:
         Surface("ceiling", "ceiling", quad(0.0, 0.0, 8.0, 6.0, 2.5)),
         Surface("puddle", "water", quad(4.5, 0.5, 5.5, 1.0, 0.0)),
     )
-    objects = [
-        SceneObject(
-            ObjectAnnotation(
-                id=oid,
-                category=category,
-                prim_path=object_prim_path(category, oid),
-                center=center,
-                size=tuple(float(v) for v in np.subtract(*mesh.bounds()[::-1])),
-                yaw=0.0,
-            ),
-            mesh,
-        )
-        for oid, category, center, mesh in DOOR_SCENE_OBJECTS
-    ]
-    annotations = SceneAnnotations(
-        scene_id="door_rooms",
-        scene_type="indoor",
-        bounds=Bounds(min=(-1.0, 0.0, -0.1), max=(9.0, 6.0, 2.5)),
-        objects=[o.annotation for o in objects],
-        terrain_classes=terrain_classes(["floor", "wall", "ceiling", "water"]),
-    )
-    return Scene(annotations, surfaces, tuple(objects))
+    return scene_of(surfaces, DOOR_SCENE_OBJECTS, scene_id="door_rooms")
 
 
 @pytest.fixture(scope="module")
@@ -186,19 +157,8 @@ def test_the_body_band_sets_the_obstacles(door_fields: SceneFields) -> None:
 def test_objects_without_walkable_ground_block() -> None:
     scene = build_door_scene()
     # A crate on the bare void beyond the floor (x < 0): no ground under it, it blocks.
-    annotation = ObjectAnnotation(
-        id=9,
-        category="crate",
-        prim_path=object_prim_path("crate", 9),
-        center=(-0.5, 3.0, 0.2),
-        size=(0.4,) * 3,
-        yaw=0.0,
-    )
-    crate = SceneObject(annotation, MeshData.box((0.4, 0.4, 0.4)))
-    annotations = scene.annotations.model_copy(
-        update={"objects": [*scene.annotations.objects, crate.annotation]}
-    )
-    f = scene_fields(Scene(annotations, scene.surfaces, (*scene.objects, crate)))
+    crate = box_part("crate", (-0.5, 3.0, 0.2), (0.4, 0.4, 0.4))
+    f = scene_fields(replace_parts(scene, objects=[*object_parts(scene), crate]))
     assert f.obstacle[f.cells([(-0.5, 3.0)])].tolist() == [True]
     assert f.obstacle[f.cells([(-0.5, 1.0)])].tolist() == [False]
 

@@ -7,12 +7,13 @@ from collections.abc import Iterator
 
 import pytest
 
-from navverse.scene import Bounds, MeshData, Scene, SceneAnnotations, Surface, terrain_classes
+from navverse.scene import MeshData, Surface
 from navverse.sim.actions import DISCRETE_ACTIONS, DISCRETE_TIMEOUT, ActionRunner, step_size
 from navverse.sim.controller import REACH_DISTANCE, REACH_YAW, Waypoint, wrap_angle
 from navverse.sim.embodiments import make_embodiment
 from navverse.sim.simulator import Simulator
 from navverse.sim.world import World
+from tests.scenes import scene_of
 
 TOLERANCE = 0.02  # m
 TOLERANCE_YAW = math.radians(2.0)
@@ -22,13 +23,8 @@ SEQUENCE = [a for a in DISCRETE_ACTIONS if a != "stop"] * 2
 
 @pytest.fixture(scope="module")
 def flat_world() -> Iterator[World]:
-    annotations = SceneAnnotations(
-        scene_id="flat",
-        scene_type="indoor",
-        bounds=Bounds(min=(-20.0, -20.0, -1.0), max=(20.0, 20.0, 3.0)),
-        terrain_classes=terrain_classes(["floor"]),
-    )
-    scene = Scene(annotations, (Surface("floor", "floor", MeshData.box((40, 40, 1), center=(0, 0, -0.5))),))
+    floor = Surface("floor", "floor", MeshData.box((40, 40, 1), center=(0, 0, -0.5)))
+    scene = scene_of([floor], scene_id="flat")
     with World(scene, collision_cache=None) as world:
         yield world
 

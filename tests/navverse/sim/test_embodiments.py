@@ -9,11 +9,12 @@ import numpy as np
 import pytest
 
 from navverse.errors import NavverseError
-from navverse.scene import Bounds, MeshData, Scene, SceneAnnotations, Surface, terrain_classes
+from navverse.scene import MeshData, Surface
 from navverse.sim.embodiment import FALL_TILT, Embodiment, tilt
 from navverse.sim.embodiments import EMBODIMENTS, UnknownEmbodimentError, make_embodiment
 from navverse.sim.turtlebot import AXLE_X
 from navverse.sim.world import CONTROL_HZ, GRAVITY, PHYSICS_HZ, World
+from tests.scenes import scene_of
 
 SUBSTEPS = PHYSICS_HZ // CONTROL_HZ
 CURB = 0.2
@@ -27,14 +28,12 @@ def _slab(x0: float, x1: float, top: float, *, width: float = 8.0, bottom: float
 
 
 def _world(surfaces: list[tuple[str, str, MeshData]], *, friction: dict[str, float] | None = None) -> World:
-    classes = list(dict.fromkeys(terrain_class for _, terrain_class, _ in surfaces))
-    annotations = SceneAnnotations(
+    scene = scene_of(
+        [Surface(name, tc, mesh) for name, tc, mesh in surfaces],
         scene_id="embodiment_test",
         scene_type="outdoor",
-        bounds=Bounds(min=(-5.0, -4.0, -1.5), max=(16.0, 4.0, 3.0)),
-        terrain_classes=terrain_classes(classes, overrides=friction),
+        friction=friction,
     )
-    scene = Scene(annotations, tuple(Surface(name, tc, mesh) for name, tc, mesh in surfaces))
     return World(scene, collision_cache=None)
 
 

@@ -7,24 +7,15 @@ import math
 import numpy as np
 import pytest
 
-from navverse.scene import (
-    Bounds,
-    MeshData,
-    ObjectAnnotation,
-    Scene,
-    SceneAnnotations,
-    SceneObject,
-    Surface,
-    object_prim_path,
-    terrain_classes,
-)
+from navverse.scene import MeshData, Scene, Surface, transform_scene
 from navverse.scene.geometry import yaw_matrix
 from navverse.sim.camera import CameraIntrinsics, look_at, optical_from_body, optical_pose
 from navverse.sim.render import Frame, SceneRenderer, Shading
+from tests.scenes import box_part, quad, scene_of
 
 EYE = np.array([0.0, 0.0, 1.0])
 WALL_X = 4.0  # the wall's face towards the camera
-OBJECT_ID = 7
+OBJECT_ID = 2  # the red box; object 1 is a cabinet behind the wall, out of every view
 OBJECT_CENTER = (2.0, 0.6, 0.5)
 OBJECT_SIZE = (0.4, 0.4, 1.0)
 OBJECT_RGB = (200, 40, 40)
@@ -33,41 +24,20 @@ SMALL = CameraIntrinsics.from_hfov(160, 120, 90.0)
 FLAT = Shading(ambient=1.0, key=0.0, fill=0.0, headlight=0.0, fog=0.0, edge_shade=1.0, terrain_lighten=0.0)
 
 
-def _quad(x0: float, y0: float, x1: float, y1: float, z: float) -> MeshData:
-    vertices = [[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]]
-    return MeshData(np.array(vertices), np.array([[0, 1, 2], [0, 2, 3]]))
-
-
 def build_scene(offset: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> Scene:
-    """A floor, a wall across +x at 4 m, a ceiling at 3 m and one red box (id 7) in between, all
-    shifted by `offset`."""
-    shift = np.asarray(offset)
-    box = MeshData.box(OBJECT_SIZE)
-    box = MeshData(box.vertices, box.faces, np.tile(np.array([OBJECT_RGB], dtype=np.uint8), (12, 1)))
-    annotation = ObjectAnnotation(
-        id=OBJECT_ID,
-        category="chair",
-        prim_path=object_prim_path("chair", OBJECT_ID),
-        center=tuple(np.add(OBJECT_CENTER, shift)),
-        size=OBJECT_SIZE,
-        yaw=0.0,
-    )
-    annotations = SceneAnnotations(
-        scene_id="render_box",
-        scene_type="indoor",
-        bounds=Bounds(
-            min=tuple(np.add(shift, (-1.0, -3.0, 0.0))), max=tuple(np.add(shift, (6.0, 3.0, CEILING_Z)))
-        ),
-        objects=[annotation],
-        terrain_classes=terrain_classes(["floor", "wall", "ceiling"]),
-    )
-    wall = MeshData.box((0.2, 6.0, CEILING_Z), center=(WALL_X + 0.1, 0.0, 1.5))
+    """A floor, a wall across +x at 4 m, a ceiling at 3 m and one red box (id 2) in between, all
+    shifted by `offset`. A cabinet (id 1) stands behind the wall, hidden from every camera here, so
+    that the box's id is not the first one."""
+    objects = [
+        box_part("cabinet", (5.0, 0.0, 0.2), (0.4, 0.4, 0.4), rgb=(30, 160, 60)),
+        box_part("chair", OBJECT_CENTER, OBJECT_SIZE, rgb=OBJECT_RGB),
+    ]
     surfaces = (
-        Surface("floor", "floor", _quad(-1.0, -3.0, 6.0, 3.0, 0.0).transformed(shift)),
-        Surface("wall", "wall", wall.transformed(shift)),
-        Surface("ceiling", "ceiling", _quad(-1.0, -3.0, 6.0, 3.0, CEILING_Z).transformed(shift)),
+        Surface("floor", "floor", quad(-1.0, -3.0, 6.0, 3.0, 0.0)),
+        Surface("wall", "wall", MeshData.box((0.2, 6.0, CEILING_Z), center=(WALL_X + 0.1, 0.0, 1.5))),
+        Surface("ceiling", "ceiling", quad(-1.0, -3.0, 6.0, 3.0, CEILING_Z)),
     )
-    return Scene(annotations, surfaces, (SceneObject(annotation, box),))
+    return transform_scene(scene_of(surfaces, objects, scene_id="render_box"), translation=offset)
 
 
 @pytest.fixture(scope="module")
@@ -281,22 +251,20 @@ def test_bad_poses_are_rejected(flat: SceneRenderer) -> None:
     with pytest.raises(ValueError, match="4x4"):
         flat.render_batch([np.eye(4), np.eye(4)[:3]])
     with pytest.raises(ValueError, match="depth_range"):
-        SceneRenderer(_empty_scene(), depth_range=(0.0, 10.0))
+        SceneRenderer(_floor_only(), depth_range=(0.0, 10.0))
 
 
-def _empty_scene() -> Scene:
-    annotations = SceneAnnotations(
-        scene_id="empty",
-        scene_type="indoor",
-        bounds=Bounds(min=(0.0, 0.0, 0.0), max=(1.0, 1.0, 1.0)),
-        terrain_classes=terrain_classes(["floor"]),
-    )
-    return Scene(annotations)
+def _floor_only() -> Scene:
+    """A floor the camera at `EYE` would see ahead of it, unless the renderer hides it."""
+    return scene_of([Surface("floor", "floor", quad(-1.0, -3.0, 6.0, 3.0, 0.0))], scene_id="floor_only")
 
 
 def test_empty_scene_renders_background() -> None:
-    renderer = SceneRenderer(_empty_scene(), intrinsics=SMALL)
-    frame = renderer.render(look_at(EYE, np.add(EYE, (1.0, 0.0, 0.0))))
+    # Its only surface hidden, the renderer has no geometry at all.
+    pose = look_at(EYE, np.add(EYE, (1.0, 0.0, 0.0)))
+    assert SceneRenderer(_floor_only(), intrinsics=SMALL).render(pose).hit.any()
+    renderer = SceneRenderer(_floor_only(), intrinsics=SMALL, hidden_classes=("floor",))
+    frame = renderer.render(pose)
     assert not frame.hit.any() and (frame.rgb == renderer.shading.background).all()
 
 

@@ -7,30 +7,32 @@ from collections.abc import Iterator
 import numpy as np
 import pytest
 
-from navverse.scene import Bounds, MeshData, Scene, SceneAnnotations, Surface, terrain_classes
+from navverse.scene import MeshData, Surface
+from navverse.sim.bullet import pybullet
 from navverse.sim.embodiments import make_embodiment
 from navverse.sim.rollout import follow_path
 from navverse.sim.simulator import Simulator
 from navverse.sim.terminations import STUCK_WINDOW, TerminationMonitor
 from navverse.sim.world import World
+from tests.scenes import scene_of
 
 
 @pytest.fixture(scope="module")
 def world() -> Iterator[World]:
-    """Floor to x = 10, then a 1.5 m drop; a wall at x = 5 for y in [4, 8]; the floor reaches 6 m past the
-    bounds' y = -2."""
+    """Floor x 0..10, y -2..10 (top at z = 0), then a 1.5 m drop onto a lower floor to x = 14; a wall at
+    x = 5 for y in [4, 8]: the scene's bounds are x 0..14, y -2..10, z -1.6..2. Beyond them, in the
+    physics world only, the floor runs on 6 m past y = -2 (a runway that is not part of the scene)."""
     surfaces = (
-        Surface("floor", "floor", MeshData.box((10.0, 18.0, 1.0), center=(5.0, 1.0, -0.5))),
-        Surface("lower", "floor", MeshData.box((30.0, 18.0, 1.0), center=(25.0, 1.0, -2.0))),
+        Surface("floor", "floor", MeshData.box((10.0, 12.0, 1.0), center=(5.0, 4.0, -0.5))),
+        Surface("lower", "floor", MeshData.box((4.0, 12.0, 0.1), center=(12.0, 4.0, -1.55))),
         Surface("wall", "wall", MeshData.box((0.3, 4.0, 2.0), center=(5.15, 6.0, 1.0))),
     )
-    annotations = SceneAnnotations(
-        scene_id="terminations",
-        scene_type="outdoor",
-        bounds=Bounds(min=(0.0, -2.0, -1.6), max=(14.0, 10.0, 2.0)),
-        terrain_classes=terrain_classes(["floor", "wall"]),
-    )
-    with World(Scene(annotations, surfaces), collision_cache=None) as w:
+    scene = scene_of(surfaces, scene_id="terminations", scene_type="outdoor")
+    with World(scene, collision_cache=None) as w:
+        c = w.client
+        runway = c.createCollisionShape(pybullet.GEOM_BOX, halfExtents=[5.0, 3.0, 0.5])
+        body = c.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=runway, basePosition=[5.0, -5.0, -0.5])
+        c.changeDynamics(body, -1, lateralFriction=scene.annotations.terrain_classes["floor"].friction)
         yield w
 
 

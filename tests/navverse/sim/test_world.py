@@ -6,51 +6,27 @@ import numpy as np
 import pytest
 
 from navverse.assets.library import make_object
-from navverse.scene import (
-    Bounds,
-    MeshData,
-    ObjectAnnotation,
-    Scene,
-    SceneAnnotations,
-    SceneObject,
-    Surface,
-    object_prim_path,
-    terrain_classes,
-)
+from navverse.scene import MeshData, ObjectPart, Scene, Surface
+from navverse.scene.compose import replace_parts
 from navverse.sim.bullet import pybullet
 from navverse.sim.collision import convex_parts
 from navverse.sim.world import PHYSICS_HZ, World
+from tests.scenes import box_part, scene_of
 
 
 def small_scene() -> Scene:
-    """A floor, a road strip, a wall and two objects: a bathtub (concave) and a box table."""
+    """A floor, a road strip, a wall and two objects: a bathtub (concave, id 1) and a box table (id 2)."""
     tub_mesh, tub_size = make_object("bathtub", np.random.default_rng(3))
-    table = MeshData.box((1.2, 0.8, 0.75))
     objects = [
-        SceneObject(
-            ObjectAnnotation(id=1, category="bathtub", prim_path=object_prim_path("bathtub", 1),
-                             center=(2.0, 2.0, tub_size[2] / 2), size=tub_size, yaw=0.3),
-            tub_mesh,
-        ),
-        SceneObject(
-            ObjectAnnotation(id=2, category="table", prim_path=object_prim_path("table", 2),
-                             center=(6.0, 2.0, 0.375), size=(1.2, 0.8, 0.75), yaw=0.0),
-            table,
-        ),
-    ]  # fmt: skip
+        ObjectPart("bathtub", tub_mesh, (2.0, 2.0, tub_size[2] / 2), 0.3),
+        box_part("table", (6.0, 2.0, 0.375), (1.2, 0.8, 0.75)),
+    ]
     surfaces = (
         Surface("floor", "floor", MeshData.box((10.0, 4.0, 0.1), center=(5.0, 2.0, -0.05))),
         Surface("road", "road", MeshData.box((10.0, 2.0, 0.1), center=(5.0, -1.0, -0.05))),
         Surface("wall", "wall", MeshData.box((0.2, 6.0, 2.5), center=(10.1, 1.0, 1.25))),
     )
-    annotations = SceneAnnotations(
-        scene_id="small",
-        scene_type="indoor",
-        bounds=Bounds(min=(0.0, -2.0, -0.1), max=(10.2, 4.0, 2.5)),
-        objects=[o.annotation for o in objects],
-        terrain_classes=terrain_classes(["floor", "road", "wall"], overrides={"road": 0.4}),
-    )
-    return Scene(annotations, surfaces, tuple(objects))
+    return scene_of(surfaces, objects, scene_id="small", friction={"road": 0.4})
 
 
 @pytest.fixture(scope="module")
@@ -140,17 +116,13 @@ def test_objects_keep_every_convex_piece():
     posts = MeshData.concatenate(
         [MeshData.box((0.1, 0.1, 1.0), center=(0.3 * k - 4.35, 0.0, 0.0)) for k in range(30)]
     )
-    rack = SceneObject(
-        ObjectAnnotation(id=5, category="shelf", prim_path=object_prim_path("shelf", 5),
-                         center=(5.0, 2.0, 0.5), size=(8.8, 0.1, 1.0), yaw=0.0),
-        posts,
-    )  # fmt: skip
-    base = small_scene()
-    scene = Scene(base.annotations.model_copy(update={"objects": [rack.annotation]}), base.surfaces, (rack,))
+    rack = ObjectPart("shelf", posts, (5.0, 2.0, 0.5))
+    scene = replace_parts(small_scene(), objects=[rack])  # the rack in place of the other objects
+    (rack_id,) = (o.id for o in scene.annotations.objects)
     with World(scene, collision_cache=None) as w:
         assert len(convex_parts(posts)) == 30
         box = _drop_box(w, [5.0 + 4.35, 2.0, 1.5])  # onto the last post
         for _ in range(PHYSICS_HZ):
             w.step()
         assert w.client.getBasePositionAndOrientation(box)[0][2] == pytest.approx(1.1, abs=0.01)
-        assert {c.body.object_id for c in w.contacts(box)} == {5}
+        assert {c.body.object_id for c in w.contacts(box)} == {rack_id}
