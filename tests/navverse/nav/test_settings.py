@@ -47,8 +47,19 @@ def test_recipe_presets_match_the_constants(name: str):
     assert list(data) == ["stages"] and list(data["stages"]) == ["navmesh"]
     assert data["stages"]["navmesh"]["preset"] == name
     settings = data["stages"]["navmesh"]["settings"]
-    assert settings == nav.PRESETS[name].model_dump()  # every field, same values
+    # Every field with the same value; the mixed-resolution ones may be left at their defaults.
+    expected = nav.PRESETS[name].model_dump()
+    assert set(expected) - set(settings) <= {"fine_region", "fine_factor"}
+    assert settings == {key: value for key, value in expected.items() if key in settings}
     assert NavMeshSettings.model_validate(settings) == nav.PRESETS[name]
+
+
+def test_i2o_preset_is_outdoor_with_indoor_cells_in_the_region():
+    assert NavMeshSettings.preset("i2o") is nav.PRESETS["i2o"] is nav.I2O
+    assert nav.I2O.model_dump(exclude={"fine_factor"}) == nav.OUTDOOR.model_dump(exclude={"fine_factor"})
+    assert nav.I2O.fine_region is None  # set per scene
+    assert nav.I2O.cell_size / nav.I2O.fine_factor == nav.INDOOR.cell_size
+    assert nav.I2O.cell_height / nav.I2O.fine_factor == nav.INDOOR.cell_height
 
 
 def test_defaults_are_the_indoor_preset():
