@@ -39,8 +39,9 @@ class NavMeshSettings(BaseModel):
     same at both resolutions; the integer cell counts are derived from them per resolution. Values
     in cells stay in cells of the tile's own resolution: ``region_min_size``,
     ``region_merge_size`` and ``edge_max_error``; ``detail_sample_*`` are multiples of the tile's
-    cell size and height. A fine tile holds up to f**2 times the polygons and vertices of a coarse
-    one (65535 vertices at most per tile). The region is a world xy rectangle (z up); tiles only
+    cell size and height. A fine tile has f**2 times the cells of a coarse one (so about that much
+    more build memory per thread) and up to f**2 times its polygons and vertices (65535 vertices at
+    most per tile). The region is a world xy rectangle (z up); tiles only
     touching its edge are not fine.
     """
 
