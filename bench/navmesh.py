@@ -13,6 +13,10 @@ with ``nav.INDOOR``, and a 1 km x 1 km city built with ``nav.OUTDOOR``):
    box plus a margin, 8-, 16- and 32-connected (moves up to (3, 2) cells). Reported: query times,
    the time ratio to the navmesh, and how much longer the grid path is than the navmesh path, both
    measured horizontally (the grid is 2-D; the geodesic also counts the rise over curbs and ramps).
+4. Resolutions: a smaller city built three ways, each in a fresh child process: ``nav.OUTDOOR``
+   (10 cm), ``nav.I2O`` with a ``fine_region`` over its central part (the tiles meeting it at 5 cm,
+   the rest at 10 cm) and ``nav.INDOOR`` (5 cm everywhere); build times, memory, polygons and the
+   ratios to the outdoor build.
 
 Run ``python bench/navmesh.py`` (what ``make bench`` does); ``--quick`` builds small scenes,
 ``--json PATH`` also writes the results. Timings are measurements, never assertions.
@@ -88,6 +92,13 @@ SCENES: dict[str, SceneSpec] = {
         quick=partial(outdoor_city, size=200.0, block_range=(40.0, 70.0)),
     ),
 }
+RESOLUTION_CITY: dict[str, Callable[[int], Scene]] = {
+    "full": partial(outdoor_city, size=300.0, block_range=(40.0, 70.0)),
+    "quick": partial(outdoor_city, size=120.0, block_range=(40.0, 70.0)),
+}
+"""The city of the resolution comparison (step 4), full-size and for ``--quick``."""
+FINE_REGION_SIDE = 0.3
+"""Side of the comparison's ``fine_region``, a centred square, as a fraction of the city's side."""
 
 
 @dataclass(frozen=True)
@@ -123,15 +134,17 @@ def _cpu_seconds() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def build_in_child(mesh_file: str, preset: str, jobs: int, navmesh_file: str) -> dict[str, float]:
+def build_in_child(
+    mesh_file: str, settings: dict[str, Any], jobs: int, navmesh_file: str
+) -> dict[str, float]:
     """Build a navmesh from a saved mesh and save it; runs in a fresh process.
 
     Parameters
     ----------
     mesh_file : str
         ``.npz`` with ``vertices``, ``faces`` and ``area_types``.
-    preset : str
-        Settings preset name.
+    settings : dict
+        ``NavMeshSettings`` fields.
     jobs : int
         Build threads.
     navmesh_file : str
@@ -147,7 +160,9 @@ def build_in_child(mesh_file: str, preset: str, jobs: int, navmesh_file: str) ->
         vertices, faces, areas = data["vertices"], data["faces"], data["area_types"]
     rss_before, peak_before = _current_rss_mib(), _peak_rss_mib()
     cpu_start, start = _cpu_seconds(), time.perf_counter()
-    finder = nav.build(vertices, faces, nav.PRESETS[preset], area_types=areas, jobs=jobs)
+    finder = nav.build(
+        vertices, faces, nav.NavMeshSettings.model_validate(settings), area_types=areas, jobs=jobs
+    )
     build_s, cpu_s = time.perf_counter() - start, _cpu_seconds() - cpu_start
     peak_after = _peak_rss_mib()
     finder.save(navmesh_file)
@@ -161,14 +176,19 @@ def build_in_child(mesh_file: str, preset: str, jobs: int, navmesh_file: str) ->
 
 
 def build_in_fresh_process(
-    scene: Scene, preset: str, jobs: int, workdir: Path
+    scene: Scene, settings: nav.NavMeshSettings, jobs: int, workdir: Path, *, label: str = ""
 ) -> tuple[dict[str, float], Path]:
-    """Save the scene, build its navmesh in a new ``spawn`` process, and return its stats and file."""
-    mesh_file = workdir / f"{scene.name}-mesh.npz"
-    navmesh_file = workdir / f"{scene.name}.navmesh"
+    """Save the scene, build its navmesh in a new ``spawn`` process, and return its stats and file.
+
+    ``label`` tells apart the files of several builds of one scene.
+    """
+    name = f"{scene.name}-{label}" if label else scene.name
+    mesh_file = workdir / f"{name}-mesh.npz"
+    navmesh_file = workdir / f"{name}.navmesh"
     np.savez(mesh_file, vertices=scene.vertices, faces=scene.faces, area_types=scene.area_types)
     with ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn")) as pool:
-        stats = pool.submit(build_in_child, str(mesh_file), preset, jobs, str(navmesh_file)).result()
+        task = pool.submit(build_in_child, str(mesh_file), settings.model_dump(), jobs, str(navmesh_file))
+        stats = task.result()
     mesh_file.unlink()
     return stats, navmesh_file
 
@@ -351,7 +371,7 @@ def bench_scene(name: str, args: argparse.Namespace, workdir: Path, console: Con
     scene = (spec.quick if args.quick else spec.full)(args.seed)
     generate_s = time.perf_counter() - start
     console.print(f"  {scene.description}; {scene.num_triangles:,} triangles; building ...", highlight=False)
-    build, navmesh_file = build_in_fresh_process(scene, spec.preset, args.jobs, workdir)
+    build, navmesh_file = build_in_fresh_process(scene, settings, args.jobs, workdir)
     scene_info = {
         "description": scene.description,
         "triangles": scene.num_triangles,
@@ -414,6 +434,86 @@ def bench_scene(name: str, args: argparse.Namespace, workdir: Path, console: Con
         "planners": planners,
         "per_query": per_query,
     }
+
+
+# ---------------------------------------------------------------------- resolutions
+
+
+def resolution_settings(scene: Scene) -> dict[str, nav.NavMeshSettings]:
+    """The builds compared: 10 cm, 10 cm with 5 cm tiles over the scene's centre, 5 cm."""
+    lo, hi = scene.vertices[:, :2].min(axis=0), scene.vertices[:, :2].max(axis=0)
+    center, half = (lo + hi) / 2, FINE_REGION_SIDE * (hi - lo) / 2
+    region = (*(center - half).tolist(), *(center + half).tolist())
+    return {
+        "outdoor": nav.OUTDOOR,
+        "i2o + region": nav.I2O.with_overrides({"fine_region": region}),
+        "indoor": nav.INDOOR,
+    }
+
+
+def bench_resolutions(args: argparse.Namespace, workdir: Path, console: Console) -> dict[str, Any]:
+    """Build one city at each of :func:`resolution_settings`; returns the builds' figures."""
+    scene = RESOLUTION_CITY["quick" if args.quick else "full"](args.seed)
+    console.print(
+        f"[bold]resolutions[/]: {scene.description}; {scene.num_triangles:,} triangles", highlight=False
+    )
+    builds: dict[str, dict[str, Any]] = {}
+    for label, settings in resolution_settings(scene).items():
+        console.print(f"  building with {label} ...", highlight=False)
+        build, navmesh_file = build_in_fresh_process(
+            scene, settings, args.jobs, workdir, label=label.split()[0]
+        )
+        finder = nav.load(navmesh_file)
+        builds[label] = {
+            **build,
+            "cell_size": settings.cell_size,
+            "fine_region": settings.fine_region,
+            "fine_factor": settings.fine_factor,
+            "tiles": finder.num_tiles,
+            "polygons": finder.num_polygons,
+            "navigable_area_m2": finder.navigable_area,
+            "islands": finder.num_islands,
+            "file_mib": navmesh_file.stat().st_size / 2**20,
+        }
+        navmesh_file.unlink()
+    return {"scene": scene.description, "region_area_share": FINE_REGION_SIDE**2, "builds": builds}
+
+
+def resolution_table(result: dict[str, Any]) -> Table:
+    """Build figures per resolution and their ratios to the outdoor (10 cm) build."""
+    title = (
+        f"resolutions: {result['scene']}; i2o region: the central {100 * result['region_area_share']:.0f} % "
+        "of the area (the tiles meeting it cover more)"
+    )
+    table = Table(title=title, title_justify="left")
+    table.add_column("settings", no_wrap=True)
+    for header in (
+        "wall s",
+        "× outdoor",
+        "CPU s",
+        "build MiB",
+        "× outdoor",
+        "polygons",
+        "× outdoor",
+        "file MiB",
+    ):
+        table.add_column(header, justify="right", no_wrap=True)
+    base = result["builds"]["outdoor"]
+    base_mib = base["peak_after_mib"] - base["rss_before_mib"]
+    for label, build in result["builds"].items():
+        build_mib = build["peak_after_mib"] - build["rss_before_mib"]
+        table.add_row(
+            label,
+            f"{build['build_s']:.2f}",
+            f"{build['build_s'] / base['build_s']:.2f}",
+            f"{build['cpu_s']:.2f}",
+            f"{build_mib:.0f}",
+            f"{build_mib / base_mib:.2f}" if base_mib > 0 else "",
+            f"{build['polygons']:,}",
+            f"{build['polygons'] / base['polygons']:.2f}",
+            f"{build['file_mib']:.1f}",
+        )
+    return table
 
 
 # ---------------------------------------------------------------------- report
@@ -537,6 +637,12 @@ def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
     parser.add_argument("--peer-repeats", type=int, default=2, help="grid repetitions per query (min taken)")
     parser.add_argument("--margin", type=float, default=15.0, help="grid crop margin around a pair (m)")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="navmesh build threads")
+    parser.add_argument(
+        "--resolutions",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="compare build costs at 10 cm, 10 cm with a 5 cm region, and 5 cm (default: on)",
+    )
     args = parser.parse_args(argv)
     for flag in ("queries", "repeats", "peer_repeats", "jobs"):
         if getattr(args, flag) < 1:
@@ -559,11 +665,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         highlight=False,
     )
     results: dict[str, Any] = {}
+    resolutions: dict[str, Any] | None = None
     with tempfile.TemporaryDirectory(prefix="navverse-bench-") as tmp:
         for name in args.scenes:
             results[name] = bench_scene(name, args, Path(tmp), console)
             console.print(build_table(name, results[name]))
             console.print(query_table(name, results[name], args.margin))
+        if args.resolutions:
+            resolutions = bench_resolutions(args, Path(tmp), console)
+            console.print(resolution_table(resolutions))
     total_s = time.perf_counter() - started
     console.print(
         "× nav: median of the per-query time ratios grid / navmesh; × medians: ratio of the median times. "
@@ -573,11 +683,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         "unreached: the grid found no path inside its crop.",
         highlight=False,
     )
+    if resolutions is not None:
+        console.print(
+            "resolutions: × outdoor is the ratio to the nav.OUTDOOR build (10 cm); i2o + region builds "
+            "the tiles meeting the region at 5 cm; nav.INDOOR is 5 cm everywhere (and a 0.20 m climb). "
+            "build MiB: peak RSS after the build less RSS before it.",
+            highlight=False,
+        )
     machine["load_average_end"] = load_average()
     console.print(f"total {total_s:.0f} s; load average {machine['load_average_end']:.2f}", highlight=False)
     if args.json is not None:
         report = {"benchmark": "navmesh", "args": vars(args), "machine": machine}
-        report |= {"total_s": total_s, "scenes": results}
+        report |= {"total_s": total_s, "scenes": results, "resolutions": resolutions}
         args.json.write_text(json.dumps(json_safe(report), indent=1, allow_nan=False))
         console.print(f"wrote {args.json}", highlight=False)
     return 0

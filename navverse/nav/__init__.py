@@ -21,11 +21,12 @@ from navverse.nav.pathfinder import (
     build,
     load,
 )
-from navverse.nav.settings import INDOOR, OUTDOOR, PRESETS, NavMeshSettings
+from navverse.nav.settings import I2O, INDOOR, OUTDOOR, PRESETS, NavMeshSettings
 
 __all__ = [
     "DEFAULT_AREA",
     "FORMAT_VERSION",
+    "I2O",
     "INDOOR",
     "MAX_AREA_TYPE",
     "OUTDOOR",

@@ -61,6 +61,8 @@ navverse::BuildConfig buildConfig(const py::dict& d) {
   c.filter_walkable_low_height_spans = b("filter_walkable_low_height_spans");
   c.fill_solid_interiors = b("fill_solid_interiors");
   c.tile_size = d["tile_size"].cast<int>();
+  c.fine_region = d["fine_region"].cast<std::optional<std::array<double, 4>>>();
+  c.fine_factor = d["fine_factor"].cast<int>();
   return c;
 }
 

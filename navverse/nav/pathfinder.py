@@ -37,6 +37,7 @@ import os
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -80,6 +81,8 @@ SNAP_MAX_VERTICAL = 2.0
 _NUM_AREAS = 64
 _EMPTY_POINTS = np.zeros((0, 3))
 _Rng = np.random.Generator | int
+# Settings fields a navmesh file holds only when they differ from their defaults.
+_SAVED_WHEN_SET = ("fine_region", "fine_factor")
 
 
 @dataclass(frozen=True, eq=False)
@@ -173,6 +176,20 @@ def _seed(rng: _Rng) -> int:
     else:
         raise TypeError(f"rng must be a numpy.random.Generator or an int seed, got {type(rng).__name__}")
     return int(gen.integers(0, np.iinfo(np.uint64).max, dtype=np.uint64, endpoint=True))
+
+
+def _saved_settings(settings: NavMeshSettings) -> dict[str, Any]:
+    """``settings`` as a navmesh file's metadata holds them (JSON values).
+
+    The mixed-resolution fields are left out where they have their defaults, so a single-resolution
+    navmesh file has the bytes it had before those fields existed, and older readers (which refuse
+    unknown fields) read it; loading fills the defaults back in.
+    """
+    data = settings.model_dump(mode="json")
+    for name in _SAVED_WHEN_SET:
+        if getattr(settings, name) == NavMeshSettings.model_fields[name].default:
+            del data[name]
+    return data
 
 
 def _positive(value: float, name: str) -> float:
@@ -599,7 +616,7 @@ class PathFinder:
         """The navmesh as the bytes :meth:`save` writes."""
         return write_navmesh(
             self._mesh.to_bytes(),
-            settings=self._settings.model_dump(mode="json"),
+            settings=_saved_settings(self._settings),
             area_costs=self._area_costs,
             excluded_areas=sorted(self._excluded),
             area_types=sorted({int(a) for a in self.polygon_area_types()}),

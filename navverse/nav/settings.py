@@ -1,10 +1,11 @@
-"""Navmesh build settings and the paper's indoor and outdoor presets.
+"""Navmesh build settings and the presets: the paper's indoor and outdoor ones, and indoor-to-outdoor.
 
 Field names and units follow habitat-sim's ``NavMeshSettings``: lengths in meters, the slope in
 degrees, and the Recast tuning values (region sizes, edge error, detail sampling) in cells, the
 way habitat-sim and the Recast demo pass them on. :data:`INDOOR` and :data:`OUTDOOR` are the values
 of the paper's table ``tab:navmesh_params``; ``recipes/presets/navmesh-{indoor,outdoor}.yaml`` hold
-the same values for recipes to extend.
+the same values for recipes to extend. :data:`I2O` is :data:`OUTDOOR` with a finer cell size over a
+region (the indoor part of a scene), see :class:`NavMeshSettings`.
 """
 
 from __future__ import annotations
@@ -17,7 +18,10 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
 
 from navverse.nav.errors import NavMeshError
 
-__all__ = ["INDOOR", "OUTDOOR", "PRESETS", "NavMeshOverrides", "NavMeshSettings"]
+__all__ = ["I2O", "INDOOR", "OUTDOOR", "PRESETS", "NavMeshOverrides", "NavMeshSettings"]
+
+# Most cells along a tile side: tile_size, and tile_size * fine_factor for the fine tiles.
+_MAX_CELLS_PER_TILE = 4096
 
 
 class NavMeshSettings(BaseModel):
@@ -26,6 +30,19 @@ class NavMeshSettings(BaseModel):
     The defaults are the :data:`INDOOR` preset. Integer Recast parameters are derived as
     ``ceil(agent_height / cell_height)``, ``floor(agent_max_climb / cell_height)`` and
     ``ceil(agent_radius / cell_size)`` cells (with a 1e-6 tolerance, so 0.30 / 0.10 is 3 cells).
+
+    Mixed resolution: with ``fine_region`` and ``fine_factor`` f > 1, the tiles whose area meets
+    the region are built with cells of ``cell_size / f`` by ``cell_height / f``, the others at
+    ``cell_size``. Every tile has the same width in meters (``tile_size * cell_size``), so a fine
+    tile has ``tile_size * f`` cells per side, and tiles of both resolutions join along their common
+    borders. Values in meters and degrees (agent sizes, climb, slope, ``edge_max_len``) mean the
+    same at both resolutions; the integer cell counts are derived from them per resolution. Values
+    in cells stay in cells of the tile's own resolution: ``region_min_size``,
+    ``region_merge_size`` and ``edge_max_error``; ``detail_sample_*`` are multiples of the tile's
+    cell size and height. A fine tile has f**2 times the cells of a coarse one (so about that much
+    more build memory per thread) and up to f**2 times its polygons and vertices (65535 vertices at
+    most per tile). The region is a world xy rectangle (z up); tiles only
+    touching its edge are not fine.
     """
 
     model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
@@ -96,28 +113,72 @@ class NavMeshSettings(BaseModel):
             "(at most 65535 polygon vertices)."
         ),
     )
+    fine_region: tuple[float, float, float, float] | None = Field(
+        None,
+        description=(
+            "World xy rectangle [xmin, ymin, xmax, ymax] (m, z up) whose tiles are built with cells "
+            "fine_factor times smaller (e.g. the indoor part of a scene); None builds every tile at "
+            "cell_size. Needs tile_size > 0."
+        ),
+    )
+    fine_factor: int = Field(
+        1,
+        ge=1,
+        le=4,
+        description=(
+            "How many times finer the tiles meeting fine_region are: cells of cell_size / fine_factor "
+            "by cell_height / fine_factor (1..4; 1 builds every tile at cell_size)."
+        ),
+    )
 
     @model_validator(mode="after")
     def _recast_limits(self) -> NavMeshSettings:
+        # The Recast limits hold for the finest cells in use: the fine tiles' when there is a region.
+        factor = self.fine_factor if self.fine_region is not None else 1
+        cell_size, cell_height = self.cell_size / factor, self.cell_height / factor
+        fine = " (cell_size / fine_factor)" if factor > 1 else ""
+        or_factor = " or decrease fine_factor" if factor > 1 else ""
         if self.agent_height / self.cell_height < 3 - 1e-6:
             raise ValueError(
                 f"agent_height {self.agent_height} m must be at least 3 cells "
                 f"of cell_height {self.cell_height} m"
             )
-        if self.agent_radius / self.cell_size > 250:
+        if self.agent_radius / cell_size > 250:
             raise ValueError(
-                f"agent_radius {self.agent_radius} m is more than 250 cells of cell_size {self.cell_size} m: "
-                "increase cell_size"
+                f"agent_radius {self.agent_radius} m is more than 250 cells of cell_size {cell_size} m"
+                f"{fine}: increase cell_size{or_factor}"
             )
-        if self.agent_max_climb / self.cell_height > 8000:
-            raise ValueError("agent_max_climb is more than 8000 cells of cell_height: increase cell_height")
-        if 0 < self.tile_size < 16 or self.tile_size > 4096:
-            raise ValueError(f"tile_size must be 0 (one tile) or 16..4096 cells, got {self.tile_size}")
+        if self.agent_max_climb / cell_height > 8000:
+            raise ValueError(
+                f"agent_max_climb is more than 8000 cells of cell_height{fine}: "
+                f"increase cell_height{or_factor}"
+            )
+        if 0 < self.tile_size < 16 or self.tile_size > _MAX_CELLS_PER_TILE:
+            raise ValueError(
+                f"tile_size must be 0 (one tile) or 16..{_MAX_CELLS_PER_TILE} cells, got {self.tile_size}"
+            )
+        if self.fine_region is not None:
+            xmin, ymin, xmax, ymax = self.fine_region
+            if not (xmin < xmax and ymin < ymax):
+                raise ValueError(
+                    "fine_region must be [xmin, ymin, xmax, ymax] with xmin < xmax and ymin < ymax, "
+                    f"got {list(self.fine_region)}"
+                )
+            if self.tile_size == 0:
+                raise ValueError(
+                    "fine_region needs a tiled build (the tiles meeting it are built finer): "
+                    "set tile_size > 0"
+                )
+            if self.tile_size * factor > _MAX_CELLS_PER_TILE:
+                raise ValueError(
+                    f"fine tiles have tile_size * fine_factor = {self.tile_size * factor} cells per side, "
+                    f"more than {_MAX_CELLS_PER_TILE}: decrease tile_size or fine_factor"
+                )
         return self
 
     @classmethod
     def preset(cls, name: str) -> NavMeshSettings:
-        """The settings of a named preset (``"indoor"`` or ``"outdoor"``).
+        """The settings of a named preset (``"indoor"``, ``"outdoor"`` or ``"i2o"``).
 
         Parameters
         ----------
@@ -195,7 +256,16 @@ INDOOR = NavMeshSettings(
 OUTDOOR = INDOOR.model_copy(update={"cell_size": 0.1, "cell_height": 0.1, "agent_max_climb": 0.3})
 """Outdoor scenes: 10 cm voxels and curbs up to 0.30 m (paper, table ``tab:navmesh_params``)."""
 
-PRESETS: Mapping[str, NavMeshSettings] = MappingProxyType({"indoor": INDOOR, "outdoor": OUTDOOR})
+I2O = OUTDOOR.model_copy(update={"fine_factor": 2})
+"""Indoor-to-outdoor scenes: :data:`OUTDOOR`, with the tiles meeting ``fine_region`` at 5 cm.
+
+The region is the scene's own (its buildings' footprints grown by a margin), so the preset has
+``fine_region=None`` and builds like :data:`OUTDOOR` until the caller sets it, e.g.
+``I2O.with_overrides({"fine_region": (xmin, ymin, xmax, ymax)})``. Fine tiles have 5 cm cells,
+the indoor cell size, and keep the outdoor climb (0.30 m).
+"""
+
+PRESETS: Mapping[str, NavMeshSettings] = MappingProxyType({"indoor": INDOOR, "outdoor": OUTDOOR, "i2o": I2O})
 """The presets by name (read-only)."""
 
 

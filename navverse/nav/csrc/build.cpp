@@ -5,6 +5,18 @@
 // keeps only the tile it is working on, so the memory in flight is bounded by `jobs` tiles; the
 // finished tiles are added to the navmesh in tile order, which keeps polygon references (and so
 // random sampling and saved files) independent of thread timing.
+//
+// Mixed resolution (BuildConfig::fine_region, fine_factor f > 1): the tiles whose area meets the
+// region are voxelized with cells f times smaller (cs / f, ch / f), so tile_size * f cells per side,
+// the integer parameters recomputed from the meters for those cells, and a border of their own
+// walkableRadius + 3 cells. All tiles keep one width in meters (dtNavMeshParams::tileWidth); each
+// Detour tile header carries its own cell size, and Detour links neighbouring tiles through the
+// portal edges on their common border, where the cell boundaries of both resolutions coincide.
+// The tile borders lie half a coarse cell from the mesh minimum; with an even f that is a whole
+// number of fine cells, so in fine tiles surfaces at round coordinates (multiples of the fine cell
+// size from the mesh minimum) lie on cell boundaries, where float rounding puts them in either
+// cell (a fine cell of difference). Heights have no such constraint: a fine tile's height grid
+// starts half a fine cell height below the mesh, so floors at round heights lie mid-cell there too.
 #include <DetourCommon.h>
 #include <DetourNavMeshBuilder.h>
 #include <Recast.h>
@@ -99,21 +111,38 @@ struct Grid {
   int border = 0;  // cells
   float tileW = 0;  // meters
   float tileH = 0;
+  std::vector<unsigned char> fine;  // per tile: built with the fine cells
+  double fineBorder = 0;            // meters, the fine tiles' border (0 without fine tiles)
   // Triangles per tile (CSR): tileTris[tileStart[t] .. tileStart[t+1]).
   std::vector<std::size_t> tileStart;
   std::vector<int> tileTris;
+};
+
+// The cells one tile is voxelized in: Recast's parameters, the tile's core cells and the border.
+struct Resolution {
+  rcConfig cfg;
+  int cellsX = 0;
+  int cellsY = 0;
+  int border = 0;  // cells
+  float ymin = 0;  // bottom of the heightfield (Recast y)
+  bool fine = false;
 };
 
 struct TileOut {
   unsigned char* data = nullptr;
   int size = 0;
   int polys = 0;
+  bool fine = false;
   std::string error;
 };
 
+// Triangles per tile: those whose bounds come within the border of the tile's core. The border in
+// meters is the wider of the coarse and the fine one, so every tile sees all of its border; it is
+// the coarse one, (ceil(r / cs) + 3) * cs, which holds the fine one, (ceil(f * r / cs) + 3) * cs / f.
 void bucketTriangles(const Geometry& g, Grid& grid) {
   const int ntiles = grid.tilesX * grid.tilesY;
-  const double bw = static_cast<double>(grid.border) * (static_cast<double>(grid.tileW) / grid.cellsX);
+  const double bw =
+      std::max(static_cast<double>(grid.border) * (static_cast<double>(grid.tileW) / grid.cellsX), grid.fineBorder);
   const std::vector<int>& tris = *g.tris;
   std::vector<std::array<int, 4>> ranges(static_cast<std::size_t>(g.ntris));
   std::vector<std::size_t> counts(static_cast<std::size_t>(ntiles) + 1, 0);
@@ -259,30 +288,33 @@ void fillSolidInteriors(rcContext* ctx, const Geometry& g, const std::vector<int
   }
 }
 
-TileOut buildTile(const Geometry& g, const Grid& grid, const rcConfig& base, const BuildConfig& opts, int tx,
+TileOut buildTile(const Geometry& g, const Grid& grid, const Resolution& res, const BuildConfig& opts, int tx,
                   int ty) {
   TileOut out;
+  out.fine = res.fine;
   const int tileIndex = ty * grid.tilesX + tx;
   const std::size_t begin = grid.tileStart[static_cast<std::size_t>(tileIndex)];
   const std::size_t end = grid.tileStart[static_cast<std::size_t>(tileIndex) + 1];
   if (begin == end) return out;
 
   BuildContext ctx;
-  rcConfig c = base;
-  c.tileSize = grid.border > 0 ? grid.cellsX : 0;
-  c.borderSize = grid.border;
-  c.width = grid.cellsX + 2 * grid.border;
-  c.height = grid.cellsY + 2 * grid.border;
-  c.bmin[0] = g.bmin[0] + tx * grid.tileW - grid.border * c.cs;
-  c.bmin[1] = g.bmin[1];
-  c.bmin[2] = g.bmin[2] + ty * grid.tileH - grid.border * c.cs;
-  c.bmax[0] = g.bmin[0] + (tx + 1) * grid.tileW + grid.border * c.cs;
+  rcConfig c = res.cfg;
+  c.tileSize = res.border > 0 ? res.cellsX : 0;
+  c.borderSize = res.border;
+  c.width = res.cellsX + 2 * res.border;
+  c.height = res.cellsY + 2 * res.border;
+  c.bmin[0] = g.bmin[0] + tx * grid.tileW - res.border * c.cs;
+  c.bmin[1] = res.ymin;
+  c.bmin[2] = g.bmin[2] + ty * grid.tileH - res.border * c.cs;
+  c.bmax[0] = g.bmin[0] + (tx + 1) * grid.tileW + res.border * c.cs;
   c.bmax[1] = g.bmax[1];
-  c.bmax[2] = g.bmin[2] + (ty + 1) * grid.tileH + grid.border * c.cs;
+  c.bmax[2] = g.bmin[2] + (ty + 1) * grid.tileH + res.border * c.cs;
 
   auto fail = [&](const char* step) {
     std::ostringstream msg;
-    msg << "tile (" << tx << ", " << ty << "): " << step << " failed";
+    msg << "tile (" << tx << ", " << ty << ")";
+    if (res.fine) msg << " (fine, cell_size " << c.cs << " m)";
+    msg << ": " << step << " failed";
     if (!ctx.messages.empty()) msg << " (" << ctx.messages << ")";
     out.error = msg.str();
     return out;
@@ -330,7 +362,9 @@ TileOut buildTile(const Geometry& g, const Grid& grid, const rcConfig& base, con
   if (cset->nconts == 0) return out;
   std::unique_ptr<rcPolyMesh, PolyMeshDeleter> pmesh(rcAllocPolyMesh());
   if (!pmesh || !rcBuildPolyMesh(&ctx, *cset, c.maxVertsPerPoly, *pmesh))
-    return fail("building polygons (a tile holds at most 65535 vertices: use a smaller tile_size)");
+    return fail(res.fine ? "building polygons (a tile holds at most 65535 vertices: use a smaller tile_size or "
+                           "fine_factor)"
+                         : "building polygons (a tile holds at most 65535 vertices: use a smaller tile_size)");
   cset.reset();
   if (pmesh->npolys == 0) return out;
   std::unique_ptr<rcPolyMeshDetail, DetailDeleter> dmesh(rcAllocPolyMeshDetail());
@@ -457,6 +491,38 @@ NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& s, int jobs) {
   }
   const int polyBits = 22 - tileBits;
   const int ntiles = static_cast<int>(ntilesLL);
+
+  Resolution coarse;
+  coarse.cfg = base;
+  coarse.cellsX = grid.cellsX;
+  coarse.cellsY = grid.cellsY;
+  coarse.border = grid.border;
+  coarse.ymin = g.bmin[1];
+  Resolution fine = coarse;
+  grid.fine.assign(static_cast<std::size_t>(ntiles), 0);
+  if (s.tile_size > 0 && s.fine_factor > 1 && s.fine_region) {
+    BuildConfig fs = s;
+    fs.cell_size = s.cell_size / s.fine_factor;
+    fs.cell_height = s.cell_height / s.fine_factor;
+    fine.cfg = baseConfig(fs);
+    fine.cellsX = fine.cellsY = s.tile_size * s.fine_factor;
+    fine.border = fine.cfg.walkableRadius + 3;
+    // Like the coarse grid, half a cell height (a fine one) below the lowest vertex.
+    fine.ymin = g.bmin[1] + 0.5f * (base.ch - fine.cfg.ch);
+    fine.fine = true;
+    grid.fineBorder = static_cast<double>(fine.border) * (static_cast<double>(grid.tileW) / fine.cellsX);
+    // The region in the Recast frame (x, z) = (world x, -world y); a tile is fine when its core
+    // and the region overlap with a positive area.
+    const std::array<double, 4>& r = *s.fine_region;
+    const double rx0 = r[0], rx1 = r[2], rz0 = -r[3], rz1 = -r[1];
+    for (int ty = 0; ty < grid.tilesY; ++ty) {
+      const double z0 = g.bmin[2] + ty * static_cast<double>(grid.tileH), z1 = z0 + grid.tileH;
+      for (int tx = 0; tx < grid.tilesX; ++tx) {
+        const double x0 = g.bmin[0] + tx * static_cast<double>(grid.tileW), x1 = x0 + grid.tileW;
+        grid.fine[static_cast<std::size_t>(ty * grid.tilesX + tx)] = rx0 < x1 && x0 < rx1 && rz0 < z1 && z0 < rz1;
+      }
+    }
+  }
   bucketTriangles(g, grid);
 
   // Build the tiles: at most `jobs` threads, each holding one tile at a time.
@@ -469,7 +535,8 @@ NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& s, int jobs) {
       if (i >= ntiles || failed.load()) return;
       TileOut& out = tiles[static_cast<std::size_t>(i)];
       try {
-        out = buildTile(g, grid, base, s, i % grid.tilesX, i / grid.tilesX);
+        out = buildTile(g, grid, grid.fine[static_cast<std::size_t>(i)] ? fine : coarse, s, i % grid.tilesX,
+                        i / grid.tilesX);
       } catch (const std::bad_alloc&) {
         out.error = "out of memory while building a tile: use a smaller tile_size or fewer jobs";
       }
@@ -501,8 +568,9 @@ NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& s, int jobs) {
     if (t.polys > (1 << polyBits)) {
       freeAll();
       std::ostringstream msg;
-      msg << "a tile has " << t.polys << " polygons, more than the " << (1 << polyBits)
-          << " that fit in a polygon reference with " << ntiles << " tiles: decrease tile_size";
+      msg << "a " << (t.fine ? "fine " : "") << "tile has " << t.polys << " polygons, more than the "
+          << (1 << polyBits) << " that fit in a polygon reference with " << ntiles
+          << " tiles: decrease tile_size" << (t.fine ? " or fine_factor" : "");
       throw NavError(msg.str());
     }
     totalPolys += t.polys;

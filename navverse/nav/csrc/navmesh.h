@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -61,6 +62,10 @@ struct BuildConfig {
   bool filter_walkable_low_height_spans = true;
   bool fill_solid_interiors = true;
   int tile_size = 0;
+  // Tiled builds only: the tiles whose area meets this world xy rectangle (xmin, ymin, xmax, ymax;
+  // z up) are built with cells fine_factor times smaller in size and height.
+  std::optional<std::array<double, 4>> fine_region;
+  int fine_factor = 1;
 };
 
 // Triangle soup in world coordinates plus one area id per triangle (0 = never walkable).

@@ -75,7 +75,8 @@ def test_file_header(hall: PathFinder):
     assert magic == MAGIC and version == FORMAT_VERSION
     assert len(data) == HEADER.size + meta_len + tiles_len
     meta = json.loads(data[HEADER.size : HEADER.size + meta_len])
-    assert meta["settings"] == hall.settings.model_dump(mode="json")
+    # Single resolution: the settings without the mixed-resolution fields (as before they existed).
+    assert meta["settings"] == hall.settings.model_dump(mode="json", exclude={"fine_region", "fine_factor"})
     assert meta["area_types"] == [scenes.FLOOR]
     assert crc == zlib.crc32(data[HEADER.size :])
 

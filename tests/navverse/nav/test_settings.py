@@ -49,6 +49,14 @@ def test_recipe_presets_name_the_constants_and_repeat_no_setting(name: str):
     assert "settings" not in data["stages"]["navmesh"]  # one source: navverse.nav.PRESETS
 
 
+def test_i2o_preset_is_outdoor_with_indoor_cells_in_the_region():
+    assert NavMeshSettings.preset("i2o") is nav.PRESETS["i2o"] is nav.I2O
+    assert nav.I2O.model_dump(exclude={"fine_factor"}) == nav.OUTDOOR.model_dump(exclude={"fine_factor"})
+    assert nav.I2O.fine_region is None  # set per scene
+    assert nav.I2O.cell_size / nav.I2O.fine_factor == nav.INDOOR.cell_size
+    assert nav.I2O.cell_height / nav.I2O.fine_factor == nav.INDOOR.cell_height
+
+
 def test_defaults_are_the_indoor_preset():
     assert NavMeshSettings() == nav.INDOOR
 
