@@ -67,6 +67,7 @@ def navmesh(ctx: StageContext, params: NavmeshParams) -> None:
         build_scene_navmesh,
         describe_navmesh,
         navmesh_overlay,
+        scene_settings,
         write_navmesh_info,
     )
     from navverse.scene import Scene, SceneFiles, read_scene, render_bev, save_annotations
@@ -79,7 +80,7 @@ def navmesh(ctx: StageContext, params: NavmeshParams) -> None:
     preset = (
         scene_profile(annotations.scene_type).navmesh_preset if params.preset == "auto" else params.preset
     )
-    settings = NavMeshSettings.preset(preset).with_overrides(params.settings)
+    settings = scene_settings(NavMeshSettings.preset(preset).with_overrides(params.settings), annotations)
 
     ctx.progress(0, 3, "navmesh")
     started = time.perf_counter()

@@ -25,6 +25,7 @@ from navverse.nav.errors import NavMeshError
 from navverse.nav.pathfinder import MAX_AREA_TYPE, PathFinder, build
 from navverse.nav.settings import NavMeshSettings
 from navverse.scene import BevOverlay, Scene, SceneAnnotations, SceneFiles
+from navverse.scene_types import scene_profile
 
 __all__ = [
     "NAVMESH_INFO_VERSION",
@@ -35,6 +36,7 @@ __all__ = [
     "navmesh_overlay",
     "read_navmesh_info",
     "scene_area_types",
+    "scene_settings",
     "write_navmesh_info",
 ]
 
@@ -82,6 +84,27 @@ def _named_areas(
             )
         chosen[name] = areas[name]
     return chosen
+
+
+def scene_settings(settings: NavMeshSettings, annotations: SceneAnnotations) -> NavMeshSettings:
+    """The build settings for one scene: ``settings`` with a fine region where the scene asks for one.
+
+    A scene whose type's profile has a ``fine_margin_m`` (indoor-to-outdoor scenes), built with
+    settings that have a ``fine_factor`` above 1 and no ``fine_region`` of their own, gets as fine
+    region the bounding rectangle of its indoor buildings' footprints grown by that margin, clipped
+    to the scene's bounds. Any other case returns ``settings`` unchanged.
+    """
+    margin = scene_profile(annotations.scene_type).fine_margin_m
+    polygons = annotations.indoor_polygons
+    if margin is None or settings.fine_factor <= 1 or settings.fine_region is not None or not polygons:
+        return settings
+    points = np.array([p for polygon in polygons for p in polygon], dtype=np.float64)
+    (x0, y0, _), (x1, y1, _) = annotations.bounds.min, annotations.bounds.max
+    lo = np.maximum(points.min(axis=0) - margin, (x0, y0))
+    hi = np.minimum(points.max(axis=0) + margin, (x1, y1))
+    if (hi <= lo).any():
+        return settings
+    return settings.with_overrides({"fine_region": (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))})
 
 
 def build_scene_navmesh(

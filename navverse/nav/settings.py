@@ -3,9 +3,10 @@
 Field names and units follow habitat-sim's ``NavMeshSettings``: lengths in meters, the slope in
 degrees, and the Recast tuning values (region sizes, edge error, detail sampling) in cells, the
 way habitat-sim and the Recast demo pass them on. :data:`INDOOR` and :data:`OUTDOOR` are the values
-of the paper's table ``tab:navmesh_params``; ``recipes/presets/navmesh-{indoor,outdoor}.yaml`` hold
-the same values for recipes to extend. :data:`I2O` is :data:`OUTDOOR` with a finer cell size over a
-region (the indoor part of a scene), see :class:`NavMeshSettings`.
+of the paper's table ``tab:navmesh_params``, defined here and nowhere else:
+``recipes/presets/navmesh-{indoor,outdoor}.yaml`` name them (``preset: indoor``) and repeat no
+value. :data:`I2O` is :data:`OUTDOOR` with a finer cell size over a region (the indoor part of a
+scene), see :class:`NavMeshSettings`.
 """
 
 from __future__ import annotations

@@ -16,6 +16,7 @@ from navverse.nav.scene_navmesh import (
     navmesh_overlay,
     read_navmesh_info,
     scene_area_types,
+    scene_settings,
     write_navmesh_info,
 )
 from navverse.scene import Scene, terrain_classes
@@ -122,3 +123,21 @@ def test_overlay_fills_polygons_and_draws_the_outline(finder: PathFinder):
 def _shoelace(polygon: np.ndarray) -> float:
     x, y = polygon[:, 0], polygon[:, 1]
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def test_indoor_to_outdoor_scenes_get_fine_cells_over_their_indoor_buildings(scene: Scene):
+    # The tiny scene is i2o with one indoor building, footprint 0..10 x 0..8, bounds -2..12 x -4..8.
+    settings = scene_settings(nav.I2O.with_overrides({"tile_size": 32}), scene.annotations)
+    margin = 10.0  # the i2o profile's fine_margin_m
+    assert settings.fine_region == (-2.0, -4.0, 10.0 + min(margin, 2.0), 8.0)  # grown, then clipped
+    indoor = scene.annotations.model_copy(update={"scene_type": "indoor"})
+    assert scene_settings(nav.I2O, indoor) is nav.I2O  # other types keep their settings
+    assert scene_settings(nav.OUTDOOR, scene.annotations) is nav.OUTDOOR  # no fine factor, no region
+    no_building = scene.annotations.model_copy(update={"buildings": []})
+    assert scene_settings(nav.I2O, no_building) is nav.I2O
+    finder = build_scene_navmesh(scene, settings)
+    coarse = build_scene_navmesh(scene, nav.OUTDOOR.with_overrides({"tile_size": 32}))
+    # 5 cm cells near the building: its floor keeps more of its area than at 10 cm.
+    assert finder.navigable_area > coarse.navigable_area
+    start, goal = [8.5, 7.1, 0.0], [1.5, 7.1, 0.0]  # clear of the chairs and the table
+    assert finder.geodesic_distance(start, goal) == pytest.approx(7.0, abs=0.05)
