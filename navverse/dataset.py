@@ -29,7 +29,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from navverse.errors import NavverseError
-from navverse.files import atomic_dir
+from navverse.files import atomic_dir, atomic_write
 from navverse.scene_types import SceneType, scene_profile
 
 __all__ = [
@@ -215,7 +215,8 @@ def write_json_gz(data: Any, path: str | os.PathLike[str]) -> Path:
     path = Path(path)
     text = json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=False)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_bytes(gzip.compress(text.encode(), compresslevel=9, mtime=0))
+    with atomic_write(path) as handle:
+        handle.write(gzip.compress(text.encode(), compresslevel=9, mtime=0))
     return path
 
 

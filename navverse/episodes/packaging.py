@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from navverse.files import atomic_write
 from navverse.dataset import (
     FORMAT_VERSION,
     DatasetError,
@@ -133,5 +134,6 @@ def write_dataset(
         difficulty_thresholds=thresholds,
         files=files,
     )
-    (out / "manifest.json").write_text(manifest.model_dump_json(indent=2) + "\n")
+    with atomic_write(out / "manifest.json") as handle:
+        handle.write((manifest.model_dump_json(indent=2) + "\n").encode("utf-8"))
     return manifest

@@ -18,6 +18,7 @@ indoor-to-outdoor episodes (the ``scene_type`` group ``i2o``).
 from __future__ import annotations
 
 import csv
+import io
 import json
 import os
 from collections.abc import Sequence
@@ -25,6 +26,7 @@ from pathlib import Path
 
 from navverse.eval.metrics import METRICS
 from navverse.eval.scoring import EvalResult
+from navverse.files import atomic_write
 
 __all__ = ["TABLES", "cell_text", "has_table", "table_rows", "write_outputs"]
 
@@ -92,10 +94,16 @@ def _markdown(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
 
 
 def _write_csv(path: Path, header: Sequence[str], rows: Sequence[Sequence[object]]) -> None:
-    with open(path, "w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(header)
-        writer.writerows(rows)
+    text = io.StringIO(newline="")
+    writer = csv.writer(text)
+    writer.writerow(header)
+    writer.writerows(rows)
+    _write_text(path, text.getvalue())
+
+
+def _write_text(path: Path, text: str) -> None:
+    with atomic_write(path) as handle:
+        handle.write(text.encode("utf-8"))
 
 
 def write_outputs(result: EvalResult, out: str | os.PathLike[str], *, meta: dict) -> Path:
@@ -115,7 +123,7 @@ def write_outputs(result: EvalResult, out: str | os.PathLike[str], *, meta: dict
         "problems": result.problems,
         "episodes": result.episodes,
     }
-    (out / "metrics.json").write_text(json.dumps(metrics, indent=1, sort_keys=False) + "\n")
+    _write_text(out / "metrics.json", json.dumps(metrics, indent=1, sort_keys=False) + "\n")
     parts = [f"# Evaluation of {meta.get('submission', 'a submission')}", ""]
     for table in TABLES:
         if not has_table(result, table):
@@ -132,7 +140,7 @@ def write_outputs(result: EvalResult, out: str | os.PathLike[str], *, meta: dict
                 for t, (a, b) in sorted(result.difficulty_thresholds.items())
             )
         )
-    (out / "tables.md").write_text("\n".join(parts) + "\n")
+    _write_text(out / "tables.md", "\n".join(parts) + "\n")
     if result.episodes:
         names = list(result.episodes[0])
         _write_csv(out / "episodes.csv", names, [[row[n] for n in names] for row in result.episodes])

@@ -21,6 +21,7 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
+from navverse.files import atomic_write
 from navverse.nav.errors import NavMeshError
 from navverse.nav.pathfinder import MAX_AREA_TYPE, PathFinder, build
 from navverse.nav.settings import NavMeshSettings
@@ -204,7 +205,8 @@ def describe_navmesh(finder: PathFinder, annotations: SceneAnnotations, *, prese
 def write_navmesh_info(info: NavMeshInfo, path: Path) -> None:
     """Write ``navmesh.json`` (sorted keys, so the same navmesh gives the same bytes)."""
     text = json.dumps(info.model_dump(mode="json"), indent=2, sort_keys=True) + "\n"
-    Path(path).write_text(text, encoding="utf-8")
+    with atomic_write(path) as handle:
+        handle.write(text.encode("utf-8"))
 
 
 def read_navmesh_info(path: Path) -> NavMeshInfo:

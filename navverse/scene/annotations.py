@@ -20,6 +20,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from shapely.geometry import LinearRing, Point, Polygon
 
 from navverse.errors import SceneError
+from navverse.files import atomic_write
 from navverse.scene.naming import OBJECTS_ROOT, is_identifier
 from navverse.scene_types import SceneType
 
@@ -440,7 +441,8 @@ def save_annotations(annotations: SceneAnnotations, path: Path) -> None:
         Destination file; overwritten.
     """
     text = json.dumps(annotations.model_dump(mode="json"), indent=2, ensure_ascii=False, allow_nan=False)
-    Path(path).write_text(text + "\n", encoding="utf-8", newline="\n")
+    with atomic_write(path) as handle:
+        handle.write((text + "\n").encode("utf-8"))
 
 
 def _rebuild_hint(scene_id: str | None) -> str:
