@@ -158,7 +158,7 @@ def test_geometry_without_navmesh_is_a_clear_error(built: Built):
         ("{excluded_classes: [ceiling]}", "never walkable"),
         ("{settings: {cell_size: -0.1}}", "greater than 0"),
         ("{settings: {voxel_size: 0.1}}", "unknown key 'voxel_size'"),
-        ("{preset: attic}", "'auto', 'indoor' or 'outdoor'"),
+        ("{preset: attic}", "unknown navmesh preset 'attic' (known: auto, indoor, outdoor, i2o)"),
     ],
 )
 def test_recipe_mistakes_are_reported_with_their_line(tmp_path: Path, section: str, message: str):
