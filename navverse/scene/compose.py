@@ -578,9 +578,8 @@ def _cut_surface(mesh: MeshData, cutter) -> MeshData:
         return _mesh_of(solid - cutter, mesh.face_colors, solid.original_id())
     import trimesh
 
-    inside = trimesh.Trimesh(
-        cutter.to_mesh().vert_properties[:, :3], cutter.to_mesh().tri_verts, process=False
-    )
+    cut = cutter.to_mesh()
+    inside = trimesh.Trimesh(cut.vert_properties[:, :3], cut.tri_verts, process=False)
     corner_inside = inside.contains(mesh.vertices)
     keep = ~corner_inside[mesh.faces].all(axis=1)
     used = np.unique(mesh.faces[keep])
