@@ -233,12 +233,12 @@ class RecipeLoader:
     def _relative(self, path: Path) -> str:
         """``path`` relative to the recipes folder (POSIX form), else as given.
 
-        A symbolic link is shown by where it leads if that is inside the folder, else by where it is.
+        A symbolic link is shown where it is (it may lead nowhere).
         """
         recipes = self.workspace.recipes_dir
         for inside, folder in (
+            (Path(os.path.abspath(path)), Path(os.path.abspath(recipes))),
             (_real(path), _real(recipes)),
-            (Path(os.path.abspath(path)), recipes.absolute()),
         ):
             if inside.is_relative_to(folder):
                 return inside.relative_to(folder).as_posix()
@@ -251,7 +251,7 @@ class RecipeLoader:
     # -- one file ------------------------------------------------------------------------------
     def _load_source(self, path: Path, display: str) -> Located | YamlSourceError:
         """The YAML of ``path`` with marks naming it ``display``; read once per loader."""
-        path = _real(path)
+        path = Path(os.path.abspath(path))
         if path not in self._read:
             try:
                 own = load_located(path)
@@ -513,7 +513,7 @@ class RecipeLoader:
 
     def _base_id(self, path: Path) -> str:
         """The id a recipe file's targets start with, as far as its own text tells (else its stem)."""
-        source = self._read.get(_real(path))
+        source = self._read.get(Path(os.path.abspath(path)))
         if isinstance(source, Located) and isinstance(source.data, dict):
             own = source.data.get("id")
             if isinstance(own, str) and own:
@@ -591,12 +591,13 @@ def _real(path: Path) -> Path:
 
 _SHORT_REPR = reprlib.Repr()
 _SHORT_REPR.maxstring = _SHORT_REPR.maxother = MAX_SHOWN_INPUT
-_SHORT_REPR.maxlevel, _SHORT_REPR.maxlist, _SHORT_REPR.maxdict = 3, 6, 6
+_SHORT_REPR.maxlevel, _SHORT_REPR.maxlist, _SHORT_REPR.maxdict = 2, 4, 4
 
 
 def _shown(value: Any) -> str:
     """``repr(value)``, shortened (a value quoted in a message stays short, however large it is)."""
-    return _SHORT_REPR.repr(value)
+    text = _SHORT_REPR.repr(value)  # bounded work on a large value
+    return text if len(text) <= MAX_SHOWN_INPUT else f"{text[: MAX_SHOWN_INPUT - 3]}..."
 
 
 def _existing_prefix(data: Any, loc: Sequence[str | int], error_type: str) -> tuple[str | int, ...]:
