@@ -300,7 +300,8 @@ def _compose(text: str, *, file: str) -> yaml.Node | None:
         return loader.get_single_node()
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
-        line = mark.line + 1 if mark is not None else None
+        # libyaml marks an error at the end of the text on a line after the last one
+        line = min(mark.line + 1, text.count("\n") + 1) if mark is not None else None
         what = " ".join(part for part in (exc.context, exc.problem) if part) or str(exc)
         raise YamlSourceError(file, line, f"invalid YAML: {what}") from None
     except yaml.YAMLError as exc:
