@@ -220,8 +220,9 @@ class RecipeLoader:
         self.workspace = workspace
         self.stages = registered_stages() if stages is None else stages
         self.issues: list[RecipeIssue] = []
-        self._read: dict[Path, Located | YamlSourceError] = {}
+        self._extended: dict[Path, Located | YamlSourceError] = {}  # files reached through 'extends'
         self._followed = 0  # files reached through 'extends' by the recipe being loaded
+        self._own_id: str | None = None  # the 'id' the text of the recipe being loaded gives
 
     # -- discovery ---------------------------------------------------------------------------
     def recipe_files(self) -> list[Path]:
@@ -249,19 +250,24 @@ class RecipeLoader:
         self.issues.append(RecipeIssue(file=file, line=line, key_path=key_path, message=message))
 
     # -- one file ------------------------------------------------------------------------------
-    def _load_source(self, path: Path, display: str) -> Located | YamlSourceError:
-        """The YAML of ``path`` with marks naming it ``display``; read once per loader."""
-        path = Path(os.path.abspath(path))
-        if path not in self._read:
-            try:
-                own = load_located(path)
-            except YamlSourceError as exc:
-                self._read[path] = YamlSourceError(display, exc.line, str(exc))
-            else:
-                self._read[path] = Located(
-                    own.data, {k: (display, line) for k, (_, line) in own.marks.items()}
-                )
-        return self._read[path]
+    def _load_source(self, path: Path, display: str, *, extended: bool) -> Located | YamlSourceError:
+        """The YAML of ``path`` with marks naming it ``display``.
+
+        A file reached through ``extends`` is read once per :meth:`load_all` (presets are extended
+        by many recipes); a recipe file itself is read when loaded and not kept.
+        """
+        key = Path(os.path.abspath(path))
+        if extended and key in self._extended:
+            return self._extended[key]
+        try:
+            own = load_located(path)
+        except YamlSourceError as exc:
+            source: Located | YamlSourceError = YamlSourceError(display, exc.line, str(exc))
+        else:
+            source = Located(own.data, {k: (display, line) for k, (_, line) in own.marks.items()})
+        if extended:
+            self._extended[key] = source
+        return source
 
     def _resolve_extends(self, name: str, origin: Path) -> Path | str:
         """The file ``extends: name`` in ``origin`` means, or why it may not name it."""
@@ -285,7 +291,7 @@ class RecipeLoader:
     def _load_with_extends(self, path: Path, chain: tuple[Path, ...] = ()) -> Located | None:
         """``path`` merged over what it extends; ``chain`` holds the files extending it, outermost first."""
         display = self._relative(path)
-        source = self._load_source(path, display)
+        source = self._load_source(path, display, extended=bool(chain))
         path = _real(path)
         if isinstance(source, YamlSourceError):
             self._issue(source.file, source.line, "", str(source))
@@ -293,6 +299,8 @@ class RecipeLoader:
         if not isinstance(source.data, dict):
             self._issue(display, 1, "", "a recipe must be a mapping of keys to values")
             return None
+        if not chain and isinstance(source.data.get("id"), str):
+            self._own_id = source.data["id"]
         own = Located(dict(source.data), source.marks)
         parents = own.data.pop("extends", None)
         if parents is None:
@@ -409,6 +417,7 @@ class RecipeLoader:
         """Validate one recipe file and expand it into targets; problems go to :attr:`issues`."""
         display = self._relative(path)
         self._followed = 0
+        self._own_id = None
         located = self._load_with_extends(path)
         if located is None:
             return []
@@ -477,6 +486,7 @@ class RecipeLoader:
         problems, which :attr:`issues` holds too.
         """
         self.issues = []
+        self._extended = {}
         targets: list[Target] = []
         broken: list[BrokenRecipe] = []
         seen: dict[str, str] = {}
@@ -495,7 +505,8 @@ class RecipeLoader:
             if len(self.issues) > start:
                 self._trim_issues(start)
                 problems = tuple(self.issues[start:])
-                broken.append(BrokenRecipe(self._relative(path), problems, self._base_id(path)))
+                base_id = self._own_id or path.stem  # as far as the file's own text tells
+                broken.append(BrokenRecipe(self._relative(path), problems, base_id))
                 continue
             for target in made:
                 seen[target.id] = target.recipe
@@ -510,15 +521,6 @@ class RecipeLoader:
             more = len(found) - len(kept)
             last = RecipeIssue(kept[-1].file, None, "", f"{more} more problems in this file are not listed")
             self.issues[start:] = [*kept, last]
-
-    def _base_id(self, path: Path) -> str:
-        """The id a recipe file's targets start with, as far as its own text tells (else its stem)."""
-        source = self._read.get(Path(os.path.abspath(path)))
-        if isinstance(source, Located) and isinstance(source.data, dict):
-            own = source.data.get("id")
-            if isinstance(own, str) and own:
-                return own
-        return path.stem
 
 
 @dataclass(frozen=True)

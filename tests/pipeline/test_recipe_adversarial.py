@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from pipeline import yaml_source
-from pipeline.errors import RecipeError, TargetError
+from pipeline.errors import DagError, RecipeError, TargetError
 from pipeline.recipes import MAX_EXTENDS_FILES, RecipeLoader, select_loaded, skipped_warnings
 from pipeline.yaml_source import YamlSourceError, load_located, loads_located
 from tests.pipeline.conftest import write
@@ -341,6 +341,34 @@ def test_a_selector_matching_nothing_names_the_skipped_files(workspace, stages):
         TargetError, match=r"(?s)matches 'gamma'.*skipped for their problems.*group/beta.yaml"
     ):
         select_loaded(recipes, ["gamma"])
+
+
+def test_a_broken_file_is_known_by_the_id_its_text_gives(workspace, stages):
+    write(workspace.recipes_dir / "group" / "beta.yaml", "id: gamma\nextends: base\nseed: yes\n")
+    recipes = RecipeLoader(workspace, stages=stages).load_all()
+    (broken,) = recipes.broken
+    assert broken.base_id == "gamma" and broken.may_define("gamma-s1") and broken.may_define("g*")
+    assert not broken.may_define("beta") and not broken.may_define("alpha-*")
+    with pytest.raises(RecipeError):
+        select_loaded(recipes, ["gamma"])
+
+
+def test_a_link_to_nothing_but_a_broken_file_names_it(workspace, stages, capsys):
+    from navverse.cli import _graph_over
+
+    _break_beta(workspace)
+    write(workspace.recipes_dir / "only-beta.yaml", "stages: {ex_gather: {}}\nlinks: {total: [beta]}\n")
+    recipes = RecipeLoader(workspace, stages=stages).load_all()
+    with pytest.raises(DagError, match=r"(?s)match no target.*skipped for their problems.*group/beta\.yaml"):
+        _graph_over(select_loaded(recipes, ["only-beta"]), recipes, selectors=["only-beta"])
+    graph = _graph_over(select_loaded(recipes, ["all"]), recipes, selectors=["all"])
+    assert sorted(graph.nodes) == [
+        "all:ex_gather",
+        *(f"alpha-s{i}:{stage}" for i in (0, 1) for stage in ("ex_numbers", "ex_sum")),
+    ]
+    err = capsys.readouterr().err
+    assert "warning: skipped recipes/group/beta.yaml" in err
+    assert "links 'total' of target 'all' (beta) might have matched targets of it" in err
 
 
 def test_a_broken_preset_breaks_the_files_extending_it_only(workspace, stages):
