@@ -11,6 +11,7 @@ problem is a :class:`YamlSourceError` carrying the file and, when known, the lin
 
 from __future__ import annotations
 
+import errno
 import math
 import os
 import re
@@ -48,6 +49,14 @@ _OVERFLOWING_NUMBER = re.compile(r"[-+]?[0-9]+(?:\.[0-9]*)?[eE][-+]?[0-9]+")
 but it is meant as a number; one beyond the float range is refused (as ``1e309``)."""
 _INT_TEXT_LIMIT = 40
 """Characters of an integer's text beyond which it is too large without being parsed."""
+
+_FILE_KINDS = (
+    (stat.S_ISDIR, "a directory"),
+    (stat.S_ISFIFO, "a named pipe (FIFO)"),
+    (stat.S_ISCHR, "a device"),
+    (stat.S_ISBLK, "a device"),
+    (stat.S_ISSOCK, "a socket"),
+)
 
 _BOMS = {
     b"\xff\xfe\x00\x00": "UTF-32",
@@ -95,12 +104,12 @@ class YamlSourceError(ValueError):
 # -- reading ---------------------------------------------------------------------------------------
 
 
-def read_text(path: Path, *, limit: int = MAX_FILE_BYTES) -> str:
+def read_text(path: Path, *, limit: int | None = None) -> str:
     """The UTF-8 text of the regular file ``path``, refusing anything else before reading it.
 
     Symbolic links are followed; what they lead to must be a regular file. Directories, named pipes,
     devices and sockets are refused without being opened for reading (a pipe would block), and so is
-    a file larger than ``limit`` bytes.
+    a file larger than ``limit`` bytes (default :data:`MAX_FILE_BYTES`).
 
     Raises
     ------
@@ -108,6 +117,7 @@ def read_text(path: Path, *, limit: int = MAX_FILE_BYTES) -> str:
         If the file is missing, not a regular file, too large, unreadable or not UTF-8 text.
     """
     file = str(path)
+    limit = MAX_FILE_BYTES if limit is None else limit
     try:
         info = os.stat(path)
     except OSError as exc:
@@ -115,19 +125,17 @@ def read_text(path: Path, *, limit: int = MAX_FILE_BYTES) -> str:
     _check_regular(file, info, limit)
     try:
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+        with os.fdopen(fd, "rb") as handle:
+            _check_regular(file, os.fstat(handle.fileno()), limit)  # the file may have been swapped
+            data = handle.read(limit + 1)
     except OSError as exc:
-        raise YamlSourceError(file, None, f"cannot be opened: {exc.strerror}") from None
-    with os.fdopen(fd, "rb") as handle:
-        _check_regular(file, os.fstat(handle.fileno()), limit)  # the file may have been swapped
-        data = handle.read(limit + 1)
+        raise YamlSourceError(file, None, f"cannot be read: {exc.strerror or exc}") from None
     if len(data) > limit:
         raise YamlSourceError(file, None, _too_large(len(data), limit))
     return decode_text(data, file=file)
 
 
 def _stat_problem(path: Path, exc: OSError) -> str:
-    import errno
-
     if exc.errno == errno.ELOOP:
         return "is a symbolic link loop (the link never reaches a file); point it at a recipe file"
     if exc.errno == errno.ENOENT and os.path.islink(path):
@@ -140,17 +148,7 @@ def _stat_problem(path: Path, exc: OSError) -> str:
 def _check_regular(file: str, info: os.stat_result, limit: int) -> None:
     mode = info.st_mode
     if not stat.S_ISREG(mode):
-        kind = (
-            "a directory"
-            if stat.S_ISDIR(mode)
-            else "a named pipe (FIFO)"
-            if stat.S_ISFIFO(mode)
-            else "a device"
-            if stat.S_ISCHR(mode) or stat.S_ISBLK(mode)
-            else "a socket"
-            if stat.S_ISSOCK(mode)
-            else "not a file"
-        )
+        kind = next((name for is_kind, name in _FILE_KINDS if is_kind(mode)), "not a file")
         raise YamlSourceError(
             file, None, f"is {kind}, not a regular file; recipes are read from regular .yaml files only"
         )
