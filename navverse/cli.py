@@ -35,24 +35,50 @@ def _built_dir() -> Path:
     return _workspace().built_dir
 
 
-def _load_targets(workspace, files: Sequence[Path] | None = None):
+def _loader(workspace):
     from pipeline.recipes import RecipeLoader
     from pipeline.stage import discover
 
-    stages = discover(STAGES_PACKAGE)
-    return RecipeLoader(workspace, stages=stages).load(files)
+    return RecipeLoader(workspace, stages=discover(STAGES_PACKAGE))
+
+
+def _warn(warnings: Sequence[str]) -> None:
+    console = Console(stderr=True)
+    for text in warnings:
+        console.print(f"warning: {text}", style="yellow", highlight=False, markup=False, soft_wrap=True)
 
 
 def _graph_for(selectors: Sequence[str], *, every_target: bool = False):
-    from pipeline.dag import build_graph
-    from pipeline.recipes import select_targets
+    """The selected targets and their build graph.
+
+    Recipe files with problems do not block a selection that does not need them: their targets are
+    left out, with a warning per file (see :func:`pipeline.recipes.select_loaded`).
+    """
+    from pipeline.recipes import select_loaded
     from pipeline.store import ArtifactStore
 
     workspace = _workspace()
-    targets = _load_targets(workspace)
-    chosen = list(targets) if every_target else select_targets(targets, selectors)
-    graph = build_graph(chosen, universe=targets)
+    recipes = _loader(workspace).load_all()
+    if every_target and recipes.broken:
+        raise recipes.error()
+    chosen = list(recipes.targets) if every_target else select_loaded(recipes, selectors)
+    graph = _graph_over(chosen, recipes, selectors=selectors)
     return workspace, chosen, graph, ArtifactStore(workspace.built_dir)
+
+
+def _graph_over(chosen, recipes, *, selectors: Sequence[str]):
+    """The graph of ``chosen``, linking to the targets of ``recipes``; warns of its broken files."""
+    from pipeline.dag import build_graph
+    from pipeline.errors import DagError
+    from pipeline.recipes import skipped_warnings
+
+    try:
+        graph = build_graph(chosen, universe=recipes.targets)
+    except DagError as exc:
+        raise DagError(f"{exc}\n{recipes.skipped_note()}" if recipes.broken else str(exc)) from None
+    in_graph = {node.target.id: node.target for node in graph.nodes.values()}
+    _warn(skipped_warnings(recipes, selectors=selectors, targets=in_graph.values()))
+    return graph
 
 
 def cmd_build(args: argparse.Namespace, console: Console) -> int:
@@ -138,15 +164,35 @@ def cmd_clean(args: argparse.Namespace, console: Console) -> int:
 
 
 def cmd_validate_recipe(args: argparse.Namespace, console: Console) -> int:
-    """Validate recipe files (all of them when none is given)."""
-    workspace = _workspace()
-    files = [Path(f) for f in args.files] or None
-    targets = _load_targets(workspace, files)
+    """Validate recipe files (all of them when none is given).
+
+    Every problem of the files named is the error; other files with problems are warned about
+    (the named files' links may have needed them).
+    """
     from pipeline.dag import build_graph
 
-    build_graph(targets, universe=_load_targets(workspace) if files else targets)
-    console.print(f"[green]valid[/]: {len(files) if files else 'all'} recipe file(s), {len(targets)} targets")
+    workspace = _workspace()
+    loader = _loader(workspace)
+    if not args.files:
+        targets = loader.load()
+        build_graph(targets, universe=targets)
+        console.print(f"[green]valid[/]: all recipe file(s), {len(targets)} targets")
+        return 0
+    files = [_recipe_path(workspace, name) for name in args.files]
+    targets = loader.load(files)
+    _graph_over(targets, loader.load_all(), selectors=[])
+    console.print(f"[green]valid[/]: {len(files)} recipe file(s), {len(targets)} targets")
     return 0
+
+
+def _recipe_path(workspace, name: str) -> Path:
+    """A recipe file named on the command line: as given, else under the project or recipes folder."""
+    import os
+
+    for path in (Path(name), workspace.root / name, workspace.recipes_dir / name):
+        if os.path.lexists(path):
+            return path
+    return Path(name)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -21,22 +21,45 @@ from __future__ import annotations
 
 import copy
 import fnmatch
+import os
+import re
+import reprlib
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    StrictBool,
+    StrictInt,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from pipeline.errors import RecipeError, RecipeIssue, StageImportError, TargetError
 from pipeline.hashing import hash_value
 from pipeline.params import Params
 from pipeline.stage import SKIP_KEY, StageSpec, registered_stages
 from pipeline.workspace import Workspace
-from pipeline.yaml_source import KeyPath, Located, YamlSyntaxError, load_located
+from pipeline.yaml_source import KeyPath, Located, YamlSourceError, load_located
 
 TARGET_ID_PATTERN = r"^[a-z0-9][a-z0-9._-]*$"
 ARTIFACT_PATTERN = r"^[a-z][a-z0-9_]*$"
+PRESET_NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9._-]*$"
+"""A preset is named by its file's stem: no folders, no path."""
+
+MAX_EXTENDS_FILES = 64
+"""Most files one recipe may reach through ``extends`` (its presets, theirs, and so on; repeats count)."""
+
+MAX_SHOWN_INPUT = 80
+"""Characters of an offending value quoted in a message."""
+
+MAX_ISSUES_PER_FILE = 50
+"""Problems listed per recipe file; the rest are counted."""
 
 
 class LinkModel(BaseModel):
@@ -55,12 +78,13 @@ class RecipeModel(BaseModel):
 
     id: Annotated[str, Field(pattern=TARGET_ID_PATTERN)] | None = None
     description: str = ""
-    seed: Annotated[int, Field(ge=0)] = 0
-    seeds: list[Annotated[int, Field(ge=0)]] | None = None
-    count: Annotated[int, Field(ge=1, le=100_000)] | None = None
+    # Strict: YAML 1.1 reads `yes`/`no`/`on`/`off` as booleans, which must not pass for 1 and 0.
+    seed: Annotated[StrictInt, Field(ge=0)] = 0
+    seeds: list[Annotated[StrictInt, Field(ge=0)]] | None = None
+    count: Annotated[StrictInt, Field(ge=1, le=100_000)] | None = None
     stages: dict[str, dict[str, Any]]
     links: dict[Annotated[str, Field(pattern=ARTIFACT_PATTERN)], list[str] | LinkModel] = {}
-    manual: bool = False
+    manual: StrictBool = False
 
     @field_validator("stages", mode="before")
     @classmethod
@@ -149,36 +173,36 @@ class Target:
 
 
 def _merge(base: Located, over: Located) -> Located:
-    """Deep-merge ``over`` onto ``base``: mappings merge, other values replace, ``null`` deletes."""
+    """Deep-merge ``over`` onto ``base``: mappings merge, other values replace, ``null`` deletes.
+
+    Every key path keeps the mark of the file its value comes from (time linear in the data).
+    """
     data = copy.deepcopy(base.data) if isinstance(base.data, dict) else {}
-    marks = dict(base.marks)
-
-    def drop_marks(prefix: KeyPath) -> None:
-        for key in [k for k in marks if k[: len(prefix)] == prefix and len(k) > len(prefix)]:
-            del marks[key]
-
-    def merge_into(target: dict[str, Any], source: dict[str, Any], prefix: KeyPath) -> None:
-        for key, value in source.items():
-            path = (*prefix, key)
-            if value is None and prefix:  # 'key: null' below the top level removes an inherited entry
-                target.pop(key, None)
-                drop_marks(path)
-                marks.pop(path, None)
-                continue
-            if isinstance(value, dict) and isinstance(target.get(key), dict):
-                merge_into(target[key], value, path)
-                marks[path] = over.marks.get(path, marks.get(path, ("<unknown>", 0)))
-            else:
-                target[key] = copy.deepcopy(value)
-                drop_marks(path)
-                for mark_path, mark in over.marks.items():
-                    if mark_path[: len(path)] == path:
-                        marks[mark_path] = mark
-
     if isinstance(over.data, dict):
-        merge_into(data, over.data, ())
+        _merge_data(data, over.data, top=True)
+    marks: dict[KeyPath, tuple[str, int]] = {}
+    stack: list[tuple[KeyPath, Any]] = [((), data)]
+    while stack:
+        path, value = stack.pop()
+        mark = over.marks.get(path) or base.marks.get(path)
+        if mark is not None:
+            marks[path] = mark
+        if isinstance(value, dict):
+            stack.extend(((*path, key), item) for key, item in value.items())
+        elif isinstance(value, list):
+            stack.extend(((*path, index), item) for index, item in enumerate(value))
     marks[()] = over.marks.get((), ("<unknown>", 0))
     return Located(data, marks)
+
+
+def _merge_data(target: dict[str, Any], source: dict[str, Any], *, top: bool) -> None:
+    for key, value in source.items():
+        if value is None and not top:  # 'key: null' below the top level removes an inherited entry
+            target.pop(key, None)
+        elif isinstance(value, dict) and isinstance(target.get(key), dict):
+            _merge_data(target[key], value, top=False)
+        else:
+            target[key] = copy.deepcopy(value)
 
 
 class RecipeLoader:
@@ -196,6 +220,9 @@ class RecipeLoader:
         self.workspace = workspace
         self.stages = registered_stages() if stages is None else stages
         self.issues: list[RecipeIssue] = []
+        self._extended: dict[Path, Located | YamlSourceError] = {}  # files reached through 'extends'
+        self._followed = 0  # files reached through 'extends' by the recipe being loaded
+        self._own_id: str | None = None  # the 'id' the text of the recipe being loaded gives
 
     # -- discovery ---------------------------------------------------------------------------
     def recipe_files(self) -> list[Path]:
@@ -205,40 +232,76 @@ class RecipeLoader:
         return sorted(p for p in root.rglob("*.yaml") if not p.is_relative_to(presets))
 
     def _relative(self, path: Path) -> str:
-        try:
-            return path.resolve().relative_to(self.workspace.recipes_dir.resolve()).as_posix()
-        except ValueError:
-            return str(path)
+        """``path`` relative to the recipes folder (POSIX form), else as given.
+
+        A symbolic link is shown where it is (it may lead nowhere).
+        """
+        recipes = self.workspace.recipes_dir
+        for inside, folder in (
+            (Path(os.path.abspath(path)), Path(os.path.abspath(recipes))),
+            (_real(path), _real(recipes)),
+        ):
+            if inside.is_relative_to(folder):
+                return inside.relative_to(folder).as_posix()
+        return str(path)
 
     def _issue(self, file: str, line: int | None, key: KeyPath | str, message: str) -> None:
         key_path = key if isinstance(key, str) else ".".join(str(k) for k in key)
         self.issues.append(RecipeIssue(file=file, line=line, key_path=key_path, message=message))
 
     # -- one file ------------------------------------------------------------------------------
-    def _resolve_extends(self, name: str, origin: Path) -> Path:
-        if name.endswith((".yaml", ".yml")):
-            return (origin.parent / name).resolve()
-        return (self.workspace.presets_dir / f"{name}.yaml").resolve()
+    def _load_source(self, path: Path, display: str, *, extended: bool) -> Located | YamlSourceError:
+        """The YAML of ``path`` with marks naming it ``display``.
 
-    def _load_with_extends(self, path: Path, chain: tuple[Path, ...] = ()) -> Located | None:
-        path = path.resolve()
-        display = self._relative(path)
-        if path in chain:
-            names = " -> ".join(self._relative(p) for p in (*chain, path))
-            self._issue(display, None, "extends", f"'extends' forms a cycle: {names}")
-            return None
+        A file reached through ``extends`` is read once per :meth:`load_all` (presets are extended
+        by many recipes); a recipe file itself is read when loaded and not kept.
+        """
+        key = Path(os.path.abspath(path))
+        if extended and key in self._extended:
+            return self._extended[key]
         try:
             own = load_located(path)
-        except FileNotFoundError:
-            self._issue(display, None, "", "file not found")
+        except YamlSourceError as exc:
+            source: Located | YamlSourceError = YamlSourceError(display, exc.line, str(exc))
+        else:
+            source = Located(own.data, {k: (display, line) for k, (_, line) in own.marks.items()})
+        if extended:
+            self._extended[key] = source
+        return source
+
+    def _resolve_extends(self, name: str, origin: Path) -> Path | str:
+        """The file ``extends: name`` in ``origin`` means, or why it may not name it."""
+        recipes = _real(self.workspace.recipes_dir)
+        where = (
+            "'extends' names a preset (a file of recipes/presets, by its name without .yaml) or a "
+            ".yaml file inside recipes/, relative to the recipe"
+        )
+        if name.endswith((".yaml", ".yml")):
+            if os.path.isabs(name) or name.startswith("~"):
+                return f"{where}; {name!r} is an absolute path: write it relative to this recipe"
+            path = _real(origin.parent / name)
+        elif re.fullmatch(PRESET_NAME_PATTERN, name):
+            path = _real(self.workspace.presets_dir / f"{name}.yaml")
+        else:
+            return f"{where}; {name!r} is neither"
+        if not path.is_relative_to(recipes):
+            return f"{where}; {name!r} leads outside recipes/ (to {path})"
+        return path
+
+    def _load_with_extends(self, path: Path, chain: tuple[Path, ...] = ()) -> Located | None:
+        """``path`` merged over what it extends; ``chain`` holds the files extending it, outermost first."""
+        display = self._relative(path)
+        source = self._load_source(path, display, extended=bool(chain))
+        path = _real(path)
+        if isinstance(source, YamlSourceError):
+            self._issue(source.file, source.line, "", str(source))
             return None
-        except YamlSyntaxError as exc:
-            self._issue(self._relative(Path(exc.file)), exc.line, "", str(exc))
-            return None
-        own = Located(own.data, {k: (display, line) for k, (_, line) in own.marks.items()})
-        if not isinstance(own.data, dict):
+        if not isinstance(source.data, dict):
             self._issue(display, 1, "", "a recipe must be a mapping of keys to values")
             return None
+        if not chain and isinstance(source.data.get("id"), str):
+            self._own_id = source.data["id"]
+        own = Located(dict(source.data), source.marks)
         parents = own.data.pop("extends", None)
         if parents is None:
             return own
@@ -249,22 +312,35 @@ class RecipeLoader:
             return None
         merged = Located({}, {})
         for index, name in enumerate(parents):
+            line = own.where(("extends", index) if len(parents) > 1 else ("extends",))[1]
             parent_path = self._resolve_extends(name, path)
-            if not parent_path.is_file():
-                line = own.where(("extends", index) if len(parents) > 1 else ("extends",))[1]
-                known = sorted(p.stem for p in self.workspace.presets_dir.glob("*.yaml"))
-                self._issue(
-                    display,
-                    line,
-                    "extends",
-                    f"cannot extend {name!r}: {parent_path} does not exist (presets: {', '.join(known)})",
-                )
+            problem = self._extends_problem(name, parent_path, (*chain, path))
+            if problem is not None:
+                self._issue(display, line, "extends", problem)
                 return None
+            assert isinstance(parent_path, Path)
             parent = self._load_with_extends(parent_path, (*chain, path))
             if parent is None:
                 return None
             merged = _merge(merged, parent)
         return _merge(merged, own)
+
+    def _extends_problem(self, name: str, parent: Path | str, chain: tuple[Path, ...]) -> str | None:
+        """Why ``extends: name`` (leading to ``parent``, from the files of ``chain``) cannot be followed."""
+        if isinstance(parent, str):
+            return parent
+        if parent in chain:
+            loop = " -> ".join(self._relative(p) for p in (*chain[chain.index(parent) :], parent))
+            return f"'extends' forms a cycle: {loop}; remove one of these extends"
+        self._followed += 1
+        if self._followed > MAX_EXTENDS_FILES:
+            return (
+                f"'extends' reaches more than {MAX_EXTENDS_FILES} files (repeats counted); extend fewer files"
+            )
+        if not os.path.lexists(parent):
+            known = sorted(p.stem for p in self.workspace.presets_dir.glob("*.yaml"))
+            return f"cannot extend {name!r}: {parent} does not exist (presets: {', '.join(known)})"
+        return None
 
     def _validate_params(
         self, located: Located, display: str, recipe_dir: Path, stages: dict[str, Any]
@@ -328,13 +404,20 @@ class RecipeLoader:
                 message = f"unknown key {loc[-1]!r}" + (f" (known keys: {', '.join(known)})" if known else "")
             elif error["type"] == "missing":
                 message = "required key is missing"
+            elif isinstance(error.get("input"), bool) and error["type"] == "int_type":
+                message = (
+                    f"{message} (got {error['input']}: yes/no/on/off/true/false are booleans in YAML; "
+                    "write a number)"
+                )
             elif "input" in error and error["type"] not in ("model_type", "dict_type"):
-                message = f"{message} (got {error['input']!r})"
+                message = f"{message} (got {_shown(error['input'])})"
             self._issue(file, line, path, message)
 
     def load_file(self, path: Path) -> list[Target]:
         """Validate one recipe file and expand it into targets; problems go to :attr:`issues`."""
         display = self._relative(path)
+        self._followed = 0
+        self._own_id = None
         located = self._load_with_extends(path)
         if located is None:
             return []
@@ -390,11 +473,28 @@ class RecipeLoader:
 
     def load(self, files: Iterable[Path] | None = None) -> list[Target]:
         """Load ``files`` (default: every recipe) and raise one :class:`RecipeError` for all problems."""
+        recipes = self.load_all(files)
+        if recipes.broken:
+            raise RecipeError(self.issues)
+        return list(recipes.targets)
+
+    def load_all(self, files: Iterable[Path] | None = None) -> RecipeSet:
+        """Load ``files`` (default: every recipe), keeping the targets of the files without problems.
+
+        A file with any problem (its own, one of a file it extends, or a target id another file
+        already makes) contributes no target: it is listed in :attr:`RecipeSet.broken` with its
+        problems, which :attr:`issues` holds too.
+        """
         self.issues = []
+        self._extended = {}
         targets: list[Target] = []
+        broken: list[BrokenRecipe] = []
         seen: dict[str, str] = {}
         for path in self.recipe_files() if files is None else files:
-            for target in self.load_file(Path(path)):
+            path = Path(path)
+            start = len(self.issues)
+            made = self.load_file(path)
+            for target in made:
                 if target.id in seen:
                     self._issue(
                         target.recipe,
@@ -402,18 +502,104 @@ class RecipeLoader:
                         "id",
                         f"target id {target.id!r} is also made by {seen[target.id]}; give one an 'id'",
                     )
-                    continue
+            if len(self.issues) > start:
+                self._trim_issues(start)
+                problems = tuple(self.issues[start:])
+                base_id = self._own_id or path.stem  # as far as the file's own text tells
+                broken.append(BrokenRecipe(self._relative(path), problems, base_id))
+                continue
+            for target in made:
                 seen[target.id] = target.recipe
                 targets.append(target)
-        if self.issues:
-            raise RecipeError(self.issues)
-        return targets
+        return RecipeSet(tuple(targets), tuple(broken))
+
+    def _trim_issues(self, start: int) -> None:
+        """Keep at most :data:`MAX_ISSUES_PER_FILE` of the problems found since ``start``."""
+        found = self.issues[start:]
+        if len(found) > MAX_ISSUES_PER_FILE:
+            kept = found[: MAX_ISSUES_PER_FILE - 1]
+            more = len(found) - len(kept)
+            last = RecipeIssue(kept[-1].file, None, "", f"{more} more problems in this file are not listed")
+            self.issues[start:] = [*kept, last]
+
+
+@dataclass(frozen=True)
+class BrokenRecipe:
+    """A recipe file that has problems, so that none of its targets exist.
+
+    Attributes
+    ----------
+    file : str
+        Its path relative to the recipes folder (POSIX form), as in its problems.
+    issues : tuple of RecipeIssue
+        Its problems (some may be in a file it extends).
+    base_id : str
+        The id its targets would start with (``<id>``, ``<id>-s<seed>``, ``<id>-<index>``): its
+        ``id`` if its text gives one, else its file name's stem.
+    """
+
+    file: str
+    issues: tuple[RecipeIssue, ...]
+    base_id: str
+
+    def may_define(self, pattern: str) -> bool:
+        """Whether a target id (or glob) ``pattern`` might name one of this file's targets.
+
+        Errs towards yes: the file's ids are known only by their start.
+        """
+        literal = re.split(r"[*?\[]", pattern, maxsplit=1)[0]
+        if literal == pattern:  # an exact id: this file's own id, or one of its expansions
+            return pattern == self.base_id or pattern.startswith(f"{self.base_id}-")
+        return self.base_id.startswith(literal) or literal.startswith(self.base_id)
+
+
+@dataclass(frozen=True)
+class RecipeSet:
+    """The recipes of a workspace as loaded: the targets of the good files, and the broken files.
+
+    Attributes
+    ----------
+    targets : tuple of Target
+        Every target of the files without problems.
+    broken : tuple of BrokenRecipe
+        The files with problems, in the order loaded.
+    """
+
+    targets: tuple[Target, ...]
+    broken: tuple[BrokenRecipe, ...]
+
+    def error(self, broken: Iterable[BrokenRecipe] | None = None) -> RecipeError:
+        """One :class:`RecipeError` with the problems of ``broken`` (default: every broken file)."""
+        files = self.broken if broken is None else broken
+        return RecipeError([issue for recipe in files for issue in recipe.issues])
+
+    def skipped_note(self) -> str:
+        """A sentence naming the broken files, for errors that they may have caused."""
+        names = ", ".join(recipe.file for recipe in self.broken)
+        return (
+            f"(recipe files skipped for their problems, whose targets do not exist: {names}; "
+            "navverse validate recipe lists their problems)"
+        )
 
 
 def _matches_id(value: str) -> bool:
-    import re
-
     return re.fullmatch(TARGET_ID_PATTERN, value) is not None
+
+
+def _real(path: Path) -> Path:
+    """``path`` absolute, with symbolic links resolved as far as they go (a loop stays a path)."""
+    return Path(os.path.realpath(path))
+
+
+_SHORT_REPR = reprlib.Repr()
+_SHORT_REPR.maxstring = _SHORT_REPR.maxother = MAX_SHOWN_INPUT
+_SHORT_REPR.maxlevel, _SHORT_REPR.maxlist, _SHORT_REPR.maxdict = 2, 4, 4
+
+
+def _shown(value: Any) -> str:
+    """``repr(value)``, shortened (a value quoted in a message stays short, however large it is)."""
+    text = _SHORT_REPR.repr(value)  # bounded work on a large value
+    return text if len(text) <= MAX_SHOWN_INPUT else f"{text[: MAX_SHOWN_INPUT - 3]}..."
 
 
 def _existing_prefix(data: Any, loc: Sequence[str | int], error_type: str) -> tuple[str | int, ...]:
@@ -463,6 +649,12 @@ def _model_in(annotation: Any) -> Any:
     return None
 
 
+def _selector_key(selector: str) -> tuple[str, str]:
+    """A selector as an id or glob (``key``) and as a recipe path without ``.yaml`` (``stem``)."""
+    key = selector.strip().removeprefix("recipes/").rstrip("/")
+    return key, key.removesuffix(".yaml")
+
+
 def select_targets(targets: Sequence[Target], selectors: Sequence[str]) -> list[Target]:
     """Targets matching any selector: a target id (glob allowed) or a recipe path prefix.
 
@@ -479,8 +671,7 @@ def select_targets(targets: Sequence[Target], selectors: Sequence[str]) -> list[
         return [t for t in targets if not t.manual]
     chosen: dict[str, Target] = {}
     for selector in selectors:
-        key = selector.strip().removeprefix("recipes/").rstrip("/")
-        stem = key.removesuffix(".yaml")
+        key, stem = _selector_key(selector)
         matched = [
             t
             for t in targets
@@ -494,3 +685,77 @@ def select_targets(targets: Sequence[Target], selectors: Sequence[str]) -> list[
         for target in matched:
             chosen[target.id] = target
     return [chosen[k] for k in sorted(chosen)]
+
+
+def select_loaded(recipes: RecipeSet, selectors: Sequence[str]) -> list[Target]:
+    """:func:`select_targets` over the good files of ``recipes``, unless the selection needs a broken one.
+
+    A broken file is needed, and its problems are the error, when no selector is given (everything
+    is selected), when a selector names it or a folder holding it, or when a selector matches no
+    target of the good files but might name one of its targets. Other broken files do not block:
+    :func:`skipped_warnings` tells about them.
+
+    Raises
+    ------
+    RecipeError
+        With the problems of every broken file the selection needs.
+    TargetError
+        If a selector matches nothing (the message names the broken files, in case).
+    """
+    if not recipes.broken:
+        return select_targets(recipes.targets, selectors)
+    if not selectors:
+        raise recipes.error()
+    needed: dict[str, BrokenRecipe] = {}
+    for selector in selectors:
+        key, stem = _selector_key(selector)
+        for recipe in recipes.broken:
+            named = recipe.file == f"{stem}.yaml" or recipe.file.startswith(f"{stem}/")
+            if named or (recipe.may_define(key) and not _selects_any(recipes.targets, selector)):
+                needed[recipe.file] = recipe
+    if needed:
+        raise recipes.error(needed.values())
+    try:
+        return select_targets(recipes.targets, selectors)
+    except TargetError as exc:
+        raise TargetError(f"{exc}\n{recipes.skipped_note()}") from None
+
+
+def _selects_any(targets: Sequence[Target], selector: str) -> bool:
+    try:
+        select_targets(targets, [selector])
+    except TargetError:
+        return False
+    return True
+
+
+def skipped_warnings(recipes: RecipeSet, *, selectors: Sequence[str], targets: Iterable[Target]) -> list[str]:
+    """Warnings about the broken files a selection went without, one per file.
+
+    Each names the file, the command that lists its problems, and the selectors and the ``links``
+    of ``targets`` (the targets of the build graph) whose globs might have matched its targets, which
+    are missing from what they select or link.
+    """
+    targets = list(targets)
+    warnings = []
+    for recipe in recipes.broken:
+        count = len(recipe.issues)
+        lines = [
+            f"skipped recipes/{recipe.file} ({count} problem{'s' if count != 1 else ''}; "
+            f"see navverse validate recipe recipes/{recipe.file}): its targets do not exist"
+        ]
+        lines += [
+            f"  selector {selector!r} might have matched targets of it"
+            for selector in selectors
+            if recipe.may_define(_selector_key(selector)[0])
+        ]
+        lines += [
+            f"  links {name!r} of target {target.id!r} ({pattern}) might have matched targets of it, "
+            "which are not among the linked targets"
+            for target in targets
+            for name, link in sorted(target.links.items())
+            for pattern in link.targets
+            if recipe.may_define(pattern)
+        ]
+        warnings.append("\n".join(lines))
+    return warnings
