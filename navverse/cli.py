@@ -52,9 +52,9 @@ def _graph_for(selectors: Sequence[str], *, every_target: bool = False):
     """The selected targets and their build graph.
 
     Recipe files with problems do not block a selection that does not need them: their targets are
-    left out, with a warning per file (see :func:`pipeline.recipes.select_loaded`).
+    left out, with a warning per file (see :func:`pipeline.selection.select_loaded`).
     """
-    from pipeline.recipes import select_loaded
+    from pipeline.selection import select_loaded
     from pipeline.store import ArtifactStore
 
     workspace = _workspace()
@@ -67,17 +67,23 @@ def _graph_for(selectors: Sequence[str], *, every_target: bool = False):
 
 
 def _graph_over(chosen, recipes, *, selectors: Sequence[str]):
-    """The graph of ``chosen``, linking to the targets of ``recipes``; warns of its broken files."""
+    """The graph of ``chosen``, linking to the targets of ``recipes``; warns of its broken files.
+
+    A broken file that a ``links`` glob of the graph might match is an error: the link would
+    silently read fewer targets.
+    """
     from pipeline.dag import build_graph
     from pipeline.errors import DagError
-    from pipeline.recipes import skipped_warnings
+    from pipeline.selection import linked_broken, skipped_warnings
 
     try:
         graph = build_graph(chosen, universe=recipes.targets)
     except DagError as exc:
         raise DagError(f"{exc}\n{recipes.skipped_note()}" if recipes.broken else str(exc)) from None
-    in_graph = {node.target.id: node.target for node in graph.nodes.values()}
-    _warn(skipped_warnings(recipes, selectors=selectors, targets=in_graph.values()))
+    needed = linked_broken(recipes, (node.target for node in graph.nodes.values()))
+    if needed:
+        raise recipes.error(needed)
+    _warn(skipped_warnings(recipes, selectors=selectors))
     return graph
 
 

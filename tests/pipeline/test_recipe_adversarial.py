@@ -15,7 +15,8 @@ import pytest
 
 from pipeline import yaml_source
 from pipeline.errors import DagError, RecipeError, TargetError
-from pipeline.recipes import MAX_EXTENDS_FILES, RecipeLoader, select_loaded, skipped_warnings
+from pipeline.recipes import MAX_EXTENDS_FILES, RecipeLoader
+from pipeline.selection import linked_broken, select_loaded, skipped_warnings
 from pipeline.yaml_source import YamlSourceError, load_located, loads_located
 from tests.pipeline.conftest import write
 
@@ -308,21 +309,20 @@ def test_a_selection_that_does_not_need_a_broken_file_goes_ahead_with_a_warning(
     recipes = RecipeLoader(workspace, stages=stages).load_all()
     chosen = select_loaded(recipes, ["alpha-*"])
     assert [t.id for t in chosen] == ["alpha-s0", "alpha-s1"]
-    (warning,) = skipped_warnings(recipes, selectors=["alpha-*"], targets=chosen)
+    (warning,) = skipped_warnings(recipes, selectors=["alpha-*"])
     assert warning.startswith("skipped recipes/group/beta.yaml (1 problem; ")
     assert "navverse validate recipe recipes/group/beta.yaml" in warning
     assert "selector" not in warning and "links" not in warning
 
 
-def test_a_link_glob_that_might_have_matched_a_broken_file_is_named(workspace, stages):
+def test_a_link_glob_that_might_match_a_broken_file_needs_it(workspace, stages):
     _break_beta(workspace)
     recipes = RecipeLoader(workspace, stages=stages).load_all()
     chosen = select_loaded(recipes, ["all"])  # links total: ["alpha-*", "beta"]
     in_graph = [t for t in recipes.targets if t.id in ("all", "alpha-s0", "alpha-s1")]
-    (warning,) = skipped_warnings(recipes, selectors=["all"], targets=in_graph)
     assert [t.id for t in chosen] == ["all"]
-    assert "links 'total' of target 'all' (beta) might have matched targets of it" in warning
-    assert "(alpha-*)" not in warning
+    assert [b.file for b in linked_broken(recipes, in_graph)] == ["group/beta.yaml"]
+    assert linked_broken(recipes, [t for t in in_graph if t.id != "all"]) == []
 
 
 @pytest.mark.parametrize("selectors", [[], ["group"], ["group/beta.yaml"], ["beta"], ["be*"]])
@@ -361,14 +361,13 @@ def test_a_link_to_nothing_but_a_broken_file_names_it(workspace, stages, capsys)
     recipes = RecipeLoader(workspace, stages=stages).load_all()
     with pytest.raises(DagError, match=r"(?s)match no target.*skipped for their problems.*group/beta\.yaml"):
         _graph_over(select_loaded(recipes, ["only-beta"]), recipes, selectors=["only-beta"])
-    graph = _graph_over(select_loaded(recipes, ["all"]), recipes, selectors=["all"])
-    assert sorted(graph.nodes) == [
-        "all:ex_gather",
-        *(f"alpha-s{i}:{stage}" for i in (0, 1) for stage in ("ex_numbers", "ex_sum")),
-    ]
-    err = capsys.readouterr().err
-    assert "warning: skipped recipes/group/beta.yaml" in err
-    assert "links 'total' of target 'all' (beta) might have matched targets of it" in err
+    with pytest.raises(RecipeError) as info:  # 'all' links [alpha-*, beta]: it would read less
+        _graph_over(select_loaded(recipes, ["all"]), recipes, selectors=["all"])
+    assert [i.file for i in info.value.issues] == ["group/beta.yaml"]
+    graph = _graph_over(select_loaded(recipes, ["alpha-*"]), recipes, selectors=["alpha-*"])
+    stages_of_alpha = ("ex_numbers", "ex_sum")
+    assert sorted(graph.nodes) == [f"alpha-s{i}:{stage}" for i in (0, 1) for stage in stages_of_alpha]
+    assert "warning: skipped recipes/group/beta.yaml" in capsys.readouterr().err
 
 
 def test_a_broken_preset_breaks_the_files_extending_it_only(workspace, stages):

@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 
 from pipeline.errors import RecipeError, TargetError
-from pipeline.recipes import RecipeLoader, select_targets
+from pipeline.recipes import RecipeLoader
+from pipeline.selection import select_targets
 from tests.pipeline.conftest import write
 
 
