@@ -171,7 +171,8 @@ def score(
     return EvalResult(
         episodes=rows,
         groups=group_means(rows),
-        problems=[str(p) for p in submission.problems],
+        problems=[str(p) for p in submission.problems]
+        + ([f"... and {submission.omitted} more problems"] if submission.omitted else []),
         difficulty_thresholds=dict(dataset.manifest.difficulty_thresholds),
     )
 
