@@ -37,8 +37,8 @@ CELL = 1.0
 """Coverage grid cell (m)."""
 DENSIFY = 0.25
 """Rows farther apart than this (m) are subdivided for coverage."""
-COVERAGE_SAMPLES = 200_000
-"""Most points an episode's path is sampled at for coverage: a path longer than 50 km (this many times
+COVERAGE_SAMPLES = 100_000
+"""Most points an episode's path is sampled at for coverage: a path longer than 25 km (this many times
 :data:`DENSIFY`) is sampled every P / COVERAGE_SAMPLES m instead, so no path costs more memory or time."""
 DTW_SPACING = 0.5
 DTW_POINTS = 10_000
@@ -47,7 +47,7 @@ DTW_POINTS = 10_000
 POSITION_LIMIT = 1e6
 """Positions are clamped to ±1000 km on every axis before measuring, so no sum or cell index overflows.
 Validated records never reach it (:data:`navverse.eval.submission.MAX_ABS_COORD` is 100 km)."""
-_CHUNK_SAMPLES = 2**20
+_CHUNK_SAMPLES = 2**18
 """Coverage is computed over groups of whole episodes of about this many points."""
 _CELL_OFFSET = 1 << 20
 """Added to cell indices (within ±POSITION_LIMIT / CELL) to make them non-negative in 21 bits."""

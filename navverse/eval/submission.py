@@ -236,8 +236,12 @@ def episode_bounds(
     return out
 
 
-def _mib(size: int) -> str:
-    return f"{size / 2**20:g} MiB"
+def _size(size: int) -> str:
+    """A number of bytes for people: ``256 MiB``, ``4 KiB``, ``1.5 GiB``, ``100 bytes``."""
+    for unit, scale in (("GiB", 2**30), ("MiB", 2**20), ("KiB", 2**10)):
+        if size >= scale:
+            return f"{size / scale:.3g} {unit}"
+    return f"{size} bytes"
 
 
 def _open_stream(handle: IO[bytes], path: Path, limits: Limits) -> tuple[IO[bytes], bool]:
@@ -250,13 +254,13 @@ def _open_stream(handle: IO[bytes], path: Path, limits: Limits) -> tuple[IO[byte
         raise SubmissionError(f"{path} ends in .gz but is not gzip-compressed; name it .jsonl or gzip it")
     size = os.fstat(handle.fileno()).st_size
     if size > limits.text_bytes:
-        raise SubmissionError(_too_big(path, limits, f"is {_mib(size)}"))
+        raise SubmissionError(_too_big(path, limits, f"is {_size(size)}"))
     return handle, False
 
 
 def _too_big(path: Path, limits: Limits, what: str) -> str:
     return (
-        f"{path} {what}: a submission holds at most {_mib(limits.text_bytes)} of text (decompressed); "
+        f"{path} {what}: a submission holds at most {_size(limits.text_bytes)} of text (decompressed); "
         "write fewer rows (10 Hz is plenty) or fewer digits"
     )
 
@@ -281,7 +285,7 @@ def _raw_lines(stream: IO[bytes], path: Path, limits: Limits) -> Iterator[tuple[
             raw = stream.readline(_SKIP_CHUNK)  # skip the rest of the line, a chunk at a time
             total += len(raw)
         if total > limits.text_bytes:
-            raise SubmissionError(_too_big(path, limits, f"has more than {_mib(limits.text_bytes)} of text"))
+            raise SubmissionError(_too_big(path, limits, f"has more than {_size(limits.text_bytes)} of text"))
         yield number, None if too_long else raw.rstrip(b"\r\n")
 
 
@@ -540,7 +544,7 @@ class _Reader:
             return
         self.lines_read += 1
         if raw is None:
-            self.problem(number, None, f"the line is longer than {_mib(self.limits.line_bytes)}, not read")
+            self.problem(number, None, f"the line is longer than {_size(self.limits.line_bytes)}, not read")
             return
         why = _scan(raw, self.limits)
         if why is not None:
