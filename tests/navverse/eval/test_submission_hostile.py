@@ -154,6 +154,15 @@ def test_a_gzip_bomb_of_zeros_is_refused_without_holding_its_text(tmp_path: Path
     assert peak < 4 * 2**20  # read and skipped a chunk at a time, never held whole
 
 
+def test_a_line_of_zeros_is_skipped_a_chunk_at_a_time(tmp_path: Path):
+    bomb = tmp_path / "zeros.jsonl.gz"
+    bomb.write_bytes(gzip.compress(b"\0" * 6 * 2**20 + b"\n" + json.dumps(record("a")).encode(), 9))
+    submission, peak = peak_bytes(read_submission, bomb, limits=Limits(line_bytes=2**20))
+    assert list(submission.records) == ["a"]
+    assert [str(p) for p in submission.problems] == ["line 1: the line is longer than 1 MiB, not read"]
+    assert peak < 4 * 2**20  # not the 6 MiB line
+
+
 def _refusal(path: Path, limits: Limits) -> str:
     """The message of the SubmissionError reading `path` raises."""
     with pytest.raises(SubmissionError) as caught:
