@@ -100,12 +100,14 @@ BOUNDS_MARGIN = 50.0
 
 _GZIP_MAGIC = b"\x1f\x8b"
 _SKIP_CHUNK = 2**20
-_SCAN_CHUNK = 2**18
-_JSON_STRING = re.compile(rb'"[^"\\]*(?:\\.[^"\\]*)*"', re.DOTALL)
-_NOT_BRACKETS = bytes(b for b in range(256) if b not in b"[]{}")
-_OPENERS = np.zeros(256, dtype=np.int32)
-_OPENERS[list(b"[{")] = 1
-_OPENERS[list(b"]}")] = -1
+"""Bytes read at a time when skipping a line that is too long."""
+_SIZE_CHUNK = 2**18
+"""Bytes decompressed at a time when measuring a gzip file's text."""
+_SCAN_BYTES = 2**18
+"""Bytes of a line scanned at once by :func:`_structure`."""
+_STEP = np.zeros(256, dtype=np.int8)  # +1 opens an array or object, -1 closes one
+_STEP[list(b"[{")] = 1
+_STEP[list(b"]}")] = -1
 
 
 class SubmissionError(NavverseError):
@@ -140,8 +142,8 @@ class Limits:
 class Box:
     """Where an episode's positions may be: an axis-aligned box (m, world frame) and what it is."""
 
-    low: tuple[float, float, float]
-    high: tuple[float, float, float]
+    low: tuple[float, ...]
+    high: tuple[float, ...]
     name: str
 
 
@@ -233,7 +235,7 @@ def episode_bounds(
             bounds = read_annotations(Path(scene_dirs[scene])).bounds
             low = tuple(float(v) - margin for v in bounds.min)
             high = tuple(float(v) + margin for v in bounds.max)
-            boxes[scene] = Box(low, high, f"scene {scene}'s bounds grown by {margin:g} m")  # type: ignore[arg-type]
+            boxes[scene] = Box(low, high, f"scene {scene}'s bounds grown by {margin:g} m")
         out[episode.episode_id] = boxes[scene]
     return out
 
@@ -269,7 +271,7 @@ def _check_unpacked_size(handle: IO[bytes], path: Path, limits: Limits) -> None:
     total = 0
     try:
         with gzip.GzipFile(fileobj=handle, mode="rb") as stream:
-            while (chunk := stream.read(_SCAN_CHUNK)) and total <= limits.text_bytes:
+            while (chunk := stream.read(_SIZE_CHUNK)) and total <= limits.text_bytes:
                 total += len(chunk)
     except (OSError, EOFError, zlib.error) as exc:
         raise SubmissionError(f"{path} is a damaged gzip file ({exc}); write it again") from None
@@ -326,7 +328,7 @@ def _lines(path: Path, limits: Limits) -> Iterator[tuple[int, bytes | None]]:
         ) from None
 
 
-_ID_PATTERN = re.compile(rb'"episode_id"\s*:\s*"([^"\\]{1,200})"')
+_ID_PATTERN = re.compile(rb'"episode_id"\s*:\s*"([^"\\]{1,%d})"' % MAX_TEXT_CHARS)
 
 
 def _id_of(raw: bytes) -> str | None:
@@ -335,27 +337,68 @@ def _id_of(raw: bytes) -> str | None:
     return found.group(1).decode("utf-8", "replace") if found else None
 
 
+@dataclass
+class _Structure:
+    """What :func:`_structure` has counted so far of a line, outside strings."""
+
+    containers: int = 0
+    commas: int = 0
+    deepest: int = 0
+    depth: int = 0
+    in_string: int = 0  # 1 inside a string
+    backslashes: int = 0  # length of the run of backslashes that ends the text scanned
+
+
+def _structure(raw: bytes) -> _Structure:
+    """The arrays and objects, commas and deepest nesting of a line, outside strings (exact for valid JSON
+    and for the valid start of a line), scanned :data:`_SCAN_BYTES` at a time with numpy: linear in the
+    line's length whatever it holds (a regex over strings is quadratic on unclosed ones)."""
+    state = _Structure()
+    for start in range(0, len(raw), _SCAN_BYTES):
+        c = np.frombuffer(raw, dtype=np.uint8, count=min(_SCAN_BYTES, len(raw) - start), offset=start)
+        index = np.arange(len(c))
+        slash = c == ord("\\")
+        last_other = np.maximum.accumulate(np.where(slash, -1, index))
+        run = np.where(last_other < 0, index + 1 + state.backslashes, index - last_other)  # ends at i
+        escaped = np.empty(len(c), dtype=bool)  # after an odd run of backslashes
+        escaped[0] = state.backslashes % 2 == 1
+        escaped[1:] = run[:-1] % 2 == 1
+        quotes = np.cumsum((c == ord('"')) & ~escaped) + state.in_string
+        outside = quotes % 2 == 0
+        step = _STEP[c] * outside
+        moves = step[step != 0]
+        if len(moves):
+            depth = np.cumsum(moves, dtype=np.int64) + state.depth
+            state.deepest = max(state.deepest, int(depth.max()))
+            state.depth = int(depth[-1])
+        state.containers += int((moves > 0).sum())
+        state.commas += int(((c == ord(",")) & outside).sum())
+        state.in_string = int(quotes[-1] % 2)
+        state.backslashes = int(run[-1])
+    return state
+
+
 def _scan(raw: bytes, limits: Limits) -> str | None:
-    """Why a line must not be parsed (too many arrays or values, too deep), or None; strings are
-    skipped, so brackets and commas inside them do not count."""
-    bare = _JSON_STRING.sub(b'""', raw)
-    containers = bare.count(b"[") + bare.count(b"{")
-    if containers > limits.rows + 8:
+    """Why a line must not be parsed (too many arrays or values, too deep), or None. Brackets and commas
+    inside strings do not count; the exact scan runs only when the counts over the whole line (strings
+    included, so at least as large) could pass a cap."""
+    containers = raw.count(b"[") + raw.count(b"{")
+    most_values = 9 * limits.rows + limits.collisions + 16
+    if containers <= limits.depth and raw.count(b",") <= most_values:
+        return None  # too few arrays and objects to nest deeper than the cap or to exceed the rows
+    found = _structure(raw)
+    if found.containers > limits.rows + 8:
         return (
-            f"the line holds {containers:,} JSON arrays and objects: a trajectory has at most "
+            f"the line holds {found.containers:,} JSON arrays and objects: a trajectory has at most "
             f"{limits.rows:,} rows"
         )
-    values = bare.count(b",")
-    most = 9 * limits.rows + limits.collisions + 16
-    if values > most:
+    if found.commas > most_values:
         return (
-            f"the line holds more than {most:,} values: a record has at most {limits.rows:,} rows of 8 "
-            f"numbers and {limits.collisions:,} collision times"
+            f"the line holds more than {most_values:,} values: a record has at most {limits.rows:,} rows "
+            f"of 8 numbers and {limits.collisions:,} collision times"
         )
-    brackets = np.frombuffer(bare.translate(None, _NOT_BRACKETS), dtype=np.uint8)
-    depth = int(np.cumsum(_OPENERS[brackets]).max()) if len(brackets) else 0
-    if depth > limits.depth:
-        return f"JSON nested {depth:,} deep: a record nests at most 3 deep (object, trajectory, row)"
+    if found.deepest > limits.depth:
+        return f"JSON nested {found.deepest:,} deep: a record nests at most 3 deep (object, trajectory, row)"
     return None
 
 
@@ -510,9 +553,12 @@ def _check_record(
     termination, why = _check_text(data, "termination", required=False)
     if why:
         messages.append(why)
-    if messages:
+    if messages or episode_id is None or trajectory is None:  # (either None comes with a message)
         return None, messages, episode_id
-    return TrajectoryRecord(episode_id, trajectory, stop, times, termination, line), [], episode_id  # type: ignore[arg-type]
+    return TrajectoryRecord(episode_id, trajectory, stop, times, termination, line), [], episode_id
+
+
+_TOO_DEEP = "JSON nested too deep"
 
 
 def _parse(raw: bytes, number: int, path: Path) -> tuple[Any, str | None]:
@@ -528,7 +574,7 @@ def _parse(raw: bytes, number: int, path: Path) -> tuple[Any, str | None]:
     try:
         return json.loads(text, parse_int=float), None
     except RecursionError:
-        return None, "JSON nested too deep"
+        return None, _TOO_DEEP
     except ValueError as exc:
         if isinstance(exc, json.JSONDecodeError):
             return None, f"not valid JSON ({exc.msg}, column {exc.colno})"
@@ -571,7 +617,7 @@ class _Reader:
             return
         data, why = _parse(raw, number, self.path)
         if why is not None:
-            self.not_json += 1
+            self.not_json += why != _TOO_DEEP  # JSON, too deep for the parser
             self.problem(number, None, why)
             return
         record, messages, episode_id = _check_record(data, number, box_of=self.bounds, limits=self.limits)

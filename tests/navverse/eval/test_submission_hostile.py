@@ -198,6 +198,8 @@ def test_a_100k_deep_line_is_a_problem_not_a_recursion_error(tmp_path: Path):
     [problem] = submission.problems
     assert (problem.line, problem.episode_id) == (1, "a")
     assert "JSON nested 100,001 deep: a record nests at most 3 deep" in problem.message
+    unscanned = read_submission(write(tmp_path / "u.jsonl", [deep]), limits=Limits(depth=10**6))
+    assert [p.message for p in unscanned.problems] == ["JSON nested too deep"]  # json's RecursionError
     brackets_in_strings = record("c", termination="[" * 100_000)  # not nesting: inside a string
     submission = read_submission(write(tmp_path / "t.jsonl", [brackets_in_strings]))
     assert "termination has 100,000 characters" in submission.problems[0].message

@@ -126,3 +126,42 @@ def test_a_trajectory_is_kept_exactly_when_every_position_is_within_the_bounds(t
     near = all(abs(v) <= MAX_ABS_COORD and math.isfinite(v) for row in trajectory for v in row[1:4])
     assert ("a" in without_scenes.records) == near
     _check_kept(without_scenes)
+
+
+def _reference_structure(raw: bytes) -> tuple[int, int, int]:
+    """(arrays and objects, commas, deepest nesting) outside strings, a character at a time (a backslash
+    escapes a quote; outside strings valid JSON has none)."""
+    containers = commas = depth = deepest = 0
+    in_string = escaped = False
+    for byte in raw:
+        char = chr(byte)
+        if char == '"' and not escaped:
+            in_string = not in_string
+        elif not in_string and char in "[{":
+            containers, depth = containers + 1, depth + 1
+            deepest = max(deepest, depth)
+        elif not in_string and char in "]}":
+            depth -= 1
+        elif not in_string and char == ",":
+            commas += 1
+        escaped = char == "\\" and not escaped
+    return containers, commas, deepest
+
+
+@given(
+    json_values.map(lambda v: json.dumps(v).encode())
+    | st.binary(max_size=60)
+    | st.text(alphabet='[]{}",\\ab', max_size=60).map(str.encode)
+)
+def test_the_line_scan_counts_what_a_character_loop_counts(raw: bytes):
+    from navverse.eval import submission
+
+    expected = _reference_structure(raw)
+    for size in (3, 7, submission._SCAN_BYTES):  # chunk borders anywhere: in escapes, strings, runs
+        original = submission._SCAN_BYTES
+        submission._SCAN_BYTES = size
+        try:
+            found = submission._structure(raw)
+        finally:
+            submission._SCAN_BYTES = original
+        assert (found.containers, found.commas, found.deepest) == expected
