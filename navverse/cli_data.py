@@ -176,22 +176,28 @@ def _split_of(dataset, split: str) -> list[str]:
 def _submission_bounds(episodes, built_dir: Callable[[], Path] | None, console: Console) -> dict | None:
     """The box of every episode (its scene's bounds, grown), or None with a note when the scenes are not
     built here: then only the absolute bound on positions is checked."""
-    from navverse.errors import NavverseError, SceneError
+    from navverse.errors import NavverseError
     from navverse.eval.submission import MAX_ABS_COORD, episode_bounds
     from navverse.scene.locate import built_scene_dirs
 
-    try:
-        if built_dir is None:
-            raise SceneError("no build store given")
-        return episode_bounds(episodes, built_scene_dirs(episodes, built_dir=built_dir()))
-    except NavverseError as exc:
-        console.print(
-            f"note: the scenes' bounds are not checked, positions only within ±{MAX_ABS_COORD:g} m "
-            f"(the built scenes are needed: {exc})",
-            highlight=False,
-            markup=False,
-        )
-        return None
+    why = "no build store given"
+    if built_dir is not None:
+        try:
+            store = built_dir()
+        except Exception as exc:  # the engine's error (no checkout here), not a navverse type
+            why = str(exc)
+        else:
+            try:
+                return episode_bounds(episodes, built_scene_dirs(episodes, built_dir=store))
+            except NavverseError as exc:
+                why = str(exc)
+    console.print(
+        f"note: the scenes' bounds are not checked, positions only within ±{MAX_ABS_COORD:g} m "
+        f"(the built scenes are needed: {why})",
+        highlight=False,
+        markup=False,
+    )
+    return None
 
 
 def cmd_validate_submission(
