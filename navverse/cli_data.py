@@ -173,26 +173,103 @@ def _split_of(dataset, split: str) -> list[str]:
     return [e.episode_id for e in dataset.episodes(split=split)]
 
 
-def cmd_validate_submission(args: argparse.Namespace, console: Console) -> int:
-    """Report every problem of a submission against a dataset split."""
+def _submission_bounds(episodes, built_dir: Callable[[], Path] | None, console: Console) -> dict | None:
+    """The box of every episode (its scene's bounds, grown), or None with a note when the scenes are not
+    built here: then only the absolute bound on positions is checked."""
+    from navverse.errors import NavverseError
+    from navverse.eval.submission import MAX_ABS_COORD, episode_bounds
+    from navverse.scene.locate import built_scene_dirs
+
+    why = "no build store given"
+    if built_dir is not None:
+        try:
+            store = built_dir()
+        except Exception as exc:  # the engine's error (no checkout here), not a navverse type
+            why = str(exc)
+        else:
+            try:
+                return episode_bounds(episodes, built_scene_dirs(episodes, built_dir=store))
+            except NavverseError as exc:
+                why = str(exc)
+    console.print(
+        f"note: the scenes' bounds are not checked, positions only within ±{MAX_ABS_COORD:g} m "
+        f"(the built scenes are needed: {why})",
+        highlight=False,
+        markup=False,
+    )
+    return None
+
+
+def cmd_validate_submission(
+    args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path] | None = None
+) -> int:
+    """Report every problem of a submission: against a dataset split when ``--dataset`` is given (episode
+    ids, and positions within the scenes' bounds when the scenes are built), else its format alone."""
     from navverse.dataset import Dataset
     from navverse.eval.submission import read_submission
 
+    if getattr(args, "dataset", None) is None:
+        submission = read_submission(args.submission)
+        _print_problems(submission, console)
+        console.print(
+            f"{args.submission}: {len(submission.records)} valid records; {_problem_count(submission)} "
+            "problems (no --dataset: episode ids and scene bounds not checked)",
+            highlight=False,
+            markup=False,
+        )
+        return 1 if submission.problems else 0
     dataset = Dataset(args.dataset)
     ids = _split_of(dataset, args.split)
-    submission = read_submission(args.submission, episode_ids=ids)
+    episodes = list(dataset.episodes(split=args.split))
+    bounds = _submission_bounds(episodes, built_dir, console)
+    submission = read_submission(args.submission, episode_ids=ids, bounds=bounds)
     missing = sorted(set(ids) - set(submission.records) - {p.episode_id for p in submission.problems})
-    for problem in submission.problems:
-        console.print(str(problem), highlight=False, markup=False)
+    _print_problems(submission, console)
     for episode_id in missing[:20]:
         console.print(f"missing: {episode_id}", highlight=False, markup=False)
     if len(missing) > 20:
         console.print(f"missing: ... and {len(missing) - 20} more episodes")
     console.print(
         f"{args.submission}: {len(submission.records)} of {len(ids)} episodes of {args.split} valid; "
-        f"{len(submission.problems)} problems, {len(missing)} missing"
+        f"{_problem_count(submission)} problems, {len(missing)} missing",
+        highlight=False,
+        markup=False,
     )
     return 1 if submission.problems or missing else 0
+
+
+def _problem_count(submission) -> int:
+    return len(submission.problems) + submission.omitted
+
+
+def _print_problems(submission, console: Console) -> None:
+    for problem in submission.problems:
+        console.print(str(problem), highlight=False, markup=False)
+    if submission.omitted:
+        console.print(f"... and {submission.omitted} more problems", highlight=False, markup=False)
+
+
+def _check_out_dir(out: str | os.PathLike[str]) -> Path:
+    """`out` as a directory the outputs can be written into (made later), or a NavverseError saying what
+    to change: it is a file, a parent is a file, or the place is not writable."""
+    import tempfile
+
+    from navverse.errors import NavverseError
+
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise NavverseError(f"--out {out} is a file: give a directory (it gets metrics.json, report.html)")
+    existing = next(p for p in (out, *out.absolute().parents) if p.exists())
+    if not existing.is_dir():
+        raise NavverseError(f"--out {out}: {existing} is a file, not a directory; choose another --out")
+    try:
+        with tempfile.TemporaryFile(dir=existing):
+            pass
+    except OSError as exc:
+        raise NavverseError(
+            f"--out {out}: cannot write into {existing} ({exc.strerror or exc}); choose a writable --out"
+        ) from None
+    return out
 
 
 def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
@@ -204,14 +281,16 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
     from navverse.dataset import Dataset
     from navverse.eval.report import write_report
     from navverse.eval.scoring import score
-    from navverse.eval.submission import read_submission
+    from navverse.eval.submission import episode_bounds, read_submission
     from navverse.eval.tables import table_rows, write_outputs
     from navverse.scene.locate import built_scene_dirs
 
+    _check_out_dir(args.out)
     dataset = Dataset(args.dataset)
     ids = _split_of(dataset, args.split)
-    submission = read_submission(args.submission, episode_ids=ids)
     scene_dirs = built_scene_dirs(dataset.episodes(split=args.split), built_dir=built_dir())
+    bounds = episode_bounds(dataset.episodes(split=args.split), scene_dirs)
+    submission = read_submission(args.submission, episode_ids=ids, bounds=bounds)
     with Progress(console=console, transient=True) as bar:
         task = bar.add_task("scoring", total=len(submission.records) or 1)
         result = score(
@@ -243,7 +322,8 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
             progress=lambda done, total: bar.update(task, completed=done),
         )
     if submission.problems:
-        console.print(f"[yellow]{len(submission.problems)} submission problems[/] (listed in metrics.json):")
+        count = _problem_count(submission)
+        console.print(f"[yellow]{count} submission problems[/] (listed in metrics.json):")
         for problem in submission.problems[:10]:
             console.print(f"  {problem}", highlight=False, markup=False)
     invalid = [row["episode_id"] for row in result.episodes if row["label"] == "invalid"]

@@ -37,7 +37,20 @@ CELL = 1.0
 """Coverage grid cell (m)."""
 DENSIFY = 0.25
 """Rows farther apart than this (m) are subdivided for coverage."""
+COVERAGE_SAMPLES = 100_000
+"""Most points an episode's path is sampled at for coverage: a path longer than 25 km (this many times
+:data:`DENSIFY`) is sampled every P / COVERAGE_SAMPLES m instead, so no path costs more memory or time."""
 DTW_SPACING = 0.5
+DTW_POINTS = 10_000
+"""Most points a path is resampled at for nDTW: a path longer than 5 km (this many times
+:data:`DTW_SPACING`) is resampled every length / DTW_POINTS m instead."""
+POSITION_LIMIT = 1e6
+"""Positions are clamped to ±1000 km on every axis before measuring, so no sum or cell index overflows.
+Validated records never reach it (:data:`navverse.eval.submission.MAX_ABS_COORD` is 100 km)."""
+_CHUNK_SAMPLES = 2**18
+"""Coverage is computed over groups of whole episodes of about this many points."""
+_CELL_OFFSET = 1 << 20
+"""Added to cell indices (within ±POSITION_LIMIT / CELL) to make them non-negative in 21 bits."""
 TRANSITION_SCENE_TYPES = tuple(name for name, p in PROFILES.items() if p.transition_metrics)
 """Scene types whose episodes get the transition (exit) measures (their profiles say so)."""
 EXIT_MEASURES = ("reached_outdoor", "pre_exit_cells", "pre_exit_traveled", "post_exit_cells",
@@ -114,8 +127,11 @@ def _cut(trajectories: Sequence[np.ndarray]) -> _Batch:
         rows, seg = rows[keep], seg[keep]
     kept = np.bincount(seg, minlength=len(trajectories))
     starts = np.concatenate([[0], np.cumsum(kept)[:-1]]).astype(np.int64)
+    xyz = rows[:, 1:4]
+    if len(xyz) and np.abs(xyz).max() > POSITION_LIMIT:
+        xyz = np.clip(xyz, -POSITION_LIMIT, POSITION_LIMIT)
     return _Batch(
-        xyz=rows[:, 1:4],
+        xyz=xyz,
         quat=rows[:, 4:8],
         t=rows[:, 0],
         seg=seg,
@@ -154,23 +170,43 @@ def _norm3(dx: np.ndarray, dy: np.ndarray, dz: np.ndarray | None = None) -> np.n
 
 def _coverage(xy: np.ndarray, seg: np.ndarray, count: int) -> np.ndarray:
     """Unique 1 m cells visited per episode by rows `xy` of episodes `seg` (sorted), rows subdivided every
-    :data:`DENSIFY` m."""
-    if len(xy) > 1:
-        same = seg[1:] == seg[:-1]
-        step = _norm3(np.diff(xy[:, 0]), np.diff(xy[:, 1]))
-        parts = np.where(same, np.ceil(step / DENSIFY), 1).astype(np.int64)
-        parts = np.maximum(parts, 1)
-        if (parts > 1).any():
-            k = np.repeat(np.arange(len(parts)), parts)
-            offset = np.arange(len(k)) - np.repeat(np.cumsum(parts) - parts, parts)
-            frac = offset / parts[k]
-            fill = xy[k] + (xy[k + 1] - xy[k]) * frac[:, None] * same[k][:, None]
-            xy = np.concatenate([fill, xy[-1:]])
-            seg = np.concatenate([seg[k], seg[-1:]])
-    cells = np.floor(xy / CELL).astype(np.int64) + (1 << 20)
-    keys = (seg.astype(np.int64) << 42) | (cells[:, 0] << 21) | cells[:, 1]
-    unique = np.unique(keys)
-    return np.bincount(unique >> 42, minlength=count).astype(np.float64)
+    :data:`DENSIFY` m (every P / :data:`COVERAGE_SAMPLES` m for a path P longer than that many samples).
+
+    Whole episodes are sampled a group of about :data:`_CHUNK_SAMPLES` points at a time, so memory stays
+    bounded whatever the path lengths.
+    """
+    cells = np.zeros(count)
+    if not len(xy):
+        return cells
+    xy = np.clip(xy, -POSITION_LIMIT, POSITION_LIMIT)
+    same = seg[1:] == seg[:-1]
+    step = _norm3(np.diff(xy[:, 0]), np.diff(xy[:, 1])) * same  # 0 across episodes
+    path = np.bincount(seg[1:], weights=step, minlength=count)
+    spacing = np.maximum(DENSIFY, path / COVERAGE_SAMPLES)
+    parts = np.ones(len(xy), dtype=np.int64)  # the points row i adds: itself and the way to row i + 1
+    parts[:-1] = np.maximum(np.ceil(step / spacing[seg[1:]]), 1)
+    runs = np.flatnonzero(np.concatenate([[True], ~same]))  # first row of each episode
+    before = np.cumsum(parts) - parts  # points before each row
+    group = before[runs] // _CHUNK_SAMPLES
+    bounds = [*runs[np.flatnonzero(np.diff(group)) + 1], len(xy)]
+    start = 0
+    for end in bounds:
+        episodes, inverse = np.unique(seg[start:end], return_inverse=True)
+        cells[episodes] = _cells_visited(xy[start:end], inverse, parts[start:end], len(episodes))
+        start = end
+    return cells
+
+
+def _cells_visited(xy: np.ndarray, episode: np.ndarray, parts: np.ndarray, count: int) -> np.ndarray:
+    """Unique cells per episode (numbered 0..count-1) of whole episodes' rows, row i sampled at `parts[i]`
+    points evenly from itself toward row i + 1 (an episode's last row has 1)."""
+    k = np.repeat(np.arange(len(xy)), parts)
+    frac = (np.arange(len(k)) - np.repeat(np.cumsum(parts) - parts, parts)) / parts[k]
+    following = np.minimum(k + 1, len(xy) - 1)
+    points = xy[k] + (xy[following] - xy[k]) * frac[:, None]
+    index = np.floor(points / CELL).astype(np.int64) + _CELL_OFFSET
+    keys = (episode[k].astype(np.int64) << 42) | (index[:, 0] << 21) | index[:, 1]
+    return np.bincount(np.unique(keys) >> 42, minlength=count).astype(np.float64)
 
 
 def _yaw(quat: np.ndarray) -> np.ndarray:
@@ -345,13 +381,15 @@ def measure(
 
 
 def _resample(points: np.ndarray, spacing: float) -> np.ndarray:
-    """Points every `spacing` meters along a horizontal polyline (its ends included)."""
-    xy = np.asarray(points, dtype=float)[:, :2]
+    """Points every `spacing` meters along a horizontal polyline (its ends included), at most
+    :data:`DTW_POINTS` + 1 of them (a longer polyline is resampled more coarsely)."""
+    xy = np.clip(np.asarray(points, dtype=float)[:, :2], -POSITION_LIMIT, POSITION_LIMIT)
     if len(xy) < 2:
         return xy
     lengths = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
     if lengths[-1] <= 0.0:
         return xy[:1]
+    spacing = max(spacing, lengths[-1] / DTW_POINTS)
     at = np.append(np.arange(0.0, lengths[-1], spacing), lengths[-1])
     return np.stack([np.interp(at, lengths, xy[:, 0]), np.interp(at, lengths, xy[:, 1])], axis=1)
 
@@ -359,7 +397,8 @@ def _resample(points: np.ndarray, spacing: float) -> np.ndarray:
 def ndtw(trajectory: np.ndarray, reference: np.ndarray, *, threshold: float) -> float:
     """Normalised dynamic time warping between a path and a reference (Ilharco et al., 2019).
 
-    Both are resampled every 0.5 m in the horizontal plane; ``exp(-DTW / (|R| * threshold))``.
+    Both are resampled every 0.5 m in the horizontal plane (more coarsely beyond :data:`DTW_POINTS`
+    points); ``exp(-DTW / (|R| * threshold))``, in [0, 1].
     """
     q = _resample(trajectory, DTW_SPACING)
     r = _resample(reference, DTW_SPACING)

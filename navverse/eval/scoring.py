@@ -27,7 +27,9 @@ __all__ = ["EXTRA_SURFACES", "GROUPINGS", "EvalResult", "group_means", "metric_r
 EXTRA_SURFACES = {"spot": frozenset({"curb", "green", "ground"}), "turtlebot": frozenset()}
 """Navigable classes an embodiment also counts as preferred for NSR, beyond the classes the scene marks
 ``preferred`` (floor, sidewalk, crosswalk): a legged robot is at home on grass, earth and curbs."""
-BATCH_ROWS = 2_000_000
+BATCH_ROWS = 500_000
+"""Rows measured at once (whole episodes; one longer episode is a batch alone): the measures hold a few
+arrays per row, so this bounds scoring's working memory (about 150 MB), whatever the submission's size."""
 
 
 def robot_for(embodiment: str) -> Robot:
@@ -171,7 +173,8 @@ def score(
     return EvalResult(
         episodes=rows,
         groups=group_means(rows),
-        problems=[str(p) for p in submission.problems],
+        problems=[str(p) for p in submission.problems]
+        + ([f"... and {submission.omitted} more problems"] if submission.omitted else []),
         difficulty_thresholds=dict(dataset.manifest.difficulty_thresholds),
     )
 
