@@ -254,9 +254,11 @@ def build_parser() -> argparse.ArgumentParser:
         "submission", help="report every problem of a submission, with line numbers"
     )
     vsubmission.add_argument("submission", help="JSONL file (optionally .gz), one episode per line")
-    vsubmission.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
+    vsubmission.add_argument(
+        "--dataset", default=None, help="episodes/<name>/v<version> (without it: the format alone)"
+    )
     vsubmission.add_argument("--split", default="eval", help="the split it answers (default: eval)")
-    vsubmission.set_defaults(func=cli_data.cmd_validate_submission)
+    vsubmission.set_defaults(func=partial(cli_data.cmd_validate_submission, built_dir=_built_dir))
 
     evaluate = sub.add_parser("eval", help="score a submission against a dataset split")
     evaluate.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
