@@ -10,7 +10,6 @@ from __future__ import annotations
 import argparse
 import gzip
 import json
-import os
 import tracemalloc
 from pathlib import Path
 from types import SimpleNamespace
@@ -362,22 +361,7 @@ def test_eval_out_that_cannot_be_written_is_a_clear_error(tmp_path: Path, capsys
         ),
         "unwritable": (Path("/proc/navverse-out"), "cannot write into /proc"),
     }[where]
-    if where == "unwritable" and not Path("/proc/self").exists():
-        pytest.skip("needs /proc (a directory no one can create files in)")
     argv = ["eval", "--dataset", str(tmp_path / "none"), "--submission", str(tmp_path / "none.jsonl")]
     assert main([*argv, "--out", str(out)]) == 1
     err = capsys.readouterr().err
     assert f"error: --out {out}" in err and message in err and "Traceback" not in err
-
-
-@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() == 0, reason="root writes anywhere")
-def test_eval_out_in_a_read_only_directory_is_a_clear_error(tmp_path: Path, capsys):
-    locked = tmp_path / "locked"
-    locked.mkdir()
-    locked.chmod(0o555)
-    try:
-        argv = ["eval", "--dataset", str(tmp_path), "--submission", str(tmp_path / "s.jsonl")]
-        assert main([*argv, "--out", str(locked / "out")]) == 1
-        assert "cannot write into" in capsys.readouterr().err
-    finally:
-        locked.chmod(0o755)
