@@ -134,11 +134,13 @@ class ReadPolicy:
         if self.allows(path):
             return None
         folder = path.parent
+        same = Path(written).is_absolute() and os.path.normpath(written) == str(path)
+        what = str(path) if same else f"{written!r} resolves to {path} (symbolic links followed) and"
         return (
-            f"{written!r} resolves to {path}, outside the project {self.project}; recipes read only files "
-            "inside their project (e.g. data/raw/) or an installed package's data "
-            "({package_data: <package>, file: <path>}). Copy the file into the project, or allow its "
-            f"folder: navverse build {ALLOW_READ_OPTION} {folder} (or {ALLOW_READ_ENV}={folder})"
+            f"{what} is outside the project {self.project}: recipes read only files inside their "
+            "project (e.g. data/raw/) or an installed package's data ({package_data: <package>, "
+            "file: <path>}); copy the file into the project, or allow its folder with "
+            f"'navverse build {ALLOW_READ_OPTION} {folder}' (or {ALLOW_READ_ENV}={folder})"
         )
 
 
