@@ -334,9 +334,9 @@ def _raise_non_finite(path: Path, bad: dict[str, int]) -> None:
     total = sum(bad.values())
     where = ", ".join(f"{name!r}: {count}" for name, count in sorted(bad.items())[:5])
     more = f" and {len(bad) - 5} more meshes" if len(bad) > 5 else ""
+    count = f"{total} vertex has" if total == 1 else f"{total} vertices have"
     raise MeshImportError(
-        f"{path}: {total} vertices have non-finite coordinates (NaN or infinity) ({where}{more}); "
-        "fix or re-export the file"
+        f"{path}: {count} non-finite coordinates (NaN or infinity) ({where}{more}); fix or re-export the file"
     )
 
 

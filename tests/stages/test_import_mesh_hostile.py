@@ -181,7 +181,7 @@ def test_non_finite_vertices_are_an_error_naming_the_file_and_their_number(raw: 
     assert f"{obj}: 2 vertices have non-finite coordinates (NaN or infinity)" in str(caught.value)
     usd = raw / "holes.usda"
     usd.write_text(FLOOR.replace("(4, 4, 0)", "(nan, 4, 0)"))
-    with pytest.raises(MeshImportError, match=r"1 vertices have non-finite coordinates .*'/Floor': 1"):
+    with pytest.raises(MeshImportError, match=r"1 vertex has non-finite coordinates .*'/Floor': 1"):
         read_mesh_nodes(usd)
 
 
@@ -197,7 +197,7 @@ def test_the_stage_reports_bad_vertices_and_far_away_ones(tmp_path: Path, raw: P
     built = build_all(workspace_with(tmp_path, [], recipes))
     failed = {node.split(":")[0]: result.error for node, result in built.report.failed.items()}
     assert sorted(failed) == ["far", "holes"]
-    assert "1 vertices have non-finite coordinates" in failed["holes"], failed["holes"]
+    assert "1 vertex has non-finite coordinates" in failed["holes"], failed["holes"]
     assert "holes.obj" in failed["holes"]
     assert "lies 2e+06 m from the origin (at 1000 meters per unit)" in failed["far"], failed["far"]
     assert "check meters_per_unit" in failed["far"]
