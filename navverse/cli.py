@@ -201,6 +201,28 @@ def _recipe_path(workspace, name: str) -> Path:
     return Path(name)
 
 
+def _existing_path(value: str) -> Path:
+    path = Path(value).expanduser()
+    if not path.exists():
+        raise argparse.ArgumentTypeError(f"no such folder or file: {value}")
+    return path
+
+
+def _recipe_options() -> argparse.ArgumentParser:
+    """Options of the commands that load recipes: the allow-list of the file-access policy."""
+    options = argparse.ArgumentParser(add_help=False)
+    options.add_argument(
+        "--allow-read",
+        action="append",
+        default=[],
+        type=_existing_path,
+        metavar="DIR",
+        help="let recipes read files in DIR too (repeatable; as $NAVVERSE_ALLOW_READ); by default they "
+        "read only files inside the project and installed packages' data",
+    )
+    return options
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every sub-command."""
     parser = argparse.ArgumentParser(
@@ -208,8 +230,11 @@ def build_parser() -> argparse.ArgumentParser:
         description="Build navigation scenes and episode datasets from recipes, and evaluate agents.",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    recipe_options = _recipe_options()
 
-    build = sub.add_parser("build", help="build targets from recipes (default: all)")
+    build = sub.add_parser(
+        "build", parents=[recipe_options], help="build targets from recipes (default: all)"
+    )
     build.add_argument(
         "targets",
         nargs="*",
@@ -227,17 +252,21 @@ def build_parser() -> argparse.ArgumentParser:
     build.add_argument("--dry-run", action="store_true", help="print the build graph and what would run")
     build.set_defaults(func=cmd_build)
 
-    status = sub.add_parser("status", help="fresh / stale / missing per target")
+    status = sub.add_parser("status", parents=[recipe_options], help="fresh / stale / missing per target")
     status.add_argument("targets", nargs="*", metavar="TARGET")
     status.set_defaults(func=cmd_status)
 
-    clean = sub.add_parser("clean", help="remove unused build outputs (or all with --all)")
+    clean = sub.add_parser(
+        "clean", parents=[recipe_options], help="remove unused build outputs (or all with --all)"
+    )
     clean.add_argument("--all", action="store_true", help="remove every build output")
     clean.set_defaults(func=cmd_clean)
 
     validate = sub.add_parser("validate", help="check input files without building")
     vsub = validate.add_subparsers(dest="what", required=True, metavar="WHAT")
-    recipe = vsub.add_parser("recipe", help="validate recipe files (all when none given)")
+    recipe = vsub.add_parser(
+        "recipe", parents=[recipe_options], help="validate recipe files (all when none given)"
+    )
     recipe.add_argument("files", nargs="*", metavar="FILE")
     recipe.set_defaults(func=cmd_validate_recipe)
     vdataset = vsub.add_parser(
@@ -313,8 +342,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     console = Console(stderr=False)
+    from pipeline.params import allow_reading
+
     try:
-        return int(args.func(args, console))
+        with allow_reading(args.allow_read if "allow_read" in args else ()):
+            return int(args.func(args, console))
     except (NavverseError, PipelineError) as exc:
         Console(stderr=True).print(
             f"error: {exc}", style="red", highlight=False, markup=False, soft_wrap=True

@@ -377,7 +377,9 @@ class RecipeLoader:
                 )
                 continue
             try:
-                params = spec.params_model.model_validate(section, context={"recipe_dir": recipe_dir})
+                params = spec.params_model.model_validate(
+                    section, context={"recipe_dir": recipe_dir, "workspace_root": self.workspace.root}
+                )
             except (ImportError, SyntaxError) as exc:  # a validator's lazy import of a broken module
                 raise StageImportError(f"a module the params of stage {name!r} need", exc) from None
             except ValidationError as exc:

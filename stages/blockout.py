@@ -11,32 +11,50 @@ from pydantic import Field, field_validator, model_validator
 from navverse.scene_types import SceneType
 from pipeline import Params, StageContext, stage
 
-PositiveFloat = Annotated[float, Field(gt=0)]
-Vec3 = tuple[float, float, float]
-Size3 = tuple[PositiveFloat, PositiveFloat, PositiveFloat]
+MAX_SIZE_M = 2000.0
+"""Longest side of a solid (m)."""
+MAX_HEIGHT_M = 500.0
+"""Tallest ramp or cylinder (m)."""
+MAX_COORDINATE_M = 10_000.0
+"""Farthest a solid's centre may be from the origin along each axis (m)."""
+MAX_SOLIDS = 10_000
+"""Most surfaces, and most objects, in one blockout."""
+
+Length = Annotated[float, Field(gt=0, le=MAX_SIZE_M, description="Meters, more than 0, at most 2000.")]
+Height = Annotated[float, Field(gt=0, le=MAX_HEIGHT_M, description="Meters, more than 0, at most 500.")]
+Coordinate = Annotated[
+    float, Field(ge=-MAX_COORDINATE_M, le=MAX_COORDINATE_M, description="Meters, -10000 to 10000.")
+]
+Vec3 = tuple[Coordinate, Coordinate, Coordinate]
+Size3 = tuple[Length, Length, Length]
 
 
 class RampShape(Params):
-    """A wedge rising along its local +x by ``height`` over ``length``."""
+    """A wedge rising along its local +x by ``height`` over ``length`` (m; sides up to 2000 m,
+    height up to 500 m)."""
 
-    length: PositiveFloat
-    width: PositiveFloat
-    height: PositiveFloat
+    length: Length
+    width: Length
+    height: Height
 
 
 class CylinderShape(Params):
-    """An upright cylinder."""
+    """An upright cylinder (m; radius up to 1000 m, height up to 500 m)."""
 
-    radius: PositiveFloat
-    height: PositiveFloat
+    radius: Annotated[float, Field(gt=0, le=MAX_SIZE_M / 2, description="Meters, at most 1000.")]
+    height: Height
 
 
 class Solid(Params):
     """A primitive solid: exactly one of ``box`` (its size), ``ramp`` or ``cylinder``, placed with
-    its bounding-box centre at ``center`` and turned by ``yaw_deg`` about +z."""
+    its bounding-box centre at ``center`` and turned by ``yaw_deg`` about +z.
+
+    Physical ranges: box sides 0 < s <= 2000 m, centre coordinates within +-10000 m, yaw within
+    +-360 degrees.
+    """
 
     center: Vec3
-    yaw_deg: float = 0.0
+    yaw_deg: Annotated[float, Field(ge=-360.0, le=360.0, description="Degrees, -360 to 360.")] = 0.0
     box: Size3 | None = None
     ramp: RampShape | None = None
     cylinder: CylinderShape | None = None
@@ -94,9 +112,9 @@ class BlockoutParams(Params):
     """Parameters of :func:`blockout`."""
 
     scene_type: SceneType = "indoor"
-    friction: dict[str, Annotated[float, Field(ge=0, le=5)]] = {}
-    surfaces: Annotated[list[SurfaceSolid], Field(min_length=1)]
-    objects: list[ObjectSolid] = []
+    friction: dict[str, Annotated[float, Field(ge=0, le=5, description="Friction coefficient, 0 to 5.")]] = {}
+    surfaces: Annotated[list[SurfaceSolid], Field(min_length=1, max_length=MAX_SOLIDS)]
+    objects: Annotated[list[ObjectSolid], Field(max_length=MAX_SOLIDS)] = []
 
     @model_validator(mode="after")
     def _consistent(self) -> BlockoutParams:

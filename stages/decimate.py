@@ -29,10 +29,12 @@ class DecimateParams(Params):
     build times and navigable areas in the manifest.
     """
 
-    ratio: Annotated[float, Field(gt=0.0, le=1.0)] | None = None
-    target_faces: Annotated[int, Field(ge=1)] | None = None
-    min_faces: Annotated[int, Field(ge=4)] = 64
-    merge_tolerance: Annotated[float, Field(ge=0.0, le=0.1)] = 1e-4
+    ratio: (
+        Annotated[float, Field(gt=0.0, le=1.0, description="Fraction kept, more than 0, at most 1.")] | None
+    ) = None
+    target_faces: Annotated[int, Field(ge=1, le=100_000_000, description="Faces, 1 to 1e8.")] | None = None
+    min_faces: Annotated[int, Field(ge=4, le=10_000_000, description="Faces, 4 to 1e7.")] = 64
+    merge_tolerance: Annotated[float, Field(ge=0.0, le=0.1, description="Meters, 0 to 0.1.")] = 1e-4
     method: Literal["open3d", "fast"] = "open3d"
     measure_navmesh: bool = True
 

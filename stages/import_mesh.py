@@ -2,16 +2,15 @@
 
 from __future__ import annotations
 
-import importlib
-import importlib.util
 import re
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Literal
 
-from pydantic import AfterValidator, BeforeValidator, Field, ValidationInfo, field_validator, model_validator
+from pydantic import AfterValidator, Field, ValidationInfo, field_validator, model_validator
 
 from navverse.scene_types import SceneType
 from pipeline import Params, SourceFile, StageContext, stage
+from pipeline.params import ReadPolicy
 
 if TYPE_CHECKING:
     from navverse.scene.mesh_import import MeshNode, NodeRole
@@ -31,41 +30,6 @@ def _known_terrain(name: str) -> str:
 TerrainName = Annotated[str, AfterValidator(_known_terrain)]
 
 
-def _package_data_file(value: Any) -> Any:
-    """Turn ``{package_data: <package>, file: <relative path>}`` into the file's absolute path."""
-    if not isinstance(value, dict):
-        return value
-    keys = set(value)
-    if keys != {"package_data", "file"}:
-        extra = ", ".join(sorted(keys - {"package_data", "file"})) or "none"
-        raise ValueError(
-            "a package data source needs exactly the keys 'package_data' and 'file' "
-            f"(unknown keys: {extra}); or give a path to the mesh file"
-        )
-    package, file = value["package_data"], value["file"]
-    if not isinstance(package, str) or not isinstance(file, str) or not package or not file:
-        raise ValueError("'package_data' (a package name) and 'file' (a path inside it) must be strings")
-    try:
-        found = importlib.util.find_spec(package)
-    except (ImportError, ValueError):
-        found = None
-    if found is None:
-        raise ValueError(
-            f"unknown package {package!r} in 'package_data': it is not installed here; install it "
-            "or give a path to the mesh file"
-        )
-    try:
-        module = importlib.import_module(package)
-    except Exception as exc:  # a broken package is the environment's fault, not a traceback
-        raise ValueError(f"package {package!r} in 'package_data' cannot be imported: {exc}") from None
-    data_path = getattr(module, "getDataPath", None)
-    root = Path(data_path() if callable(data_path) else Path(module.__file__ or "").parent).resolve()
-    path = (root / file).resolve()
-    if not path.is_relative_to(root) or not path.is_file():
-        raise ValueError(f"package {package!r} has no data file {file!r} (looked in {root})")
-    return str(path)
-
-
 def _mesh_suffix(path: Path) -> Path:
     from navverse.scene.mesh_import import MESH_SUFFIXES
 
@@ -77,9 +41,28 @@ def _mesh_suffix(path: Path) -> Path:
     return path
 
 
-MeshSource = Annotated[SourceFile, BeforeValidator(_package_data_file), AfterValidator(_mesh_suffix)]
+def _usd_files_allowed(path: Path, info: ValidationInfo) -> Path:
+    """Refuse a USD file that brings in (sublayers, references, payloads, clips) a file the recipe
+    may not read: not a regular file, too big, or outside the allowed folders."""
+    from navverse.scene.mesh_import import USD_SUFFIXES, MeshImportError, UsdDependencyError, usd_layer_files
+
+    policy = ReadPolicy.from_context(info)
+    if policy is None or path.suffix.lower() not in USD_SUFFIXES:
+        return path  # without a project (parameters checked before), the stage checks when it reads
+    try:
+        usd_layer_files(path, check=lambda file, written: policy.refusal(file, written=written))
+    except UsdDependencyError as exc:
+        raise ValueError(str(exc)) from None
+    except MeshImportError:
+        pass  # a layer USD cannot parse: the stage reports it when it runs
+    return path
+
+
+MeshSource = Annotated[SourceFile, AfterValidator(_mesh_suffix), AfterValidator(_usd_files_allowed)]
 """A mesh file: a path relative to the recipe's folder, or ``{package_data: <package>, file: <path>}``
-(a data file of an installed package, e.g. ``pybullet_data``); content-hashed into the cache key."""
+(a data file of an installed package, e.g. ``pybullet_data``); content-hashed into the cache key, with
+the layers a USD file brings in. The file-access policy of :data:`pipeline.params.SourceFile` holds
+for it and for every USD layer it brings in."""
 
 
 class NodeRule(Params):
@@ -99,7 +82,7 @@ class NodeRule(Params):
     surface: TerrainName | None = None
     drop: bool = False
     split: Literal["none", "components"] = "none"
-    join_gap: Annotated[float, Field(ge=0.0, le=10.0)] = 0.05
+    join_gap: Annotated[float, Field(ge=0.0, le=10.0, description="Meters, 0 to 10.")] = 0.05
 
     @field_validator("pattern")
     @classmethod
@@ -148,13 +131,32 @@ class ImportMeshParams(Params):
     """
 
     source: MeshSource
-    units: Annotated[float, Field(gt=0.0)] | str | None = None
+    units: (
+        Annotated[float, Field(ge=1e-6, le=1e3, description="Meters per file unit: 1e-6 (µm) to 1000 (km).")]
+        | str
+        | None
+    ) = None
     up_axis: Literal["y", "z"] | None = None
     scene_type: SceneType = "indoor"
     rules: list[NodeRule] = []
     default: str = "obstacle"
-    friction: dict[TerrainName, Annotated[float, Field(ge=0, le=5)]] = {}
-    subdivide: Annotated[int, Field(ge=0, le=3)] = 0
+    friction: dict[
+        TerrainName, Annotated[float, Field(ge=0, le=5, description="Friction coefficient, 0 to 5.")]
+    ] = {}
+    subdivide: Annotated[int, Field(ge=0, le=3, description="Subdivisions, 0 to 3 (4^n faces).")] = 0
+
+    def dependency_files(self) -> dict[str, Path]:
+        """The layers a USD source brings in (sublayers, references, payloads, clips): their content
+        is part of the cache key too, so editing a sublayer rebuilds the scene."""
+        from navverse.scene.mesh_import import USD_SUFFIXES, MeshImportError, usd_layer_files
+
+        if self.source.suffix.lower() not in USD_SUFFIXES:
+            return {}
+        try:
+            layers = usd_layer_files(self.source)
+        except MeshImportError:
+            return {}  # the stage reports it when it runs
+        return {f"source_layer_{index}": path for index, path in enumerate(layers[1:], start=1)}
 
     @field_validator("units")
     @classmethod
@@ -232,7 +234,14 @@ def import_mesh(ctx: StageContext, params: ImportMeshParams) -> None:
     """A scene directory (scene.usdc, scene.json, bev.png) of a mesh file's nodes as objects and surfaces."""
     import navverse
     from navverse.scene import SceneSource, assemble_scene, terrain_classes, write_scene_dir
-    from navverse.scene.mesh_import import MeshImportError, MeshNode, read_mesh_nodes, scene_parts, to_z_up
+    from navverse.scene.mesh_import import (
+        MeshImportError,
+        MeshNode,
+        check_extent,
+        read_mesh_nodes,
+        scene_parts,
+        to_z_up,
+    )
 
     nodes, frame = read_mesh_nodes(params.source, progress=ctx.progress)
     up_axis = params.up_axis or frame.up_axis or "z"
@@ -241,6 +250,7 @@ def import_mesh(ctx: StageContext, params: ImportMeshParams) -> None:
         MeshNode(n.name, n.path, to_z_up(n.mesh, up_axis=up_axis, meters_per_unit=meters_per_unit))
         for n in nodes
     ]
+    check_extent(nodes, source=params.source, meters_per_unit=meters_per_unit)
     roles, hits = _roles(params, nodes)
     for rule, count in zip(params.rules, hits, strict=True):
         if count == 0:

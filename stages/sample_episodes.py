@@ -19,6 +19,9 @@ def _known_embodiment(name: str) -> str:
     return name
 
 
+PathLength = Annotated[float, Field(gt=0.0, le=1000.0, description="Meters, more than 0, at most 1000.")]
+
+
 class TaskParams(Params):
     """How many candidates of a task to draw per scene."""
 
@@ -42,7 +45,7 @@ class SampleEpisodesParams(Params):
     place_categories: list[str] | None = None
     goal_rules: list[CategoryRule] = []
     embodiment: Annotated[str, AfterValidator(_known_embodiment)] = "spot"
-    path_length: tuple[Annotated[float, Field(gt=0.0)], Annotated[float, Field(gt=0.0)]] = (5.0, 50.0)
+    path_length: tuple[PathLength, PathLength] = (5.0, 50.0)
     yaw_jitter_deg: Annotated[float, Field(ge=0.0, le=180.0)] = 30.0
     attempts: Annotated[int, Field(ge=1, le=10_000)] = 50
     start_region: Literal["auto", "anywhere", "indoor"] = "auto"

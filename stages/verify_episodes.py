@@ -18,11 +18,14 @@ class VerifyEpisodesParams(Params):
     rendered along each accepted rollout and kept (0: none).
     """
 
-    duration_s: tuple[Annotated[float, Field(ge=0.0)], Annotated[float, Field(gt=0.0, le=3600.0)]] = (
-        5.0,
-        100.0,
-    )
-    traveled_m: tuple[Annotated[float, Field(ge=0.0)], Annotated[float, Field(gt=0.0)]] = (5.0, 50.0)
+    duration_s: tuple[
+        Annotated[float, Field(ge=0.0, le=3600.0, description="Seconds, 0 to 3600.")],
+        Annotated[float, Field(gt=0.0, le=3600.0, description="Seconds, more than 0, at most 3600.")],
+    ] = (5.0, 100.0)
+    traveled_m: tuple[
+        Annotated[float, Field(ge=0.0, le=1000.0, description="Meters, 0 to 1000.")],
+        Annotated[float, Field(gt=0.0, le=1000.0, description="Meters, more than 0, at most 1000.")],
+    ] = (5.0, 50.0)
     keyframes: Annotated[int, Field(ge=0, le=64)] = 0
 
     @model_validator(mode="after")

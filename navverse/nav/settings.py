@@ -23,6 +23,10 @@ __all__ = ["I2O", "INDOOR", "OUTDOOR", "PRESETS", "NavMeshOverrides", "NavMeshSe
 
 # Most cells along a tile side: tile_size, and tile_size * fine_factor for the fine tiles.
 _MAX_CELLS_PER_TILE = 4096
+# Largest region size (cells), largest agent height, radius and climb (m), farthest coordinate (m).
+_MAX_CELLS = float(_MAX_CELLS_PER_TILE)
+_MAX_AGENT_M = 10.0
+_Coordinate = Annotated[float, Field(ge=-1e7, le=1e7)]
 
 
 class NavMeshSettings(BaseModel):
@@ -48,46 +52,69 @@ class NavMeshSettings(BaseModel):
 
     model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
 
-    cell_size: float = Field(0.05, gt=0, description="Voxel size on the ground plane (m).")
-    cell_height: float = Field(0.05, gt=0, description="Voxel height (m).")
-    agent_height: float = Field(0.6, gt=0, description="Headroom the agent needs (m).")
-    agent_radius: float = Field(
-        0.6, ge=0, description="Agent radius (m); the walkable area is eroded by it, away from obstacles."
+    cell_size: float = Field(
+        0.05, ge=0.01, le=2.0, description="Voxel size on the ground plane (m, 0.01 to 2)."
     )
-    agent_max_climb: float = Field(0.2, ge=0, description="Highest step the agent climbs, up or down (m).")
+    cell_height: float = Field(0.05, ge=0.01, le=2.0, description="Voxel height (m, 0.01 to 2).")
+    agent_height: float = Field(
+        0.6, gt=0, le=_MAX_AGENT_M, description="Headroom the agent needs (m, more than 0, at most 10)."
+    )
+    agent_radius: float = Field(
+        0.6,
+        ge=0,
+        le=_MAX_AGENT_M,
+        description="Agent radius (m, 0 to 10); the walkable area is eroded by it, away from obstacles.",
+    )
+    agent_max_climb: float = Field(
+        0.2, ge=0, le=_MAX_AGENT_M, description="Highest step the agent climbs, up or down (m, 0 to 10)."
+    )
     agent_max_slope: float = Field(
         45.0, ge=0, lt=90, description="Steepest walkable triangle (degrees from horizontal)."
     )
     region_min_size: float = Field(
         8.0,
         ge=0,
+        le=_MAX_CELLS,
         description=(
-            "Side of the smallest isolated region kept (cells): regions of fewer than "
+            "Side of the smallest isolated region kept (cells, 0 to 4096): regions of fewer than "
             "region_min_size**2 cells that touch no tile border are removed."
         ),
     )
     region_merge_size: float = Field(
         0.0,
         ge=0,
-        description="Regions of fewer than region_merge_size**2 cells are merged into a neighbour (cells).",
+        le=_MAX_CELLS,
+        description=(
+            "Regions of fewer than region_merge_size**2 cells are merged into a neighbour (cells, 0 to 4096)."
+        ),
     )
     edge_max_len: float = Field(
-        0.0, ge=0, description="Longest polygon border edge (m); 0 leaves edges unlimited."
+        0.0,
+        ge=0,
+        le=1000.0,
+        description="Longest polygon border edge (m, 0 to 1000); 0 leaves edges unlimited.",
     )
     edge_max_error: float = Field(
-        1.5, ge=0, description="Largest deviation of simplified borders from the voxel outline (cells)."
+        1.5,
+        ge=0,
+        le=100.0,
+        description="Largest deviation of simplified borders from the voxel outline (cells, 0 to 100).",
     )
     verts_per_poly: int = Field(6, ge=3, le=6, description="Most vertices per polygon (Detour allows 3..6).")
     detail_sample_dist: float = Field(
         1.0,
         ge=0,
+        le=100.0,
         description=(
-            "Spacing of height samples of the detail mesh, in multiples of cell_size; below 0.9 the "
-            "detail mesh only follows the polygon outlines."
+            "Spacing of height samples of the detail mesh, in multiples of cell_size (0 to 100); below "
+            "0.9 the detail mesh only follows the polygon outlines."
         ),
     )
     detail_sample_max_error: float = Field(
-        0.0, ge=0, description="Largest height error of the detail mesh, in multiples of cell_height."
+        0.0,
+        ge=0,
+        le=100.0,
+        description="Largest height error of the detail mesh, in multiples of cell_height (0 to 100).",
     )
     filter_low_hanging_obstacles: bool = Field(
         True, description="Let the agent step onto obstacles lower than agent_max_climb (curbs, stairs)."
@@ -109,17 +136,18 @@ class NavMeshSettings(BaseModel):
     tile_size: int = Field(
         256,
         ge=0,
+        le=_MAX_CELLS_PER_TILE,
         description=(
-            "Tile side in cells; tiles are built in parallel. 0 builds the whole scene as one tile "
-            "(at most 65535 polygon vertices)."
+            "Tile side in cells (0, or 16 to 4096); tiles are built in parallel. 0 builds the whole "
+            "scene as one tile (at most 65535 polygon vertices)."
         ),
     )
-    fine_region: tuple[float, float, float, float] | None = Field(
+    fine_region: tuple[_Coordinate, _Coordinate, _Coordinate, _Coordinate] | None = Field(
         None,
         description=(
-            "World xy rectangle [xmin, ymin, xmax, ymax] (m, z up) whose tiles are built with cells "
-            "fine_factor times smaller (e.g. the indoor part of a scene); None builds every tile at "
-            "cell_size. Needs tile_size > 0."
+            "World xy rectangle [xmin, ymin, xmax, ymax] (m, z up, each within +-1e7) whose tiles are "
+            "built with cells fine_factor times smaller (e.g. the indoor part of a scene); None builds "
+            "every tile at cell_size. Needs tile_size > 0."
         ),
     )
     fine_factor: int = Field(

@@ -8,12 +8,21 @@ vertex or face colours, else its material's diffuse colour (or the mean colour o
 else a colour derived from the node's name. :func:`to_z_up` converts a node to meters and the
 project's z-up frame; :func:`scene_parts` makes :class:`Surface` and :class:`ObjectPart` values from
 nodes and the roles a recipe gives them.
+
+Hostile files are refused, never waited on: the file and every file it brings in (OBJ material
+libraries and textures, glTF buffers and images, USD sublayers, references, payloads and value
+clips, see :func:`usd_layer_files`) must be a regular file (``os.stat`` before any open: no named
+pipes, devices or directories) of at most :data:`MAX_MESH_BYTES`; non-finite vertex coordinates
+are an error (trimesh would drop them silently), and :func:`check_extent` refuses coordinates
+beyond :data:`MAX_COORDINATE_M` once in meters.
 """
 
 from __future__ import annotations
 
+import os
 import re
-from collections.abc import Callable, Sequence
+import stat
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
@@ -28,18 +37,26 @@ from navverse.scene.naming import sanitize_identifier, unique_name
 from navverse.scene.simplify import clean_mesh
 
 __all__ = [
+    "MAX_COORDINATE_M",
+    "MAX_MESH_BYTES",
     "MESH_SUFFIXES",
     "MIN_OBJECT_SIZE",
     "UNIT_SCALES",
+    "USD_SUFFIXES",
+    "FileCheck",
     "FileFrame",
     "MeshImportError",
     "MeshNode",
     "NodeRole",
+    "UsdDependencyError",
+    "check_extent",
+    "file_problem",
     "read_mesh_nodes",
     "scene_parts",
     "split_components",
     "subdivide",
     "to_z_up",
+    "usd_layer_files",
 ]
 
 TRIMESH_SUFFIXES = (".obj", ".glb", ".gltf", ".ply")
@@ -53,11 +70,24 @@ UNIT_SCALES = {"meters": 1.0, "centimeters": 0.01, "millimeters": 0.001, "inches
 MIN_OBJECT_SIZE = 1e-3
 """Smallest annotated object extent (m); flat objects get this thickness in their annotation."""
 
+MAX_MESH_BYTES = 2 * 1024**3
+"""Largest mesh file, and largest file it brings in (2 GiB): files are parsed whole, in memory."""
+
+MAX_COORDINATE_M = 1e6
+"""Largest vertex coordinate, in meters after unit scaling (1000 km: larger means wrong units)."""
+
 ProgressFn = Callable[[int, int, str], None]
+
+FileCheck = Callable[[Path, str], str | None]
+"""``check(resolved_path, written)``: why a file a mesh brings in may not be read (None: it may)."""
 
 
 class MeshImportError(NavverseError):
     """A mesh file cannot be read or holds nothing to import."""
+
+
+class UsdDependencyError(MeshImportError):
+    """A file a USD file brings in (sublayer, reference, payload, value clip) may not be read."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -166,15 +196,148 @@ def _trimesh_face_colors(geometry: object, name: str) -> np.ndarray:
     return _uniform(color if color is not None else default_color(name), count)
 
 
+# -------------------------------------------------------------------------------------------- files
+
+
+def _kind(mode: int) -> str:
+    kinds = (
+        (stat.S_ISDIR, "a directory"),
+        (stat.S_ISFIFO, "a named pipe (FIFO)"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISSOCK, "a socket"),
+    )
+    return next((name for test, name in kinds if test(mode)), "a special file")
+
+
+def file_problem(path: Path, *, max_bytes: int = MAX_MESH_BYTES) -> str | None:
+    """Why ``path`` cannot be read as a mesh file (None: it can), found with ``os.stat``, never opening it.
+
+    Parameters
+    ----------
+    path : Path
+        The file (symbolic links are followed).
+    max_bytes : int
+        The size cap.
+
+    Returns
+    -------
+    str or None
+        E.g. ``"/x/a.obj is a named pipe (FIFO), not a regular file"``, or None for a regular file
+        within the cap.
+    """
+    try:
+        info = os.stat(path)
+    except FileNotFoundError:
+        return f"{path} does not exist"
+    except OSError as exc:
+        return f"cannot read {path}: {exc.strerror or exc}"
+    if not stat.S_ISREG(info.st_mode):
+        return f"{path} is {_kind(info.st_mode)}, not a regular file"
+    if info.st_size > max_bytes:
+        return (
+            f"{path} is {info.st_size / 1024**3:.2f} GiB, over the {max_bytes / 1024**3:.2f} GiB limit "
+            "of a mesh file; decimate or split it first (e.g. in Blender)"
+        )
+    return None
+
+
+class _ConfinedResolver:
+    """Serves the files a mesh names (OBJ material libraries and textures, glTF buffers and images)
+    from the mesh's folder and below, each a regular file within the size cap and passing ``check``.
+
+    trimesh swallows a resolver's errors (a material is then just missing), so the refusals are
+    also kept in :attr:`refused`, for the reader to report after loading.
+    """
+
+    def __init__(self, source: Path, *, check: FileCheck | None, base: Path | None = None) -> None:
+        self.root = source.parent.resolve()
+        self.base = base or self.root
+        self.file_name = source.name  # trimesh names an OBJ's unnamed mesh after it
+        self.source = source
+        self.check = check
+        self.refused: list[str] = []
+
+    def _candidates(self, name: str) -> Iterator[Path]:
+        stripped = name.strip()
+        for candidate in (stripped, stripped.lstrip("/"), os.path.basename(stripped)):
+            path = (self.base / candidate).resolve()
+            if candidate and path.is_relative_to(self.root) and os.path.lexists(path):
+                yield path
+
+    def get(self, name: str) -> bytes:
+        """The bytes of the file ``name`` (relative to the mesh's folder)."""
+        path = next(self._candidates(name), None)
+        if path is None:
+            raise FileNotFoundError(f"{name!r} is not a file in {self.root}")
+        problem = file_problem(path)
+        if problem is None and self.check is not None:
+            problem = self.check(path, name)
+        if problem is not None:
+            self.refused.append(f"{name!r}: {problem}")
+            raise OSError(problem)
+        return path.read_bytes()
+
+    def __getitem__(self, name: str) -> bytes:
+        return self.get(name)
+
+    def write(self, name: str, data: object) -> None:
+        """Never used: reading writes nothing."""
+        raise OSError(f"cannot write {name!r}: mesh import reads only")
+
+    def namespaced(self, namespace: str) -> _ConfinedResolver:
+        """The same confinement, with names relative to the subfolder ``namespace``."""
+        resolver = _ConfinedResolver(self.source, check=self.check, base=(self.base / namespace).resolve())
+        resolver.refused = self.refused
+        return resolver
+
+    def keys(self) -> Iterator[str]:
+        """No listing (trimesh asks only for archives)."""
+        return iter(())
+
+
 # ------------------------------------------------------------------------------------------ trimesh
 
 
 def _obj_split_options(path: Path) -> dict[str, bool]:
-    """Split an OBJ file by objects / groups only where it names more than one."""
-    text = path.read_text(encoding="utf-8", errors="replace")
-    objects = set(re.findall(r"^o[ \t]+(.*?)\s*$", text, flags=re.MULTILINE))
-    groups = set(re.findall(r"^g[ \t]+(.*?)\s*$", text, flags=re.MULTILINE))
+    """Split an OBJ file by objects / groups only where it names more than one (read line by line)."""
+    objects: set[str] = set()
+    groups: set[str] = set()
+    pattern = re.compile(r"^([og])[ \t]+(.*?)\s*$")
+    with path.open(encoding="utf-8", errors="replace") as lines:
+        for line in lines:
+            if line[:1] in ("o", "g"):
+                match = pattern.match(line)
+                if match is not None:
+                    (objects if match[1] == "o" else groups).add(match[2])
     return {"split_objects": len(objects) > 1, "split_groups": len(groups) > 1}
+
+
+_PROCESSED_BY_TRIMESH = (".obj", ".ply")
+"""Formats whose meshes trimesh processes when loading (NaN vertices dropped, vertices merged): they
+are loaded unprocessed, checked, then processed the same way."""
+
+
+def _check_finite(path: Path, geometries: dict[str, object]) -> None:
+    """Refuse a file whose meshes have non-finite vertex coordinates (before trimesh drops them)."""
+    bad = {
+        name: int((~np.isfinite(np.asarray(g.vertices, dtype=np.float64)).all(axis=1)).sum())  # type: ignore[attr-defined]
+        for name, g in geometries.items()
+        if hasattr(g, "vertices")
+    }
+    bad = {name: count for name, count in bad.items() if count}
+    if bad:
+        _raise_non_finite(path, bad)
+
+
+def _raise_non_finite(path: Path, bad: dict[str, int]) -> None:
+    total = sum(bad.values())
+    where = ", ".join(f"{name!r}: {count}" for name, count in sorted(bad.items())[:5])
+    more = f" and {len(bad) - 5} more meshes" if len(bad) > 5 else ""
+    count = f"{total} vertex has" if total == 1 else f"{total} vertices have"
+    raise MeshImportError(
+        f"{path}: {count} non-finite coordinates (NaN or infinity) ({where}{more}); fix or re-export the file"
+    )
 
 
 def _node_path(parents: dict[str, str], node: str, base: str) -> str:
@@ -195,17 +358,29 @@ def _apply_transform(
     return placed, faces
 
 
-def _read_trimesh(path: Path, progress: ProgressFn | None) -> list[MeshNode]:
+def _read_trimesh(path: Path, progress: ProgressFn | None, check: FileCheck | None) -> list[MeshNode]:
     import trimesh
 
-    options = _obj_split_options(path) if path.suffix.lower() == ".obj" else {}
+    suffix = path.suffix.lower()
+    options = _obj_split_options(path) if suffix == ".obj" else {}
+    resolver = _ConfinedResolver(path, check=check)
     try:
-        scene = trimesh.load(str(path), force="scene", **options)
+        scene = trimesh.load(str(path), force="scene", resolver=resolver, process=False, **options)
     except Exception as exc:  # any parser failure is the file's fault
         raise MeshImportError(
             f"cannot read {path} as a {path.suffix} mesh ({type(exc).__name__}: {exc}); "
             "check the file (export it again, or convert it to .glb or .obj)"
         ) from None
+    if resolver.refused:
+        raise MeshImportError(
+            f"{path} names files that cannot be read: {'; '.join(resolver.refused)}; "
+            "fix the references (material libraries, textures, buffers) or the files"
+        )
+    _check_finite(path, scene.geometry)
+    if suffix in _PROCESSED_BY_TRIMESH:
+        for geometry in scene.geometry.values():
+            if isinstance(geometry, trimesh.Trimesh):
+                geometry.process()
     parents = dict(scene.graph.transforms.parents)
     base = scene.graph.base_frame
     # trimesh does not keep the file's order (its OBJ reader reverses it): go by node path.
@@ -267,9 +442,106 @@ def _usd_colors(
     return _uniform(default_color(name), triangles)
 
 
-def _read_usd(path: Path, progress: ProgressFn | None) -> tuple[list[MeshNode], FileFrame]:
+def _open_layer(identifier: str) -> object:
+    from pxr import Sdf, Tf
+
+    try:
+        layer = Sdf.Layer.FindOrOpen(identifier)
+    except Tf.ErrorException as exc:
+        message = " ".join(str(exc).split())
+        raise MeshImportError(
+            f"cannot read {identifier} as USD ({message}); check the file in usdview"
+        ) from None
+    if layer is None:
+        raise MeshImportError(f"cannot read {identifier} as USD; check the file in usdview")
+    return layer
+
+
+def _layer_assets(layer: object) -> Iterator[tuple[str, str]]:
+    """``(kind, asset path as written)`` of every file a layer names, without composing anything."""
+    from pxr import UsdUtils
+
+    sublayers, references, payloads = UsdUtils.ExtractExternalReferences(layer.identifier)  # type: ignore[attr-defined]
+    for kind, assets in (("sublayer", sublayers), ("reference", references), ("payload", payloads)):
+        for asset in assets:
+            yield kind, str(asset)
+
+
+def usd_layer_files(path: Path, *, check: FileCheck | None = None) -> list[Path]:
+    """Every file a USD file brings in when opened, found layer by layer without composing a stage.
+
+    Sublayers, references, payloads and value clips (and any asset path naming a USD layer) are
+    followed recursively; each must be a regular file within :data:`MAX_MESH_BYTES` and pass
+    ``check`` before it is opened. Asset paths of other files (textures) are not followed: the
+    import never opens them. An asset path that resolves to nothing is skipped, as USD skips it.
+
+    Parameters
+    ----------
+    path : Path
+        A ``.usd``, ``.usda`` or ``.usdc`` file.
+    check : callable, optional
+        ``check(resolved_path, asset_path) -> str | None``: why a file may not be read (e.g.
+        outside the allowed folders); None lets it be read.
+
+    Returns
+    -------
+    list of Path
+        The resolved files, ``path`` first, each once (the package file for a layer inside a
+        ``.usdz``).
+
+    Raises
+    ------
+    UsdDependencyError
+        If a file brought in is not a regular file, is too big, or ``check`` refuses it; the
+        message names the layer that names it and the asset path as written.
+    MeshImportError
+        If a layer cannot be parsed.
+    """
+    from pxr import Ar, Sdf
+
+    root = Path(path).resolve()
+    problem = file_problem(root)
+    if problem is not None:
+        raise MeshImportError(f"cannot read {path}: {problem}")
+    resolver = Ar.GetResolver()
+    files, queue, layers = [root], [str(root)], []
+    seen = {str(root)}
+    while queue:
+        layer = _open_layer(queue.pop(0))
+        layers.append(layer)  # keep each layer open until the walk is done (no re-reading)
+        for kind, asset in _layer_assets(layer):
+            identifier = resolver.CreateIdentifier(asset, layer.resolvedPath)  # type: ignore[attr-defined]
+            if kind == "reference" and not Sdf.FileFormat.FindByExtension(
+                Sdf.FileFormat.GetFileExtension(identifier)
+            ):
+                continue  # a texture or another non-layer asset: never opened
+            resolved = str(resolver.Resolve(identifier))
+            if not resolved or resolved in seen:
+                continue
+            seen.add(resolved)
+            outer = (
+                Ar.SplitPackageRelativePathOuter(resolved)[0]
+                if Ar.IsPackageRelativePath(resolved)
+                else resolved
+            )
+            file = Path(outer).resolve()
+            problem = file_problem(file) or (check(file, asset) if check is not None else None)
+            if problem is not None:
+                raise UsdDependencyError(
+                    f"{layer.realPath or layer.identifier}: {kind} @{asset}@ cannot be read: {problem}"  # type: ignore[attr-defined]
+                )
+            if file not in files:
+                files.append(file)
+            queue.append(resolved)
+    return files
+
+
+def _read_usd(
+    path: Path, progress: ProgressFn | None, check: FileCheck | None
+) -> tuple[list[MeshNode], FileFrame]:
     from pxr import Tf, Usd, UsdGeom
 
+    usd_layer_files(path, check=check)
     try:
         stage = Usd.Stage.Open(str(path), Usd.Stage.LoadAll)
     except Tf.ErrorException as exc:
@@ -309,6 +581,9 @@ def _usd_node(path: Path, prim: object, time: object) -> MeshNode | None:
     if points is None or counts_value is None or indices_value is None or len(points) == 0:
         return None
     vertices = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    non_finite = int((~np.isfinite(vertices).all(axis=1)).sum())
+    if non_finite:
+        _raise_non_finite(path, {str(prim.GetPath()): non_finite})  # type: ignore[attr-defined]
     counts = np.asarray(counts_value, dtype=np.int64)
     indices = np.asarray(indices_value, dtype=np.int64)
     if counts.sum() != len(indices) or (
@@ -341,7 +616,9 @@ def _usd_node(path: Path, prim: object, time: object) -> MeshNode | None:
 # --------------------------------------------------------------------------------------- read, frame
 
 
-def read_mesh_nodes(path: Path, *, progress: ProgressFn | None = None) -> tuple[list[MeshNode], FileFrame]:
+def read_mesh_nodes(
+    path: Path, *, progress: ProgressFn | None = None, check: FileCheck | None = None
+) -> tuple[list[MeshNode], FileFrame]:
     """Read every mesh node of a file.
 
     Parameters
@@ -351,6 +628,10 @@ def read_mesh_nodes(path: Path, *, progress: ProgressFn | None = None) -> tuple[
         are split by material, and by object and group where they name more than one.
     progress : callable, optional
         Called as ``progress(done, total, description)`` while nodes are converted.
+    check : callable, optional
+        ``check(resolved_path, name_as_written) -> str | None`` for every file the mesh file brings
+        in (USD layers; OBJ material libraries and textures, glTF buffers and images, which must be
+        in the mesh's folder or below): why it may not be read, None to read it.
 
     Returns
     -------
@@ -364,7 +645,9 @@ def read_mesh_nodes(path: Path, *, progress: ProgressFn | None = None) -> tuple[
     Raises
     ------
     MeshImportError
-        If the suffix is not supported, the file cannot be parsed, or it holds no triangles.
+        If the suffix is not supported; the file, or a file it brings in, is not a regular file,
+        is over :data:`MAX_MESH_BYTES` or is refused by ``check``; the file cannot be parsed, holds
+        no triangles, or has vertices with non-finite coordinates.
     """
     path = Path(path)
     suffix = path.suffix.lower()
@@ -372,12 +655,13 @@ def read_mesh_nodes(path: Path, *, progress: ProgressFn | None = None) -> tuple[
         raise MeshImportError(
             f"cannot import {path}: unsupported format {suffix!r}; use one of {', '.join(MESH_SUFFIXES)}"
         )
-    if not path.is_file():
-        raise MeshImportError(f"mesh file not found: {path}")
+    problem = file_problem(path)
+    if problem is not None:
+        raise MeshImportError(f"cannot import {path}: {problem}")
     if suffix in USD_SUFFIXES:
-        nodes, frame = _read_usd(path, progress)
+        nodes, frame = _read_usd(path, progress, check)
     else:
-        nodes = _read_trimesh(path, progress)
+        nodes = _read_trimesh(path, progress, check)
         frame = FileFrame(up_axis="y", meters_per_unit=1.0) if suffix in (".glb", ".gltf") else FileFrame()
     if not nodes:
         raise MeshImportError(
@@ -396,6 +680,33 @@ def to_z_up(mesh: MeshData, *, up_axis: Literal["y", "z"], meters_per_unit: floa
     if up_axis == "y":
         vertices = np.stack([vertices[:, 0], -vertices[:, 2], vertices[:, 1]], axis=1)
     return MeshData(vertices, mesh.faces, mesh.face_colors)
+
+
+def check_extent(
+    nodes: Sequence[MeshNode], *, source: Path, meters_per_unit: float, limit: float = MAX_COORDINATE_M
+) -> None:
+    """Refuse nodes (in meters, see :func:`to_z_up`) with a vertex coordinate beyond ``limit``.
+
+    Raises
+    ------
+    MeshImportError
+        Naming the file, the largest coordinate and the scale used: a file in millimeters read
+        as meters lands here.
+    """
+    largest, where = 0.0, ""
+    for node in nodes:
+        vertices = node.mesh.vertices
+        if len(vertices):
+            value = float(np.abs(vertices).max())
+            if value > largest:
+                largest, where = value, node.path
+    if largest > limit:
+        raise MeshImportError(
+            f"{source}: a vertex of {where} lies {largest:.3g} m from the origin (at {meters_per_unit:g} "
+            f"meters per unit), beyond the {limit:.0e} m a scene may span; check meters_per_unit: set the "
+            "recipe's 'units' to the file's unit (e.g. 'units: millimeters'), or move the model near "
+            "the origin"
+        )
 
 
 # ---------------------------------------------------------------------------------------- mesh ops

@@ -148,7 +148,9 @@ def Xform "Root"
 
 @pytest.fixture(scope="module")
 def files(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    folder = tmp_path_factory.mktemp("meshes")
+    """The mesh files, in ``data/raw/meshes`` of the project :func:`built` builds them in."""
+    folder = tmp_path_factory.mktemp("import-mesh") / "data" / "raw" / "meshes"
+    folder.mkdir(parents=True)
     write_obj(folder)
     write_glb(folder)
     write_ply(folder)
@@ -219,8 +221,8 @@ RECIPES = {
 
 
 @pytest.fixture(scope="module")
-def built(files: Path, tmp_path_factory: pytest.TempPathFactory) -> Built:
-    root = tmp_path_factory.mktemp("import-mesh")
+def built(files: Path) -> Built:
+    root = files.parents[2]
     extra = {f"scenes/{name}.yaml": text.replace("{folder}", str(files)) for name, text in RECIPES.items()}
     return build_all(workspace_with(root, [], extra))
 

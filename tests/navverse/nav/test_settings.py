@@ -84,7 +84,7 @@ def test_overrides_replace_single_fields():
 
 def test_overrides_are_checked_alone_and_together():
     assert set(NavMeshOverrides.model_fields) == set(NavMeshSettings.model_fields)
-    with pytest.raises(ValidationError, match="greater than 0"):
+    with pytest.raises(ValidationError, match=r"greater than or equal to 0\.01"):
         NavMeshOverrides(cell_size=0)
     with pytest.raises(ValidationError, match="Extra inputs"):
         NavMeshOverrides(voxel_size=0.1)
