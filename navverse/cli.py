@@ -74,14 +74,17 @@ def cmd_build(args: argparse.Namespace, console: Console) -> int:
         print_corrupt(corrupt, store, console, action="would rebuild")
         describe_plan(graph, plan(graph, store, force=force, corrupt=corrupt), console)
         return 0
-    logging.raiseExceptions = False  # a full disk must not print logging tracebacks
-    with _locked(store, wait=not args.no_wait):
-        report = run_build(
-            graph, store, lambda: make_executor(args.jobs), force=force, verify=verify, console=console
-        )
-        if not report.ok:
-            return 1
-        _publish_datasets(chosen, store, console)
+    raise_exceptions, logging.raiseExceptions = logging.raiseExceptions, False  # no logging tracebacks
+    try:
+        with _locked(store, wait=not args.no_wait):
+            report = run_build(
+                graph, store, lambda: make_executor(args.jobs), force=force, verify=verify, console=console
+            )
+            if not report.ok:
+                return 1
+            _publish_datasets(chosen, store, console)
+    finally:
+        logging.raiseExceptions = raise_exceptions
     return 0
 
 
@@ -145,7 +148,9 @@ def cmd_status(args: argparse.Namespace, console: Console) -> int:
         console.print("run `navverse build` to rebuild the corrupt artifacts", highlight=False)
     running = running_build(store.lock_path)
     if running:
-        console.print(f"note: {running} is running in this workspace; these statuses may change")
+        console.print(
+            f"note: {running} is running in this workspace; these statuses may change", soft_wrap=True
+        )
     return 1 if corrupt else 0
 
 

@@ -243,15 +243,32 @@ def _end_processes(processes: list[Any]) -> None:
         with contextlib.suppress(psutil.Error):
             child.terminate()
     deadline = time.monotonic() + TERMINATE_GRACE_S
-    _, alive = psutil.wait_procs(descendants, timeout=TERMINATE_GRACE_S)
     for process in processes:
         process.join(max(0.0, deadline - time.monotonic()))
         if process.exitcode is None:
             process.kill()
             process.join()
-    for child in alive:
+    for child in _still_running(descendants, deadline):
         with contextlib.suppress(psutil.Error):
             child.kill()
+
+
+def _still_running(processes: list[psutil.Process], deadline: float) -> list[psutil.Process]:
+    """Those of ``processes`` (not our children) still running at ``deadline``; zombies count as ended."""
+    alive = list(processes)
+    while alive:
+        alive = [p for p in alive if _running(p)]
+        if not alive or time.monotonic() >= deadline:
+            break
+        time.sleep(0.02)
+    return alive
+
+
+def _running(process: psutil.Process) -> bool:
+    try:
+        return process.is_running() and process.status() != psutil.STATUS_ZOMBIE
+    except psutil.Error:
+        return False
 
 
 def make_executor(jobs: int | None) -> Executor:

@@ -400,6 +400,7 @@ class _Schedule:
         except KeyboardInterrupt as exc:
             with _signals_held():
                 executor.abort()
+                self.store.clean_stale_tmp()  # the ended workers' unfinished outputs
             unfinished = len(self.waiting) + len(self.running)
             raise BuildInterrupted(unfinished, getattr(exc, "signum", signal.SIGINT)) from None
         finally:
@@ -475,6 +476,6 @@ def _summary(report: BuildReport, console: Console) -> None:
     )
     for node_id, result in sorted(report.failed.items()):
         where = f"\n         log: {result.log_path}" if result.log_path else ""
-        console.print(f"  [red]FAILED[/] {node_id}: {result.error}{where}", highlight=False)
+        console.print(f"  [red]FAILED[/] {node_id}: {result.error}{where}", highlight=False, soft_wrap=True)
     for node_id, reason in sorted(report.skipped.items()):
         console.print(f"  [yellow]skipped[/] {node_id}: {reason}")

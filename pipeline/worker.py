@@ -124,8 +124,25 @@ class QuietFileHandler(logging.FileHandler):
 
     def handleError(self, record: logging.LogRecord) -> None:  # noqa: N802 (logging's name)
         """Remember the error; print nothing."""
+        self._keep(sys.exc_info()[1])
+
+    def flush(self) -> None:
+        """Flush, keeping a write error instead of raising it."""
+        try:
+            super().flush()
+        except OSError as exc:
+            self._keep(exc)
+
+    def close(self) -> None:
+        """Close, keeping a write error (of the last buffered lines) instead of raising it."""
+        try:
+            super().close()
+        except OSError as exc:
+            self._keep(exc)
+
+    def _keep(self, exc: BaseException | None) -> None:
         if self.error is None:
-            self.error = sys.exc_info()[1]
+            self.error = exc
 
 
 def running_log_path(store: ArtifactStore, target: str, stage: str, pid: int) -> Path:
