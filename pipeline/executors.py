@@ -19,7 +19,7 @@ import time
 from collections.abc import Iterator
 from concurrent.futures import Future
 from dataclasses import dataclass
-from multiprocessing import connection
+from multiprocessing import connection, resource_tracker
 from typing import Any, Protocol, runtime_checkable
 
 import psutil
@@ -120,6 +120,8 @@ class LocalProcessExecutor:
         )
         future: Future[TaskResult] = Future()
         future.set_running_or_notify_cancel()
+        # Started here, not inside the block: starting it unblocks SIGINT instead of restoring the mask.
+        resource_tracker.ensure_running()
         try:
             with _sigint_blocked():  # the child starts with SIGINT blocked until it ignores it
                 process.start()

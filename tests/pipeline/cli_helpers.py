@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import subprocess
 import sys
 import uuid
 from pathlib import Path
+from typing import Any
 
 import psutil
 
@@ -77,3 +79,12 @@ def built_files(root: Path) -> dict[str, dict]:
     for manifest in sorted((root / "data" / "built" / "artifacts").glob("*/*/manifest.json")):
         found[manifest.parent.name] = json.loads(manifest.read_text())["files"]
     return found
+
+
+def sigint_probe(task: Any, conn: Any, parent_pid: int) -> None:
+    """Stands in for ``pipeline.worker.child_main``: reports whether SIGINT was blocked at the start."""
+    from pipeline.worker import TaskResult
+
+    blocked = signal.SIGINT in signal.pthread_sigmask(signal.SIG_BLOCK, [])
+    conn.send(("result", TaskResult(task.node_id, ok=True, stats={"sigint_blocked": blocked})))
+    conn.close()

@@ -6,13 +6,15 @@ from __future__ import annotations
 import logging
 import os
 import signal
+import subprocess
+import sys
 import time
 from pathlib import Path
 
 import pytest
 
 from pipeline.worker import QuietFileHandler
-from tests.pipeline.cli_helpers import marked, run, start, toy_workspace
+from tests.pipeline.cli_helpers import REPO, marked, run, start, toy_workspace
 
 SLOW = "seeds: [1, 2, 3, 4]\nstages:\n  toy_slow: {{parts: 20, delay_s: 0.1, child: {child}}}\n"
 INTERRUPTED = "interrupted; 4 stages left unfinished, run the same command to resume"
@@ -123,3 +125,30 @@ def test_quiet_file_handler_keeps_the_error_and_prints_nothing(capfd):
     assert isinstance(handler.error, OSError) and handler.error.errno == 28
     captured = capfd.readouterr()
     assert captured.err == "" and captured.out == ""
+
+
+PROBE = """
+import pipeline.executors as executors
+from pipeline.worker import StageTask
+from tests.pipeline.cli_helpers import sigint_probe
+
+executors.child_main = sigint_probe
+if __name__ == "__main__":
+    task = StageTask(*(["x"] * 6), 0, "k", {}, {}, {}, {}, (), "/nowhere", "v")
+    executor = executors.LocalProcessExecutor(1)
+    for _ in range(2):
+        print(executor.submit(task).result(timeout=60).stats["sigint_blocked"])
+    executor.close()
+"""
+
+
+def test_workers_start_with_sigint_blocked(tmp_path):
+    """A Ctrl-C while a worker starts (before it ignores SIGINT) must not print its traceback; the
+    first start is checked in a fresh interpreter (starting the resource tracker unblocks SIGINT)."""
+    script = tmp_path / "probe.py"
+    script.write_text(PROBE)
+    env = {**os.environ, "PYTHONPATH": str(REPO)}
+    command = [sys.executable, str(script)]
+    result = subprocess.run(command, env=env, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split() == ["True", "True"]
