@@ -330,8 +330,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     for ``status`` a corrupt artifact); 2 bad arguments; 130 interrupted by Ctrl-C (SIGINT), 143
     by SIGTERM (a build ends its workers first and says how many stage runs are left).
     """
-    from pipeline.runner import BuildInterrupted
-
     parser = build_parser()
     args = parser.parse_args(argv)
     console = Console(stderr=False)
@@ -341,11 +339,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (NavverseError, PipelineError) as exc:
         errors.print(f"error: {exc}", style="red", markup=False)
         return 1
-    except BuildInterrupted as exc:
-        errors.print(str(exc), markup=False)
-        return 128 + int(exc.signum)
-    except KeyboardInterrupt as exc:
-        errors.print("interrupted")
+    except KeyboardInterrupt as exc:  # a build's BuildInterrupted says how many stage runs are left
+        errors.print(str(exc) if hasattr(exc, "unfinished") else "interrupted", markup=False)
         return 128 + int(getattr(exc, "signum", signal.SIGINT))
     except OSError as exc:
         if exc.errno not in (errno.ENOSPC, errno.EDQUOT):

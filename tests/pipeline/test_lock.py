@@ -13,7 +13,7 @@ import pytest
 from pipeline.lock import WorkspaceBusyError, running_build, workspace_lock
 from tests.pipeline.cli_helpers import built_files, run, start, toy_workspace
 
-SLOW = "seeds: [1, 2]\nstages:\n  toy_slow: {parts: 12, delay_s: 0.25}\n"
+SLOW = "seeds: [1, 2]\nstages:\n  toy_slow: {parts: 4, delay_s: 0.05, gate: gate}\n"
 
 
 def _wait_for(predicate, timeout: float = 60.0) -> None:
@@ -51,14 +51,28 @@ def _stage_runs(log: Path) -> int:
     return log.read_text().count("stage toy_slow for")
 
 
+def _read_until(process, text: str, timeout: float = 60.0) -> str:
+    """What ``process`` wrote to stderr until ``text`` (it keeps running)."""
+    seen = ""
+    deadline = time.monotonic() + timeout
+    while text not in seen and time.monotonic() < deadline:
+        if select.select([process.stderr], [], [], 0.5)[0]:
+            seen += os.read(process.stderr.fileno(), 4096).decode()
+    return seen
+
+
 def test_two_concurrent_builds_one_waits_and_finds_everything_fresh(tmp_path):
     root = toy_workspace(tmp_path / "ws", {"slow.yaml": SLOW})
     clean = toy_workspace(tmp_path / "clean", {"slow.yaml": SLOW})
+    (clean / "gate").touch()
     first = start(root, "build", "-j", "2")
-    logs = root / "data" / "built" / "tmp"
-    _wait_for(lambda: logs.is_dir() and any(logs.glob("log-*.log")))  # the first holds the lock
+    running = root / "data" / "built" / "tmp"
+    # The first build holds the lock, its stages wait at the gate.
+    _wait_for(lambda: len([p for p in running.glob("log-*.log") if "waiting for" in p.read_text()]) == 2)
     second = start(root, "build", "-j", "2")
+    waited = _read_until(second, "waiting")
     refused = run(root, "build", "--no-wait")
+    (root / "gate").touch()
     out_first, err_first = first.communicate(timeout=120)
     out_second, err_second = second.communicate(timeout=120)
 
@@ -66,7 +80,7 @@ def test_two_concurrent_builds_one_waits_and_finds_everything_fresh(tmp_path):
     assert "--no-wait" in refused.stderr and "Traceback" not in refused.stderr
     assert first.returncode == 0 and "2 built" in out_first, err_first
     assert second.returncode == 0, err_second
-    assert f"another build (pid {first.pid}) holds the workspace; waiting" in err_second
+    assert f"another build (pid {first.pid}) holds the workspace; waiting… — Ctrl-C to stop" in waited
     assert "Nothing to do" in out_second
     assert run(clean, "build", "-j", "2").returncode == 0
     assert built_files(root) == built_files(clean)
@@ -81,12 +95,7 @@ def test_clean_waits_for_the_lock(tmp_path):
     artifacts = root / "data" / "built" / "artifacts"
     with workspace_lock(root / "data" / "built" / "build.lock"):
         cleaning = start(root, "clean", "--all")
-        waited = ""
-        deadline = time.monotonic() + 60
-        while "waiting" not in waited and time.monotonic() < deadline:
-            if select.select([cleaning.stderr], [], [], 0.5)[0]:
-                waited += os.read(cleaning.stderr.fileno(), 4096).decode()
-        assert "holds the workspace; waiting" in waited
+        assert "holds the workspace; waiting" in _read_until(cleaning, "waiting")
         assert any(artifacts.iterdir())  # nothing removed while the lock is held
     out, _ = cleaning.communicate(timeout=60)
     assert cleaning.returncode == 0 and "removed every build output" in out

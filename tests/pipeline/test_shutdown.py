@@ -16,18 +16,18 @@ import pytest
 from pipeline.worker import QuietFileHandler
 from tests.pipeline.cli_helpers import REPO, marked, run, start, toy_workspace
 
-SLOW = "seeds: [1, 2, 3, 4]\nstages:\n  toy_slow: {{parts: 20, delay_s: 0.1, child: {child}}}\n"
+SLOW = "seeds: [1, 2, 3, 4]\nstages:\n  toy_slow: {{parts: 3, delay_s: 0, child: {child}, gate: gate}}\n"
 INTERRUPTED = "interrupted; 4 stages left unfinished, run the same command to resume"
 
 
 def _start_mid_build(root: Path, marker: str):
-    """Start a build and return once both workers are writing their stages."""
+    """Start a build and return once both workers wait at the gate, in the middle of their stages."""
     process = start(root, "build", "-j", "2", marker=marker)
     running = root / "data" / "built" / "tmp"
     deadline = time.monotonic() + 90
     while time.monotonic() < deadline:
         logs = list(running.glob("log-*.log")) if running.is_dir() else []
-        if len(logs) == 2 and all("part 2 " in log.read_text() for log in logs):
+        if len(logs) == 2 and all("waiting for gate" in log.read_text() for log in logs):
             return process
         time.sleep(0.05)
     process.kill()
@@ -63,7 +63,8 @@ def test_interrupt_ends_every_process_with_one_line(tmp_path, signum, whole_grou
     assert _none_left(marker) == []
     assert not [p for p in (root / "data" / "built" / "tmp").iterdir() if p.is_dir()]
     log = (root / "data" / "built" / "logs" / "slow-s1" / "toy_slow.log").read_text()
-    assert "part 2 of 20" in log and "interrupted: the build was stopped" in log
+    assert "waiting for gate" in log and log.rstrip().endswith("interrupted: the build was stopped")
+    (root / "gate").touch()
     resumed = run(root, "build", "-j", "2")
     assert resumed.returncode == 0 and "4 built, 0 cached" in resumed.stdout
 

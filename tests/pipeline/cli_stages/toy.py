@@ -9,6 +9,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 from typing import Annotated
 
 import numpy as np
@@ -22,6 +23,8 @@ class SlowParams(Params):
     delay_s: Annotated[float, Field(ge=0)] = 0.1
     child: bool = False
     die_at: Annotated[int, Field(ge=0)] = 0
+    gate: str = ""
+    """A path (relative to the workspace): after the first part, wait until it exists."""
 
 
 @stage(name="toy_slow", outputs=["numbers"])
@@ -36,6 +39,10 @@ def toy_slow(ctx: StageContext, params: SlowParams) -> None:
         if index + 1 == params.die_at:  # as the out-of-memory killer would
             os.kill(os.getpid(), signal.SIGKILL)
         np.save(ctx.output / f"part_{index:03d}.npy", np.array([value]))
+        if index == 0 and params.gate:
+            ctx.log.info("waiting for %s", params.gate)
+            while not Path(params.gate).exists():
+                time.sleep(0.02)
         ctx.progress(index + 1, params.parts, "parts")
         time.sleep(params.delay_s)
     np.save(ctx.output / "numbers.npy", values)
