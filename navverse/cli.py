@@ -9,9 +9,12 @@ recipe); the data and evaluation commands are in :mod:`navverse.cli_data`, given
 from __future__ import annotations
 
 import argparse
+import errno
 import shutil
+import signal
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from functools import partial
 from pathlib import Path
 
@@ -88,20 +91,48 @@ def _graph_over(chosen, recipes, *, selectors: Sequence[str]):
 
 
 def cmd_build(args: argparse.Namespace, console: Console) -> int:
-    """Build targets (default: all)."""
+    """Build targets (default: all), holding the workspace lock; exit 1 if a stage failed."""
+    import logging
+
     from pipeline.executors import make_executor
-    from pipeline.runner import describe_plan, plan, run_build
+    from pipeline.runner import describe_plan, find_corrupt, plan, print_corrupt, run_build
 
     _, chosen, graph, store = _graph_for(args.targets)
     force = [t.id for t in chosen] if args.force else []
+    verify = "hash" if args.verify else "size"
     if args.dry_run:
-        describe_plan(graph, plan(graph, store, force=force), console)
+        forced = {n for n, node in graph.nodes.items() if node.target.id in force}
+        corrupt = find_corrupt(graph, store, level=verify, skip=forced)
+        print_corrupt(corrupt, store, console, action="would rebuild")
+        describe_plan(graph, plan(graph, store, force=force, corrupt=corrupt), console)
         return 0
-    report = run_build(graph, store, lambda: make_executor(args.jobs), force=force, console=console)
-    if not report.ok:
-        return 1
-    _publish_datasets(chosen, store, console)
+    raise_exceptions, logging.raiseExceptions = logging.raiseExceptions, False  # no logging tracebacks
+    try:
+        with _locked(store, wait=not args.no_wait):
+            report = run_build(
+                graph, store, lambda: make_executor(args.jobs), force=force, verify=verify, console=console
+            )
+            if not report.ok:
+                return 1
+            _publish_datasets(chosen, store, console)
+    finally:
+        logging.raiseExceptions = raise_exceptions
     return 0
+
+
+@contextmanager
+def _locked(store, *, wait: bool) -> Iterator[None]:
+    """Hold the workspace lock (SIGTERM interrupting like Ctrl-C), saying so when another holds it."""
+    from pipeline.lock import workspace_lock
+    from pipeline.runner import sigterm_interrupts
+
+    def waiting(holder: str) -> None:
+        Console(stderr=True).print(
+            f"{holder} holds the workspace; waiting… — Ctrl-C to stop", highlight=False
+        )
+
+    with sigterm_interrupts(), workspace_lock(store.lock_path, wait=wait, on_wait=waiting):
+        yield
 
 
 def _publish_datasets(targets, store, console: Console) -> None:
@@ -121,14 +152,20 @@ def _publish_datasets(targets, store, console: Console) -> None:
 
 
 def cmd_status(args: argparse.Namespace, console: Console) -> int:
-    """Print fresh / stale / missing per target."""
+    """Print fresh / stale / missing / corrupt per target; exit 1 if an artifact is corrupt.
+
+    The files of current artifacts are checked by size, with ``--verify`` by sha256 too. Takes no
+    lock: with a build running, the statuses are those of the moment (a note says so).
+    """
     from rich.table import Table
 
-    from pipeline.runner import target_status
+    from pipeline.lock import running_build
+    from pipeline.runner import find_corrupt, print_corrupt, target_status
 
     _, chosen, graph, store = _graph_for(args.targets)
-    statuses = target_status(graph, store)
-    colour = {"fresh": "green", "stale": "yellow", "missing": "red"}
+    corrupt = find_corrupt(graph, store, level="hash" if args.verify else "size")
+    statuses = target_status(graph, store, corrupt=corrupt)
+    colour = {"fresh": "green", "stale": "yellow", "missing": "red", "corrupt": "red"}
     table = Table(box=None, show_edge=False)
     for column in ("target", "status", "recipe"):
         table.add_column(column)
@@ -137,22 +174,37 @@ def cmd_status(args: argparse.Namespace, console: Console) -> int:
         table.add_row(target_id, f"[{colour[status]}]{status}[/]", recipes.get(target_id, "(linked)"))
     console.print(table)
     counts = {s: list(statuses.values()).count(s) for s in colour}
-    console.print(", ".join(f"{n} {s}" for s, n in counts.items()))
-    return 0
+    console.print(", ".join(f"{n} {s}" for s, n in counts.items() if n or s != "corrupt"))
+    print_corrupt(corrupt, store, console)
+    if corrupt:
+        console.print("run `navverse build` to rebuild the corrupt artifacts", highlight=False)
+    running = running_build(store.lock_path)
+    if running:
+        console.print(
+            f"note: {running} is running in this workspace; these statuses may change", soft_wrap=True
+        )
+    return 1 if corrupt else 0
 
 
 def cmd_clean(args: argparse.Namespace, console: Console) -> int:
-    """Remove build outputs: unused artifacts (default) or everything (--all)."""
+    """Remove build outputs: unused artifacts (default) or everything (--all), holding the lock."""
     from pipeline.store import ArtifactStore
 
     workspace = _workspace()
     store = ArtifactStore(workspace.built_dir)
     if args.all:
-        for child in (store.artifacts_dir, store.targets_dir, store.tmp_dir, store.logs_dir):
-            shutil.rmtree(child, ignore_errors=True)
+        with _locked(store, wait=True):
+            for child in (store.artifacts_dir, store.targets_dir, store.tmp_dir, store.logs_dir):
+                shutil.rmtree(child, ignore_errors=True)
         console.print(f"removed every build output in {workspace.built_dir}")
         return 0
     _, _, graph, store = _graph_for([], every_target=True)  # manual targets' artifacts are kept too
+    with _locked(store, wait=True):
+        return _clean_unused(graph, store, console)
+
+
+def _clean_unused(graph, store, console: Console) -> int:
+    """Remove the artifacts no target of ``graph`` uses now, and stale work directories."""
     keep = {
         store.artifact_path(node.stage, out, key)
         for node in graph.nodes.values()
@@ -248,12 +300,31 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="parallel processes (default: number of cores; 0 runs in this process)",
     )
-    build.add_argument("--force", action="store_true", help="rebuild the selected targets even if cached")
+    build.add_argument(
+        "--force", action="store_true", help="rebuild the selected targets even if cached (replacing them)"
+    )
     build.add_argument("--dry-run", action="store_true", help="print the build graph and what would run")
+    build.add_argument(
+        "--verify",
+        action="store_true",
+        help="check the sha256 of every file reused (default: sizes only) and rebuild what differs",
+    )
+    build.add_argument(
+        "--no-wait",
+        action="store_true",
+        help="exit 1 at once if another build holds the workspace (default: wait for it)",
+    )
     build.set_defaults(func=cmd_build)
 
-    status = sub.add_parser("status", parents=[recipe_options], help="fresh / stale / missing per target")
+    status = sub.add_parser(
+        "status", parents=[recipe_options], help="fresh / stale / missing / corrupt per target"
+    )
     status.add_argument("targets", nargs="*", metavar="TARGET")
+    status.add_argument(
+        "--verify",
+        action="store_true",
+        help="check the sha256 of every built file (default: sizes only); exit 1 if one differs",
+    )
     status.set_defaults(func=cmd_status)
 
     clean = sub.add_parser(
@@ -338,23 +409,38 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``navverse`` command; returns the exit code."""
+    """Entry point of the ``navverse`` command; returns the exit code.
+
+    Exit codes: 0 success; 1 an error (a message, never a traceback; for ``build`` a failed stage,
+    for ``status`` a corrupt artifact); 2 bad arguments; 130 interrupted by Ctrl-C (SIGINT), 143
+    by SIGTERM (a build ends its workers first and says how many stage runs are left).
+    """
     parser = build_parser()
     args = parser.parse_args(argv)
     console = Console(stderr=False)
+    errors = Console(stderr=True, highlight=False, soft_wrap=True)
     from pipeline.params import allow_reading
 
     try:
         with allow_reading(args.allow_read if "allow_read" in args else ()):
             return int(args.func(args, console))
     except (NavverseError, PipelineError) as exc:
-        Console(stderr=True).print(
-            f"error: {exc}", style="red", highlight=False, markup=False, soft_wrap=True
+        errors.print(f"error: {exc}", style="red", markup=False)
+        return 1
+    except KeyboardInterrupt as exc:  # a build's BuildInterrupted says how many stage runs are left
+        errors.print(str(exc) if hasattr(exc, "unfinished") else "interrupted", markup=False)
+        return 128 + int(getattr(exc, "signum", signal.SIGINT))
+    except OSError as exc:
+        if exc.errno not in (errno.ENOSPC, errno.EDQUOT):
+            raise
+        where = exc.filename or "the workspace"
+        errors.print(
+            f"error: no space left on device while writing {where}; free space and run the same "
+            "command to resume",
+            style="red",
+            markup=False,
         )
         return 1
-    except KeyboardInterrupt:
-        Console(stderr=True).print("interrupted")
-        return 130
 
 
 if __name__ == "__main__":

@@ -1,15 +1,37 @@
 """Executors run stage tasks. The runner only talks to the :class:`Executor` protocol, so a
-distributed engine (e.g. Ray) can be added beside these without touching stages or the runner."""
+distributed engine (e.g. Ray) can be added beside these without touching stages or the runner.
+
+:class:`LocalProcessExecutor` starts one spawned process per task (so peak memory is per task) and
+talks to it over a pipe of its own: no server process (no ``multiprocessing.Manager``), nothing a
+killed build leaves behind. Workers ignore SIGINT and die with the build process; :meth:`abort`
+ends them (and their own children) at once.
+"""
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
 import queue
-from concurrent.futures import Future, ProcessPoolExecutor
+import signal
+import threading
+import time
+from collections.abc import Iterator
+from concurrent.futures import Future
+from dataclasses import dataclass
+from multiprocessing import connection, resource_tracker
 from typing import Any, Protocol, runtime_checkable
 
-from pipeline.worker import StageTask, TaskResult, run_task
+import psutil
+
+from pipeline.worker import StageTask, TaskResult, child_main, run_task, salvage_log
+
+TERMINATE_GRACE_S = 3.0
+"""How long aborted workers get to end on SIGTERM before they are killed."""
+
+
+class WorkerDiedError(RuntimeError):
+    """A worker process ended without a result (killed, out of memory, or the build was interrupted)."""
 
 
 @runtime_checkable
@@ -29,15 +51,15 @@ class Executor(Protocol):
     progress: Any
 
     def submit(self, task: StageTask) -> Future[TaskResult]:
-        """Start ``task``; the future resolves to its result (or raises if the worker died)."""
+        """Start ``task``; the future resolves to its result, or raises :class:`WorkerDiedError`."""
         ...
 
-    def restart(self) -> None:
-        """Replace a broken pool (a worker was killed) so that remaining tasks can run."""
+    def abort(self) -> None:
+        """Stop every running task now (the build was interrupted); their work is discarded."""
         ...
 
     def close(self) -> None:
-        """Release workers."""
+        """Release workers (after the last result)."""
         ...
 
 
@@ -54,15 +76,25 @@ class InlineExecutor:
         future.set_result(run_task(task, self.progress))
         return future
 
-    def restart(self) -> None:
-        """Nothing to restart."""
+    def abort(self) -> None:
+        """Nothing runs in the background."""
 
     def close(self) -> None:
         """Nothing to release."""
 
 
+@dataclass(eq=False)
+class _Job:
+    task: StageTask
+    process: Any  # multiprocessing.context.SpawnProcess
+    reader: connection.Connection
+    future: Future[TaskResult]
+    result: TaskResult | None = None
+    eof: bool = False
+
+
 class LocalProcessExecutor:
-    """Runs tasks in fresh local processes (one process per task, so peak memory is per task).
+    """Runs tasks in fresh local processes, one process per task.
 
     Parameters
     ----------
@@ -72,27 +104,173 @@ class LocalProcessExecutor:
 
     def __init__(self, jobs: int | None = None) -> None:
         self.jobs = max(1, jobs or os.cpu_count() or 1)
+        self.progress: queue.Queue[tuple[str, int, int, str]] = queue.Queue()
         self._context = multiprocessing.get_context("spawn")
-        self._manager = self._context.Manager()
-        self.progress = self._manager.Queue()
-        self._pool = self._new_pool()
-
-    def _new_pool(self) -> ProcessPoolExecutor:
-        return ProcessPoolExecutor(max_workers=self.jobs, mp_context=self._context, max_tasks_per_child=1)
+        self._jobs: list[_Job] = []
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._watcher = threading.Thread(target=self._watch, name="navverse-executor", daemon=True)
+        self._watcher.start()
 
     def submit(self, task: StageTask) -> Future[TaskResult]:
-        """Queue ``task`` on the pool."""
-        return self._pool.submit(run_task, task, self.progress)
+        """Start a worker process for ``task``."""
+        reader, writer = self._context.Pipe(duplex=False)
+        process = self._context.Process(
+            target=child_main, args=(task, writer, os.getpid()), name=f"navverse-stage {task.node_id}"
+        )
+        future: Future[TaskResult] = Future()
+        future.set_running_or_notify_cancel()
+        # Started here, not inside the block: starting it unblocks SIGINT instead of restoring the mask.
+        resource_tracker.ensure_running()
+        try:
+            with _sigint_blocked():  # the child starts with SIGINT blocked until it ignores it
+                process.start()
+                with self._lock:
+                    self._jobs.append(_Job(task, process, reader, future))
+        except BaseException:
+            if process.pid is not None and process.is_alive():
+                process.kill()
+                process.join()
+            raise
+        finally:
+            writer.close()
+        return future
 
-    def restart(self) -> None:
-        """Drop the broken pool and start a new one."""
-        self._pool.shutdown(wait=False, cancel_futures=True)
-        self._pool = self._new_pool()
+    def abort(self) -> None:
+        """End every worker (SIGTERM, then SIGKILL after :data:`TERMINATE_GRACE_S`) and its children."""
+        self._stop_watching()
+        with self._lock:
+            jobs, self._jobs = self._jobs, []
+        _end_processes([job.process for job in jobs])
+        for job in jobs:
+            salvage_log(job.task, job.process.pid, "interrupted: the build was stopped")
+            job.reader.close()
+            if not job.future.done():
+                job.future.set_exception(WorkerDiedError("interrupted"))
 
     def close(self) -> None:
-        """Stop the workers and the progress channel."""
-        self._pool.shutdown(wait=True, cancel_futures=True)
-        self._manager.shutdown()
+        """Stop watching the workers (aborting any still running)."""
+        with self._lock:
+            busy = bool(self._jobs)
+        if busy:
+            self.abort()
+        self._stop_watching()
+
+    # -- the watcher thread: reads the pipes, resolves futures when workers end ------------------
+    def _stop_watching(self) -> None:
+        self._stop.set()
+        if self._watcher.is_alive() and threading.current_thread() is not self._watcher:
+            self._watcher.join()
+
+    def _watch(self) -> None:
+        while not self._stop.is_set():
+            with self._lock:
+                jobs = list(self._jobs)
+            if not jobs:
+                self._stop.wait(0.05)
+                continue
+            waitables: dict[Any, _Job] = {job.process.sentinel: job for job in jobs}
+            waitables.update({job.reader: job for job in jobs if not job.eof})
+            ready = connection.wait(list(waitables), timeout=0.1)
+            for item in ready:
+                if isinstance(item, connection.Connection):
+                    self._receive(waitables[item])
+            for item in ready:
+                if not isinstance(item, connection.Connection):
+                    self._finish(waitables[item])
+
+    def _receive(self, job: _Job) -> None:
+        try:
+            kind, payload = job.reader.recv()
+        except (EOFError, OSError):
+            job.eof = True
+            return
+        if kind == "progress":
+            self.progress.put(payload)
+        elif kind == "result":
+            job.result = payload
+
+    def _finish(self, job: _Job) -> None:
+        """The worker of ``job`` ended: read what is left in its pipe, then resolve its future."""
+        while not job.eof and job.reader.poll():
+            self._receive(job)
+        job.process.join()
+        job.reader.close()
+        with self._lock:
+            if job not in self._jobs:  # aborted meanwhile
+                return
+            self._jobs.remove(job)
+        if job.result is not None:
+            job.future.set_result(job.result)
+            return
+        reason = _death(job.process.exitcode)
+        salvage_log(job.task, job.process.pid, f"the worker process {reason}")
+        job.future.set_exception(WorkerDiedError(f"the worker process {reason}"))
+
+
+def _death(exitcode: int | None) -> str:
+    """How a worker that sent no result ended, in words."""
+    if exitcode is not None and exitcode < 0:
+        try:
+            name = signal.Signals(-exitcode).name
+        except ValueError:
+            name = f"signal {-exitcode}"
+        return f"died ({name}: killed, or out of memory)"
+    return f"exited with code {exitcode} before reporting a result"
+
+
+@contextlib.contextmanager
+def _sigint_blocked() -> Iterator[None]:
+    """Block SIGINT in this thread for the duration (a process started meanwhile inherits the block)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+def _end_processes(processes: list[Any]) -> None:
+    """SIGTERM ``processes`` and their descendants, SIGKILL what is left after the grace time, reap."""
+    descendants: list[psutil.Process] = []
+    for process in processes:
+        with contextlib.suppress(psutil.Error, ValueError):
+            descendants += psutil.Process(process.pid).children(recursive=True)
+    for process in processes:
+        with contextlib.suppress(OSError, ValueError):
+            process.terminate()
+    for child in descendants:
+        with contextlib.suppress(psutil.Error):
+            child.terminate()
+    deadline = time.monotonic() + TERMINATE_GRACE_S
+    for process in processes:
+        process.join(max(0.0, deadline - time.monotonic()))
+        if process.exitcode is None:
+            process.kill()
+            process.join()
+    for child in _still_running(descendants, deadline):
+        with contextlib.suppress(psutil.Error):
+            child.kill()
+
+
+def _still_running(processes: list[psutil.Process], deadline: float) -> list[psutil.Process]:
+    """Those of ``processes`` (not our children) still running at ``deadline``; zombies count as ended."""
+    alive = list(processes)
+    while alive:
+        alive = [p for p in alive if _running(p)]
+        if not alive or time.monotonic() >= deadline:
+            break
+        time.sleep(0.02)
+    return alive
+
+
+def _running(process: psutil.Process) -> bool:
+    try:
+        return process.is_running() and process.status() != psutil.STATUS_ZOMBIE
+    except psutil.Error:
+        return False
 
 
 def make_executor(jobs: int | None) -> Executor:

@@ -1,13 +1,27 @@
-"""Plans and runs builds: cache look-ups, scheduling on an executor, progress, and the summary."""
+"""Plans and runs builds: cache look-ups (with a check of what is reused), scheduling on an
+executor, progress, interruption, and the summary.
+
+A build reuses a committed artifact only if it is intact: every build checks the sizes of the files
+of the artifacts it would reuse (a ``stat`` each), ``verify="hash"`` their sha256 too. A corrupt
+artifact is reported (``corrupt: <artifact>/<file> size differs ...; rebuilding <node>``) and
+rebuilt, the new directory replacing the old one atomically.
+
+Interrupted (Ctrl-C, or SIGTERM under :func:`sigterm_interrupts`), a build stops its workers, keeps
+what was committed, and raises :class:`BuildInterrupted` saying how many stage runs are left: the
+same command resumes.
+"""
 
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
+import signal
+import threading
 import time
 from collections import Counter
-from collections.abc import Callable, Sequence
-from concurrent.futures.process import BrokenProcessPool
+from collections.abc import Callable, Collection, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from types import FrameType
 from typing import Literal
 
 from rich.console import Console
@@ -16,11 +30,71 @@ from rich.table import Table
 
 from pipeline.dag import ArtifactRef, Graph, Node
 from pipeline.executors import Executor
-from pipeline.store import ArtifactStore
+from pipeline.store import ArtifactStore, Corruption, VerifyLevel
 from pipeline.worker import StageTask, TaskOutput, TaskResult
 
 NodeState = Literal["cached", "build"]
-TargetStatus = Literal["fresh", "stale", "missing"]
+TargetStatus = Literal["fresh", "stale", "missing", "corrupt"]
+
+
+class Terminated(KeyboardInterrupt):
+    """Raised in the main thread by the SIGTERM handler of :func:`sigterm_interrupts`."""
+
+    signum = signal.SIGTERM
+
+
+class BuildInterrupted(KeyboardInterrupt):
+    """A build stopped by Ctrl-C or SIGTERM after its workers were ended.
+
+    Attributes
+    ----------
+    unfinished : int
+        Stage runs not finished (running or waiting); the same command resumes them.
+    signum : int
+        ``SIGINT`` (Ctrl-C) or ``SIGTERM``.
+    """
+
+    def __init__(self, unfinished: int, signum: int) -> None:
+        super().__init__(
+            f"interrupted; {unfinished} stage{'s' if unfinished != 1 else ''} left unfinished, "
+            "run the same command to resume"
+        )
+        self.unfinished = unfinished
+        self.signum = signum
+
+
+@contextlib.contextmanager
+def sigterm_interrupts() -> Iterator[None]:
+    """Within the block, SIGTERM raises :class:`Terminated` (a ``KeyboardInterrupt``) like Ctrl-C does.
+
+    Only in the main thread; elsewhere the block runs unchanged.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def raise_terminated(signum: int, frame: FrameType | None) -> None:
+        raise Terminated()
+
+    previous = signal.signal(signal.SIGTERM, raise_terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """Ignore SIGINT and SIGTERM while workers are being stopped (a second Ctrl-C changes nothing)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = {s: signal.signal(s, signal.SIG_IGN) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
 
 
 @dataclass
@@ -51,19 +125,66 @@ class BuildReport:
         return not self.failed and not self.skipped
 
 
-def plan(graph: Graph, store: ArtifactStore, *, force: Sequence[str] = ()) -> dict[str, NodeState]:
-    """``{node_id: "cached" | "build"}`` in graph order; ``force`` names targets to rebuild."""
+def find_corrupt(
+    graph: Graph, store: ArtifactStore, *, level: VerifyLevel = "size", skip: Collection[str] = ()
+) -> dict[str, list[Corruption]]:
+    """Check the committed artifacts of ``graph`` against their manifests.
+
+    Parameters
+    ----------
+    graph : Graph
+        Whose nodes' artifacts to check.
+    store : ArtifactStore
+        Where they are.
+    level : {"size", "hash"}
+        ``size``: a ``stat`` per file (and a listing, for files the manifest lacks); ``hash``: the
+        sha256 of every file too.
+    skip : collection of str
+        Node ids not to check (e.g. forced ones: rebuilt anyway).
+
+    Returns
+    -------
+    dict
+        ``{node_id: [Corruption, ...]}`` of the nodes with a corrupt artifact, in graph order.
+    """
+    found: dict[str, list[Corruption]] = {}
+    for node_id in graph.order:
+        if node_id in skip:
+            continue
+        node = graph.nodes[node_id]
+        problems = [
+            problem
+            for out, key in node.artifact_keys.items()
+            if store.has(node.stage, out, key)
+            for problem in store.verify(store.artifact_path(node.stage, out, key), level=level)
+        ]
+        if problems:
+            found[node_id] = problems
+    return found
+
+
+def plan(
+    graph: Graph, store: ArtifactStore, *, force: Sequence[str] = (), corrupt: Collection[str] = ()
+) -> dict[str, NodeState]:
+    """``{node_id: "cached" | "build"}`` in graph order.
+
+    ``force`` names targets to rebuild; ``corrupt`` node ids (see :func:`find_corrupt`) are rebuilt.
+    """
     forced = set(force)
     states: dict[str, NodeState] = {}
     for node_id in graph.order:
         node = graph.nodes[node_id]
         have = all(store.has(node.stage, out, key) for out, key in node.artifact_keys.items())
-        states[node_id] = "cached" if have and node.target.id not in forced else "build"
+        reuse = have and node.target.id not in forced and node_id not in corrupt
+        states[node_id] = "cached" if reuse else "build"
     return states
 
 
-def target_status(graph: Graph, store: ArtifactStore) -> dict[str, TargetStatus]:
-    """Per target: ``fresh`` (every artifact current), ``stale`` (built before, out of date), ``missing``."""
+def target_status(
+    graph: Graph, store: ArtifactStore, *, corrupt: Collection[str] = ()
+) -> dict[str, TargetStatus]:
+    """Per target: ``fresh`` (every artifact current), ``stale`` (built before, out of date),
+    ``missing``, or ``corrupt`` (a current artifact differs from its manifest: ``corrupt`` node ids)."""
     result: dict[str, TargetStatus] = {}
     by_target: dict[str, list[Node]] = {}
     for node in graph.nodes.values():
@@ -73,8 +194,22 @@ def target_status(graph: Graph, store: ArtifactStore) -> dict[str, TargetStatus]
         built_before = any(
             store.target_output(target_id, out) is not None for n in nodes for out in n.artifact_keys
         )
-        result[target_id] = "fresh" if current else ("stale" if built_before else "missing")
+        if any(n.id in corrupt for n in nodes):
+            result[target_id] = "corrupt"
+        else:
+            result[target_id] = "fresh" if current else ("stale" if built_before else "missing")
     return result
+
+
+def print_corrupt(
+    corrupt: Mapping[str, list[Corruption]], store: ArtifactStore, console: Console, *, action: str = ""
+) -> None:
+    """One line per corrupt node: ``corrupt: <artifact>/<file> <problem>[; <action> <node>]``."""
+    for node_id, problems in corrupt.items():
+        first = problems[0].describe(store.root)
+        more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
+        tail = f"; {action} {node_id}" if action else f" ({node_id})"
+        console.print(f"[red]corrupt[/]: {first}{more}{tail}", highlight=False, soft_wrap=True)
 
 
 def describe_plan(graph: Graph, states: dict[str, NodeState], console: Console) -> None:
@@ -120,7 +255,7 @@ def _ref_label(ref: ArtifactRef, input_name: str, target: str) -> str:
     return owner if ref[1] == input_name else f"{owner}:{ref[1]}"
 
 
-def _task(node: Node, graph: Graph, store: ArtifactStore) -> StageTask:
+def _task(node: Node, graph: Graph, store: ArtifactStore, *, replace: bool) -> StageTask:
     spec = node.call.spec
     return StageTask(
         node_id=node.id,
@@ -146,7 +281,9 @@ def _task(node: Node, graph: Graph, store: ArtifactStore) -> StageTask:
         many={i.name: i.many for i in spec.inputs},
         input_keys={name: [graph.artifact_key(ref) for ref in refs] for name, refs in node.inputs.items()},
         outputs=tuple(
-            TaskOutput(name=out, key=key, final=str(store.artifact_path(spec.name, out, key)))
+            TaskOutput(
+                name=out, key=key, final=str(store.artifact_path(spec.name, out, key)), replace=replace
+            )
             for out, key in node.artifact_keys.items()
         ),
         store_root=str(store.root),
@@ -171,12 +308,14 @@ def run_build(
     executor_factory: Callable[[], Executor],
     *,
     force: Sequence[str] = (),
+    verify: VerifyLevel = "size",
     console: Console | None = None,
 ) -> BuildReport:
-    """Build every node of ``graph`` whose artifacts are not committed yet.
+    """Build every node of ``graph`` whose artifacts are not committed yet, or are corrupt.
 
     Nodes run as soon as their inputs exist; a failing node skips only the nodes that need its
-    outputs, the rest goes on. Nothing is started when everything is cached.
+    outputs, the rest goes on. Nothing is started when everything is cached. The caller holds the
+    workspace lock (:mod:`pipeline.lock`) if other builds may run.
 
     Parameters
     ----------
@@ -187,13 +326,20 @@ def run_build(
     executor_factory : callable
         Makes the executor, only if there is work.
     force : sequence of str
-        Target ids whose stages run even if cached.
+        Target ids whose stages run even if cached; their artifacts are replaced.
+    verify : {"size", "hash"}
+        How the artifacts to reuse are checked (see :func:`find_corrupt`).
     console : rich.console.Console, optional
         Where progress and the summary go.
 
     Returns
     -------
     BuildReport
+
+    Raises
+    ------
+    BuildInterrupted
+        On Ctrl-C (or SIGTERM under :func:`sigterm_interrupts`), after the workers were ended.
     """
     console = console or Console()
     started = time.perf_counter()
@@ -202,7 +348,10 @@ def run_build(
     for node in graph.nodes.values():
         for out, key in node.artifact_keys.items():
             store.discard_untrusted(node.stage, out, key)
-    states = plan(graph, store, force=force)
+    forced = {n for n, node in graph.nodes.items() if node.target.id in set(force)}
+    corrupt = find_corrupt(graph, store, level=verify, skip=forced)
+    print_corrupt(corrupt, store, console, action="rebuilding")
+    states = plan(graph, store, force=force, corrupt=corrupt)
     for node_id, state in states.items():
         if state == "cached":
             report.cached.append(node_id)
@@ -214,69 +363,99 @@ def run_build(
             f"Nothing to do: {len(graph.nodes)} stage runs are up to date ({report.seconds:.2f} s)."
         )
         return report
-
-    executor = executor_factory()
-    deps = {n: graph.dependencies(n) for n in todo}
-    done = set(report.cached)
-    waiting = list(todo)
-    running: dict[cf.Future[TaskResult], str] = {}
-    stage_totals = Counter(graph.nodes[n].stage for n in todo)
-    progress = Progress(
-        TextColumn("{task.description:<28}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeElapsedColumn(),
-        console=console,
-        transient=False,
-    )
-    stage_bars = {s: progress.add_task(s, total=c) for s, c in sorted(stage_totals.items())}
-    inner_bars: dict[str, int] = {}
-    try:
-        with progress:
-            while waiting or running:
-                for node_id in list(waiting):
-                    blocked = [d for d in deps[node_id] if d in report.failed or d in report.skipped]
-                    if blocked:
-                        waiting.remove(node_id)
-                        report.skipped[node_id] = f"input from {blocked[0]} is missing"
-                        progress.advance(stage_bars[graph.nodes[node_id].stage])
-                    elif all(d in done for d in deps[node_id]) and len(running) < executor.jobs:
-                        waiting.remove(node_id)
-                        running[executor.submit(_task(graph.nodes[node_id], graph, store))] = node_id
-                        inner_bars[node_id] = progress.add_task(f"  {node_id}"[:28], total=None)
-                if not running:
-                    continue
-                finished, _ = cf.wait(running, timeout=0.2, return_when=cf.FIRST_COMPLETED)
-                _drain_progress(executor, progress, inner_bars)
-                for future in finished:
-                    node_id = running.pop(future)
-                    node = graph.nodes[node_id]
-                    try:
-                        result = future.result()
-                    except BrokenProcessPool:
-                        result = TaskResult(
-                            node_id, ok=False, error="the worker process died (killed, or out of memory)"
-                        )
-                        executor.restart()
-                    except Exception as exc:  # an executor fault is this node's failure, not the build's
-                        result = TaskResult(node_id, ok=False, error=f"{type(exc).__name__}: {exc}")
-                    progress.remove_task(inner_bars.pop(node_id))
-                    progress.advance(stage_bars[node.stage])
-                    if result.ok:
-                        report.built[node_id] = result
-                        done.add(node_id)
-                        _link_outputs(node, graph, store)
-                        progress.console.print(
-                            f"[green]built[/] {node_id}  {result.wall_s:.1f} s, {result.peak_rss_mb:.0f} MB"
-                        )
-                    else:
-                        report.failed[node_id] = result
-                        progress.console.print(f"[red]failed[/] {node_id}: {result.error}")
-    finally:
-        executor.close()
+    _Schedule(graph, store, report, todo, replace=forced | set(corrupt)).run(executor_factory(), console)
     report.seconds = time.perf_counter() - started
     _summary(report, console)
     return report
+
+
+class _Schedule:
+    """Runs the ``todo`` nodes of a build on an executor, as their inputs become ready."""
+
+    def __init__(
+        self, graph: Graph, store: ArtifactStore, report: BuildReport, todo: list[str], *, replace: set[str]
+    ) -> None:
+        self.graph, self.store, self.report = graph, store, report
+        self.replace = replace
+        self.deps = {n: graph.dependencies(n) for n in todo}
+        self.done = set(report.cached)
+        self.waiting = list(todo)
+        self.running: dict[cf.Future[TaskResult], str] = {}
+
+    def run(self, executor: Executor, console: Console) -> None:
+        """Run every waiting node; on an interrupt, end the workers and raise :class:`BuildInterrupted`."""
+        progress = Progress(
+            TextColumn("{task.description:<28}"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TimeElapsedColumn(),
+            console=console,
+            transient=False,
+        )
+        stage_totals = Counter(self.graph.nodes[n].stage for n in self.waiting)
+        bars = {s: progress.add_task(s, total=c) for s, c in sorted(stage_totals.items())}
+        try:
+            with progress:
+                self._loop(executor, progress, bars)
+        except KeyboardInterrupt as exc:
+            with _signals_held():
+                executor.abort()
+                self.store.clean_stale_tmp()  # the ended workers' unfinished outputs
+            unfinished = len(self.waiting) + len(self.running)
+            raise BuildInterrupted(unfinished, getattr(exc, "signum", signal.SIGINT)) from None
+        finally:
+            with _signals_held():
+                executor.close()
+
+    def _loop(self, executor: Executor, progress: Progress, bars: dict[str, int]) -> None:
+        inner: dict[str, int] = {}
+        while self.waiting or self.running:
+            for node_id in list(self.waiting):
+                blocked = [d for d in self.deps[node_id] if d in self._lost]
+                if blocked:
+                    self.waiting.remove(node_id)
+                    self.report.skipped[node_id] = f"input from {blocked[0]} is missing"
+                    progress.advance(bars[self.graph.nodes[node_id].stage])
+                elif all(d in self.done for d in self.deps[node_id]) and len(self.running) < executor.jobs:
+                    node = self.graph.nodes[node_id]
+                    task = _task(node, self.graph, self.store, replace=node_id in self.replace)
+                    self.running[executor.submit(task)] = node_id
+                    self.waiting.remove(node_id)
+                    inner[node_id] = progress.add_task(f"  {node_id}"[:28], total=None)
+            if not self.running:
+                continue
+            finished, _ = cf.wait(self.running, timeout=0.2, return_when=cf.FIRST_COMPLETED)
+            _drain_progress(executor, progress, inner)
+            for future in finished:
+                node_id = self.running.pop(future)
+                progress.remove_task(inner.pop(node_id))
+                progress.advance(bars[self.graph.nodes[node_id].stage])
+                self._record(node_id, _result_of(future, node_id), progress)
+
+    @property
+    def _lost(self) -> set[str]:
+        """Nodes that will not produce their outputs (failed, or skipped)."""
+        return {*self.report.failed, *self.report.skipped}
+
+    def _record(self, node_id: str, result: TaskResult, progress: Progress) -> None:
+        if result.ok:
+            self.report.built[node_id] = result
+            self.done.add(node_id)
+            _link_outputs(self.graph.nodes[node_id], self.graph, self.store)
+            progress.console.print(
+                f"[green]built[/] {node_id}  {result.wall_s:.1f} s, {result.peak_rss_mb:.0f} MB"
+            )
+        else:
+            self.report.failed[node_id] = result
+            progress.console.print(f"[red]failed[/] {node_id} (the error is in the summary)")
+
+
+def _result_of(future: cf.Future[TaskResult], node_id: str) -> TaskResult:
+    """The future's result; a worker that died or an executor fault is this node's failure."""
+    try:
+        return future.result()
+    except Exception as exc:
+        return TaskResult(node_id, ok=False, error=str(exc) or type(exc).__name__)
 
 
 def _drain_progress(executor: Executor, progress: Progress, bars: dict[str, int]) -> None:
@@ -296,6 +475,7 @@ def _summary(report: BuildReport, console: Console) -> None:
         f"{len(report.cached)} cached, {len(report.failed)} failed, {len(report.skipped)} skipped."
     )
     for node_id, result in sorted(report.failed.items()):
-        console.print(f"  [red]FAILED[/] {node_id}: {result.error}\n         log: {result.log_path}")
+        where = f"\n         log: {result.log_path}" if result.log_path else ""
+        console.print(f"  [red]FAILED[/] {node_id}: {result.error}{where}", highlight=False, soft_wrap=True)
     for node_id, reason in sorted(report.skipped.items()):
         console.print(f"  [yellow]skipped[/] {node_id}: {reason}")

@@ -289,7 +289,7 @@ def _open(path: Path) -> Usd.Stage:
         return Usd.Stage.Open(str(path), Usd.Stage.LoadAll)
     except Tf.ErrorException as exc:
         raise SceneError(
-            f"cannot open USD scene {path}: {exc}; rebuild it with `navverse build <scene_id>`"
+            f"cannot open USD scene {path}: {exc}; rebuild it with `navverse build --force <scene_id>`"
         ) from None
 
 

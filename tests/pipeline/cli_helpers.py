@@ -1,0 +1,90 @@
+"""Running the ``navverse`` command on a throw-away workspace of toy stages, in a subprocess."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import uuid
+from pathlib import Path
+from typing import Any
+
+import psutil
+
+REPO = Path(__file__).resolve().parents[2]
+DRIVER = """\
+import sys
+
+import navverse.cli as cli
+
+cli.STAGES_PACKAGE = "tests.pipeline.cli_stages"
+if __name__ == "__main__":  # workers are spawned: they import this file without running it
+    sys.exit(cli.main())
+"""
+
+
+def toy_workspace(root: Path, recipes: dict[str, str]) -> Path:
+    """A workspace at ``root`` with ``recipes`` {file name: YAML} and the driver script."""
+    (root / "recipes").mkdir(parents=True)
+    for name, text in recipes.items():
+        (root / "recipes" / name).write_text(text)
+    (root / "drive.py").write_text(DRIVER)
+    return root
+
+
+def start(root: Path, *args: str, marker: str | None = None) -> subprocess.Popen[str]:
+    """Start ``navverse <args>`` in its own session, every process of it tagged with ``marker``."""
+    env = {
+        **os.environ,
+        "NAVVERSE_ROOT": str(root),
+        "PYTHONPATH": str(REPO),
+        "NAVVERSE_TEST_MARKER": marker or uuid.uuid4().hex,
+    }
+    return subprocess.Popen(
+        [sys.executable, str(root / "drive.py"), *args],
+        env=env,
+        cwd=root,
+        start_new_session=True,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+
+
+def run(root: Path, *args: str, timeout: float = 120) -> subprocess.CompletedProcess[str]:
+    """Run ``navverse <args>`` to its end."""
+    process = start(root, *args)
+    out, err = process.communicate(timeout=timeout)
+    return subprocess.CompletedProcess(process.args, process.returncode, out, err)
+
+
+def marked(marker: str) -> list[psutil.Process]:
+    """Running (not zombie) processes tagged with ``marker``."""
+    found = []
+    for process in psutil.process_iter():
+        try:
+            tagged = process.environ().get("NAVVERSE_TEST_MARKER") == marker
+            if tagged and process.status() != psutil.STATUS_ZOMBIE:
+                found.append(process)
+        except psutil.Error:
+            continue
+    return found
+
+
+def built_files(root: Path) -> dict[str, dict]:
+    """{artifact dir name: manifest 'files'} of every committed artifact."""
+    found = {}
+    for manifest in sorted((root / "data" / "built" / "artifacts").glob("*/*/manifest.json")):
+        found[manifest.parent.name] = json.loads(manifest.read_text())["files"]
+    return found
+
+
+def sigint_probe(task: Any, conn: Any, parent_pid: int) -> None:
+    """Stands in for ``pipeline.worker.child_main``: reports whether SIGINT was blocked at the start."""
+    from pipeline.worker import TaskResult
+
+    blocked = signal.SIGINT in signal.pthread_sigmask(signal.SIG_BLOCK, [])
+    conn.send(("result", TaskResult(task.node_id, ok=True, stats={"sigint_blocked": blocked})))
+    conn.close()
