@@ -7,3 +7,11 @@ class NavverseError(Exception):
 
 class SceneError(NavverseError):
     """A scene directory is missing, incomplete or of an unsupported format version."""
+
+
+def rebuild_hint(scene_id: str | None = None) -> str:
+    """How to repair a damaged or outdated built scene: the build command that finds and replaces it."""
+    return (
+        f"rebuild it with `navverse build --verify {scene_id or '<scene_id>'}` "
+        "(it finds damaged files and rebuilds them)"
+    )

@@ -25,6 +25,7 @@ import struct
 import zlib
 from typing import Any
 
+from navverse.errors import rebuild_hint
 from navverse.nav.errors import NavMeshError
 
 __all__ = ["FORMAT_VERSION", "MAGIC", "read_navmesh", "write_navmesh"]
@@ -54,20 +55,20 @@ def read_navmesh(data: bytes, *, source: str = "navmesh data") -> tuple[dict[str
     if len(data) < len(MAGIC) or data[: len(MAGIC)] != MAGIC:
         raise NavMeshError(f"{source} is not a navverse navmesh file (no {MAGIC.decode()} header)")
     if len(data) < _HEADER.size:
-        raise NavMeshError(f"{source} is truncated: rebuild it with `navverse build`")
+        raise NavMeshError(f"{source} is truncated: {rebuild_hint()}")
     _, version, meta_len, tiles_len, crc = _HEADER.unpack_from(data)
     if version != FORMAT_VERSION:
         raise NavMeshError(
             f"{source}: navmesh file format v{version}, this toolkit reads v{FORMAT_VERSION}: "
-            "rebuild it with `navverse build`"
+            f"{rebuild_hint()}"
         )
     body = data[_HEADER.size :]
     if len(body) != meta_len + tiles_len or zlib.crc32(body) != crc:
-        raise NavMeshError(f"{source} is truncated or damaged (size or checksum mismatch): rebuild it")
+        raise NavMeshError(f"{source} is truncated or damaged (size or checksum mismatch): {rebuild_hint()}")
     try:
         meta = json.loads(body[:meta_len].decode())
     except (UnicodeDecodeError, json.JSONDecodeError):
-        raise NavMeshError(f"{source} has unreadable metadata: rebuild it with `navverse build`") from None
+        raise NavMeshError(f"{source} has unreadable metadata: {rebuild_hint()}") from None
     if not isinstance(meta, dict) or "settings" not in meta:
-        raise NavMeshError(f"{source} has no navmesh settings: rebuild it with `navverse build`")
+        raise NavMeshError(f"{source} has no navmesh settings: {rebuild_hint()}")
     return meta, body[meta_len:]

@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from navverse.errors import rebuild_hint
 from navverse.files import atomic_write
 from navverse.nav.errors import NavMeshError
 
@@ -631,7 +632,7 @@ class PathFinder:
             settings = NavMeshSettings.model_validate(meta["settings"])
         except Exception as exc:
             raise NavMeshError(
-                f"{source}: its navmesh settings do not validate ({exc}): rebuild it with `navverse build`"
+                f"{source}: its navmesh settings do not validate ({exc}): {rebuild_hint()}"
             ) from None
         finder = cls(_recast.NavMesh.from_bytes(tiles), settings)
         finder.set_area_costs({int(k): v for k, v in meta.get("area_costs", {}).items()})

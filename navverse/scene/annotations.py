@@ -19,7 +19,7 @@ from typing import Annotated, Any
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 from shapely.geometry import LinearRing, Point, Polygon
 
-from navverse.errors import SceneError
+from navverse.errors import SceneError, rebuild_hint
 from navverse.files import atomic_write
 from navverse.scene.naming import OBJECTS_ROOT, is_identifier
 from navverse.scene_types import SceneType
@@ -445,10 +445,6 @@ def save_annotations(annotations: SceneAnnotations, path: Path) -> None:
         handle.write((text + "\n").encode("utf-8"))
 
 
-def _rebuild_hint(scene_id: str | None) -> str:
-    return f"rebuild the scene with `navverse build {scene_id or '<scene_id>'}`"
-
-
 def load_annotations(path: Path) -> SceneAnnotations:
     """Read and validate ``scene.json``.
 
@@ -472,7 +468,7 @@ def load_annotations(path: Path) -> SceneAnnotations:
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
-        raise SceneError(f"scene annotations not found: {path}; {_rebuild_hint(None)}") from None
+        raise SceneError(f"scene annotations not found: {path}; {rebuild_hint(None)}") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise SceneError(f"cannot read scene annotations {path}: {exc}") from None
     try:
@@ -480,17 +476,17 @@ def load_annotations(path: Path) -> SceneAnnotations:
     except json.JSONDecodeError as exc:
         raise SceneError(
             f"{path} is not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg}); "
-            f"{_rebuild_hint(None)}"
+            f"{rebuild_hint(None)}"
         ) from None
     if not isinstance(raw, dict):
-        raise SceneError(f"{path} must hold a JSON object, found {type(raw).__name__}; {_rebuild_hint(None)}")
+        raise SceneError(f"{path} must hold a JSON object, found {type(raw).__name__}; {rebuild_hint(None)}")
     scene_id = raw.get("scene_id") if isinstance(raw.get("scene_id"), str) else None
     version = raw.get("format_version")
     match = _VERSION.match(version) if isinstance(version, str) else None
     if match is None:
         raise SceneError(
             f"{path} has no valid format_version (found {version!r}); this toolkit reads scene format "
-            f"{SCENE_FORMAT_VERSION}; {_rebuild_hint(scene_id)}"
+            f"{SCENE_FORMAT_VERSION}; {rebuild_hint(scene_id)}"
         )
     major, minor = int(match.group(1)), int(match.group(2))
     ours_major, ours_minor = (int(v) for v in SCENE_FORMAT_VERSION.split("."))
@@ -499,7 +495,7 @@ def load_annotations(path: Path) -> SceneAnnotations:
     elif major != ours_major:
         raise SceneError(
             f"{path} has scene format version {version}, but this toolkit reads versions 1.x and "
-            f"{ours_major}.x; {_rebuild_hint(scene_id)}, or use the navverse version that wrote it"
+            f"{ours_major}.x; {rebuild_hint(scene_id)}, or use the navverse version that wrote it"
         )
     elif minor > ours_minor:
         raw = _known_fields(SceneAnnotations, raw)
@@ -509,7 +505,7 @@ def load_annotations(path: Path) -> SceneAnnotations:
         problems = "; ".join(
             f"{'.'.join(str(p) for p in err['loc']) or '<root>'}: {err['msg']}" for err in exc.errors()
         )
-        raise SceneError(f"{path} is not a valid scene.json: {problems}; {_rebuild_hint(scene_id)}") from None
+        raise SceneError(f"{path} is not a valid scene.json: {problems}; {rebuild_hint(scene_id)}") from None
 
 
 def _model_of(annotation: Any) -> type[BaseModel] | None:

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdPhysics, UsdSemantics, UsdShade, Vt
 
-from navverse.errors import SceneError
+from navverse.errors import SceneError, rebuild_hint
 from navverse.files import atomic_path
 from navverse.scene.annotations import BuildingAnnotation, SceneAnnotations
 from navverse.scene.colors import default_color
@@ -288,13 +288,11 @@ def _open(path: Path) -> Usd.Stage:
     try:
         return Usd.Stage.Open(str(path), Usd.Stage.LoadAll)
     except Tf.ErrorException as exc:
-        raise SceneError(
-            f"cannot open USD scene {path}: {exc}; rebuild it with `navverse build --force <scene_id>`"
-        ) from None
+        raise SceneError(f"cannot open USD scene {path}: {exc}; {rebuild_hint()}") from None
 
 
 def _malformed(path: Path, what: str) -> SceneError:
-    return SceneError(f"{path} is not a NavVerse scene: {what}; rebuild it with `navverse build <scene_id>`")
+    return SceneError(f"{path} is not a NavVerse scene: {what}; {rebuild_hint()}")
 
 
 def _read_mesh(path: Path, prim: Usd.Prim) -> MeshData:
@@ -497,8 +495,7 @@ def scene_from_usd(path: Path, annotations: SceneAnnotations) -> Scene:
 
     def disagree(what: str) -> SceneError:
         return SceneError(
-            f"{path} and the scene annotations disagree: {what}; rebuild the scene with "
-            f"`navverse build {annotations.scene_id}`"
+            f"{path} and the scene annotations disagree: {what}; {rebuild_hint(annotations.scene_id)}"
         )
 
     surfaces = []

@@ -100,7 +100,7 @@ def test_other_format_version_is_refused(hall: PathFinder, tmp_path: Path):
     path.write_bytes(repack(hall.to_bytes(), version=FORMAT_VERSION + 1))
     message = (
         f"navmesh file format v{FORMAT_VERSION + 1}, this toolkit reads v{FORMAT_VERSION}: "
-        "rebuild it with `navverse build`"
+        "rebuild it with `navverse build --verify <scene_id>`"
     )
     with pytest.raises(NavMeshError, match=re.escape(message)):
         nav.load(path)

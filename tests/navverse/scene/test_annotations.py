@@ -210,7 +210,7 @@ def test_wrong_major_format_version_is_a_scene_error(tiny_scene: Scene, tmp_path
     data["format_version"] = "3.0"
     data["new_field_of_v3"] = 1
     with pytest.raises(
-        SceneError, match=r"version 3\.0.*reads versions 1\.x and 2\.x.*navverse build tiny_room"
+        SceneError, match=r"version 3\.0.*reads versions 1\.x and 2\.x.*navverse build --verify tiny_room"
     ):
         load_annotations(_write_raw(tmp_path / "scene.json", data))
 
