@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from navverse.dataset import Episode, Verification, goal_distance
+from navverse.processes import end_with_parent
 
 __all__ = ["REASONS", "VerificationResult", "VerificationSettings", "verify_episodes", "verify_scene"]
 
@@ -246,7 +247,8 @@ def verify_episodes(
                 progress(done, len(tasks))
     else:
         context = multiprocessing.get_context("spawn")
-        with cf.ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
+        pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=context, initializer=end_with_parent)
+        with pool:
             futures = [pool.submit(_verify_task, task) for task in tasks]
             for future in cf.as_completed(futures):
                 results.update((r.episode_id, r) for r in future.result())
