@@ -274,7 +274,7 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
     from navverse.dataset import Dataset
-    from navverse.eval.runner import run_agent
+    from navverse.eval.runner import EPISODE_TIMEOUT, STEP_TIMEOUT, run_agent
     from navverse.scene.locate import built_scene_dirs
 
     dataset = Dataset(args.dataset)
@@ -298,8 +298,16 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
             seed=args.seed,
             max_steps=args.max_steps,
             terrain_friction=args.friction,
+            step_timeout=STEP_TIMEOUT if args.step_timeout is None else args.step_timeout,
+            episode_timeout=EPISODE_TIMEOUT if args.episode_timeout is None else args.episode_timeout,
             progress=lambda done, total: bar.update(task, completed=done, total=total),
         )
+    for episode_id, reason in summary.timeouts[:10]:
+        console.print(f"agent_timeout: {episode_id}: {reason}", style="yellow", highlight=False, markup=False)
+    if len(summary.timeouts) > 10:
+        console.print(f"agent_timeout: ... and {len(summary.timeouts) - 10} more episodes", style="yellow")
+    if summary.log is not None:
+        console.print(f"the agent's output is in {summary.log}", highlight=False, markup=False)
     ended = ", ".join(f"{label} {count}" for label, count in sorted(summary.terminations.items()))
     resumed = f" ({summary.resumed} resumed from an interrupted run)" if summary.resumed else ""
     console.print(
