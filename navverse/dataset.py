@@ -30,11 +30,10 @@ import math
 import os
 import re
 import shutil
-import stat
 import zlib
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
-from typing import IO, Annotated, Any, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import (
     BaseModel,
@@ -46,6 +45,19 @@ from pydantic import (
     model_validator,
 )
 
+from navverse.dataset_files import (
+    MAX_ENTRIES,
+    MAX_FILE_BYTES,
+    TooLargeError,
+    describe,
+    gunzip,
+    listing,
+    member_state,
+    mib,
+    open_regular,
+    read_checked,
+    sha256_of,
+)
 from navverse.errors import NavverseError
 from navverse.files import atomic_dir, atomic_write
 from navverse.scene_types import SceneType, scene_profile
@@ -80,11 +92,6 @@ FORMAT_VERSION = "1.0"
 TASKS = ("objnav", "placenav", "vln")
 MAX_MANIFEST_BYTES = 4 << 20
 """Largest ``manifest.json`` read (bytes)."""
-MAX_FILE_BYTES = 512 << 20
-"""Largest dataset file read, compressed or decompressed (bytes): a bigger one is refused unread."""
-_MAX_ENTRIES = 10_000
-"""Most entries in a version directory (files and folders) before it is refused unlisted."""
-_CHUNK = 1 << 20
 _MEMBER = re.compile(
     r"(?P<split>[a-z][a-z0-9_]*)/(?P<task>objnav|placenav|vln)(?P<rollouts>\.rollouts)?\.json\.gz"
 )
@@ -312,11 +319,11 @@ def read_json_gz(path: str | os.PathLike[str], *, max_bytes: int = MAX_FILE_BYTE
     path = Path(path)
     try:
         with open(path, "rb") as handle:
-            _, data = _gunzip(handle, limit=max_bytes, keep=True)
+            _, data = gunzip(handle, limit=max_bytes, keep=True)
     except FileNotFoundError:
         raise DatasetError(f"{path} does not exist") from None
-    except _TooLargeError:
-        raise DatasetError(f"{path} decompresses to more than {_mib(max_bytes)}: refused") from None
+    except TooLargeError:
+        raise DatasetError(f"{path} decompresses to more than {mib(max_bytes)}: refused") from None
     except (OSError, EOFError, zlib.error) as exc:
         raise DatasetError(f"{path} is not a gzipped JSON file ({exc})") from None
     return _parse_json(data, path)
@@ -325,54 +332,7 @@ def read_json_gz(path: str | os.PathLike[str], *, max_bytes: int = MAX_FILE_BYTE
 def file_sha256(path: str | os.PathLike[str]) -> str:
     """Hex SHA-256 of a file's bytes (read in chunks)."""
     with open(path, "rb") as handle:
-        return _sha256(handle)
-
-
-def _sha256(handle: IO[bytes]) -> str:
-    digest = hashlib.sha256()
-    for block in iter(lambda: handle.read(_CHUNK), b""):
-        digest.update(block)
-    return digest.hexdigest()
-
-
-class _TooLargeError(Exception):
-    """A file, or what it decompresses to, is over the size limit."""
-
-
-class _HashingReader:
-    """A binary reader that feeds every byte it hands out to a digest."""
-
-    def __init__(self, handle: IO[bytes], digest: Any) -> None:
-        self._handle = handle
-        self._digest = digest
-
-    def read(self, size: int = -1) -> bytes:
-        data = self._handle.read(size)
-        self._digest.update(data)
-        return data
-
-
-def _gunzip(handle: IO[bytes], *, limit: int, keep: bool) -> tuple[str, bytes]:
-    """SHA-256 of a gzip file's bytes and (``keep``) what it decompresses to, read in chunks.
-
-    Raises :class:`_TooLargeError` as soon as more than ``limit`` bytes came out, so a gzip bomb costs at
-    most one chunk of memory when ``keep`` is False; gzip errors as ``OSError``, ``EOFError`` or
-    ``zlib.error``.
-    """
-    digest = hashlib.sha256()
-    reader = _HashingReader(handle, digest)
-    parts: list[bytes] = []
-    total = 0
-    with gzip.GzipFile(fileobj=reader, mode="rb") as unzipped:  # type: ignore[arg-type]
-        for block in iter(lambda: unzipped.read(_CHUNK), b""):
-            total += len(block)
-            if total > limit:
-                raise _TooLargeError
-            if keep:
-                parts.append(block)
-    while reader.read(_CHUNK):  # whatever gzip did not need still counts in the checksum
-        pass
-    return digest.hexdigest(), b"".join(parts)
+        return sha256_of(handle)
 
 
 def _parse_json(data: bytes, source: Path) -> Any:
@@ -380,31 +340,6 @@ def _parse_json(data: bytes, source: Path) -> Any:
         return json.loads(data)
     except (ValueError, RecursionError) as exc:
         raise DatasetError(f"{source} is not a gzipped JSON file ({type(exc).__name__}: {exc})") from None
-
-
-def _mib(size: int) -> str:
-    return f"{size / (1 << 20):g} MiB"
-
-
-def _open_regular(path: Path) -> IO[bytes]:
-    """Open a regular file for reading, never through a symbolic link at its last component, and
-    without blocking on a FIFO.
-
-    Raises
-    ------
-    OSError
-        ``ELOOP`` for a symbolic link, ``EINVAL`` for anything but a regular file.
-    """
-    flags = os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0)
-    fd = os.open(path, flags)
-    try:
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
-            raise OSError(errno.EINVAL, "not a regular file", str(path))
-        os.set_blocking(fd, True)
-        return os.fdopen(fd, "rb")
-    except BaseException:
-        os.close(fd)
-        raise
 
 
 def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
@@ -424,14 +359,14 @@ def _no_constant(name: str) -> Any:
 def _read_manifest(path: Path) -> tuple[DatasetManifest, str]:
     """Read and strictly validate ``manifest.json`` (at most :data:`MAX_MANIFEST_BYTES`); with its SHA-256."""
     try:
-        with _open_regular(path) as handle:
+        with open_regular(path) as handle:
             text = handle.read(MAX_MANIFEST_BYTES + 1)
     except OSError as exc:
         what = "is a symbolic link" if exc.errno == errno.ELOOP else f"cannot be read ({exc.strerror})"
         raise DatasetError(f"{path} {what}: a dataset manifest is a regular file. {_REMEDY}") from None
     if len(text) > MAX_MANIFEST_BYTES:
         raise DatasetError(
-            f"{path} is larger than {_mib(MAX_MANIFEST_BYTES)}: not a dataset manifest. {_REMEDY}"
+            f"{path} is larger than {mib(MAX_MANIFEST_BYTES)}: not a dataset manifest. {_REMEDY}"
         )
     try:
         raw = json.loads(text, object_pairs_hook=_unique_keys, parse_constant=_no_constant)
@@ -601,7 +536,7 @@ class Dataset:
         """
         problems = self._file_problems()
         if problems:
-            raise DatasetError(f"{self.root}: {_describe(problems)}. {_REMEDY}")
+            raise DatasetError(f"{self.root}: {describe(problems)}. {_REMEDY}")
         self._check_contents()
 
     def verify_checksums(self) -> list[str]:
@@ -616,24 +551,27 @@ class Dataset:
     def _load(self, name: str) -> Any:
         """A listed ``.json.gz`` file's content, decompressed only once its checksum matched."""
         path = self.root / name
-        problem = _member_state(self.root, name)
+        problem = member_state(self.root, name)
         data = b""
         if problem is None:
-            problem, data = _read_checked(path, self.manifest.files[name], keep=True)
+            problem, data = read_checked(path, self.manifest.files[name], keep=True)
         if problem is not None:
-            raise DatasetError(f"{self.root}: {_describe({problem: [name]})}. {_REMEDY}")
+            raise DatasetError(f"{self.root}: {describe({problem: [name]})}. {_REMEDY}")
         return _parse_json(data, path)
 
     def _file_problems(self) -> dict[str, list[str]]:
         """Problem kind -> files, over the listing and every listed file (empty: all sound)."""
         problems: dict[str, list[str]] = {}
-        present, overflow = _listing(self.root)
+        try:
+            present, overflow = listing(self.root)
+        except OSError as exc:
+            return {"unreadable": [f"a folder of the version directory ({exc.strerror})"]}
         if overflow:
-            problems["crowded"] = [f"more than {_MAX_ENTRIES} entries"]
+            problems["crowded"] = [f"more than {MAX_ENTRIES} entries"]
         for name in sorted(present - set(self.manifest.files)):
             problems.setdefault("unlisted", []).append(name)
         for name, expected in sorted(self.manifest.files.items()):
-            problem = _member_state(self.root, name) or _read_checked(self.root / name, expected)[0]
+            problem = member_state(self.root, name) or read_checked(self.root / name, expected)[0]
             if problem is not None:
                 problems.setdefault(problem, []).append(name)
         return problems
@@ -676,99 +614,6 @@ class Dataset:
             raise DatasetError(
                 f"{self.root}: the episode files do not match manifest.json: {shown}. {_REMEDY}"
             )
-
-
-def _read_checked(path: Path, expected: str, *, keep: bool = False) -> tuple[str | None, bytes]:
-    """Check a listed file: its SHA-256 first (streamed), then, only if it matched, what it
-    decompresses to against :data:`MAX_FILE_BYTES` (streamed, nothing kept), then with ``keep`` its
-    content, hashing the bytes decompressed again.
-
-    Returns
-    -------
-    tuple of (str or None, bytes)
-        The problem kind (None: sound) and, with ``keep``, the decompressed content.
-    """
-    try:
-        with _open_regular(path) as handle:
-            if _sha256(handle) != expected:
-                return "checksum", b""
-        with _open_regular(path) as handle:
-            _gunzip(handle, limit=MAX_FILE_BYTES, keep=False)
-        if not keep:
-            return None, b""
-        with _open_regular(path) as handle:
-            digest, data = _gunzip(handle, limit=MAX_FILE_BYTES, keep=True)
-    except _TooLargeError:
-        return "large", b""
-    except (EOFError, zlib.error, gzip.BadGzipFile):
-        return "gzip", b""
-    except OSError as exc:
-        return {errno.ELOOP: "link", errno.EINVAL: "special", errno.ENOENT: "missing"}.get(
-            exc.errno, "unreadable"
-        ), b""
-    return (None, data) if digest == expected else ("checksum", b"")  # or it changed while read
-
-
-_PROBLEMS = {
-    "checksum": "files differ from the manifest's checksums",
-    "missing": "files listed in manifest.json are missing",
-    "unlisted": "files are not listed in manifest.json (added or renamed)",
-    "link": "files are symbolic links, not regular files",
-    "special": "files are not regular files",
-    "large": f"files are larger than {_mib(MAX_FILE_BYTES)} (compressed or decompressed)",
-    "gzip": "files are not valid gzip",
-    "unreadable": "files cannot be read",
-    "crowded": "the version directory has too many entries",
-}
-
-
-def _describe(problems: Mapping[str, Sequence[str]]) -> str:
-    """``files differ from the manifest's checksums: a, b; files ... : c`` (at most 5 names each)."""
-    parts = []
-    for kind, names in problems.items():
-        shown = ", ".join(names[:5]) + (f" and {len(names) - 5} more" if len(names) > 5 else "")
-        parts.append(f"{_PROBLEMS[kind]}: {shown}")
-    return "; ".join(parts)
-
-
-def _member_state(root: Path, name: str) -> str | None:
-    """The problem kind of a listed file's place (``missing``, ``link``, ``special``, ``large``), or
-    None when it is a regular file in a real folder of the version directory, not over the size cap."""
-    path = root
-    for part in name.split("/"):
-        path = path / part
-        try:
-            info = os.lstat(path)
-        except FileNotFoundError:
-            return "missing"
-        except OSError:
-            return "special"
-        if stat.S_ISLNK(info.st_mode):
-            return "link"
-    if not stat.S_ISREG(info.st_mode):
-        return "special"
-    return "large" if info.st_size > MAX_FILE_BYTES else None
-
-
-def _listing(root: Path) -> tuple[set[str], bool]:
-    """Relative paths of every entry of a version directory but its folders and ``manifest.json``
-    (symbolic links are entries, never followed), and whether there were more than the cap."""
-    found: set[str] = set()
-    count = 0
-    stack = [(root, "")]
-    while stack:
-        folder, prefix = stack.pop()
-        with os.scandir(folder) as entries:
-            for entry in entries:
-                count += 1
-                if count > _MAX_ENTRIES:
-                    return found, True
-                relative = prefix + entry.name
-                if entry.is_dir(follow_symlinks=False):
-                    stack.append((Path(entry.path), relative + "/"))
-                elif relative != "manifest.json":
-                    found.add(relative)
-    return found, False
 
 
 def _first_error(exc: ValidationError) -> str:
