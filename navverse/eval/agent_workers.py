@@ -8,13 +8,13 @@ parent's side of the run.
 Time limits: each call to the agent (``reset`` or ``act``) may take ``step_timeout`` seconds of wall
 time, and its calls in one episode ``episode_timeout`` seconds together (the simulator's own time does
 not count). A call over its limit is interrupted by an alarm (``SIGALRM``) inside the process that
-runs the agent; one that does not yield to it (stuck in native code, or catching everything) has its
-worker process, and whatever the agent started, killed by the parent :data:`KILL_GRACE` seconds later
-and replaced. Either way the episode ends with the termination label
-:data:`~navverse.sim.terminations.AGENT_TIMEOUT`, its trajectory as far as the robot got, no stop,
-and the run goes on with the episodes after it. In this process only the alarm applies (a call stuck
-in native code cannot be stopped). Workers write their standard output and error (whatever the agent
-prints) to a log file, never to the terminal.
+runs the agent, and an answer that comes back late anyway is not used. A worker whose agent does not
+yield to the alarm (stuck in native code, or catching everything) is killed, with whatever the agent
+started, by the parent :data:`KILL_GRACE` seconds past the limit, and replaced. Either way the
+episode ends with the termination label :data:`~navverse.sim.terminations.AGENT_TIMEOUT`, its
+trajectory as far as the robot got, no stop, and the run goes on with the episodes after it. In this
+process only the alarm applies (a call stuck in native code cannot be stopped). Workers write their
+standard output and error (whatever the agent prints) to a log file, never to the terminal.
 """
 
 from __future__ import annotations
@@ -172,7 +172,8 @@ class _AgentClock:
         self.used = 0.0
 
     def call(self, function: Callable[..., Any], *args: Any) -> Any:
-        """``function(*args)``, raising :class:`_AgentTimeoutError` if it overruns its limit."""
+        """``function(*args)``, raising :class:`_AgentTimeoutError` if it overruns its limit: at the
+        limit by the alarm, or once it returns if it swallowed the alarm (or none could be set)."""
         name = getattr(function, "__name__", "call")
         left = self._episode - self.used
         if self._step <= left:
@@ -185,22 +186,28 @@ class _AgentClock:
         if self._deadline is not None:
             self._deadline.value = started + limit
         if self._alarm:
-            signal.signal(signal.SIGALRM, _raiser(reason, self._deadline))
+            signal.signal(signal.SIGALRM, _raiser(reason))
             signal.setitimer(signal.ITIMER_REAL, limit)
         try:
-            return function(*args)
+            result = function(*args)
         finally:
-            if self._alarm:
-                signal.setitimer(signal.ITIMER_REAL, 0)
-            if self._deadline is not None:
-                self._deadline.value = 0.0
-            self.used += time.monotonic() - started
+            self.release()
+        elapsed = time.monotonic() - started
+        self.used += elapsed
+        if elapsed > limit:
+            raise _AgentTimeoutError(reason)
+        return result
+
+    def release(self) -> None:
+        """No call is running: disarm the alarm and clear the deadline the parent watches."""
+        if self._alarm:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+        if self._deadline is not None:
+            self._deadline.value = 0.0
 
 
-def _raiser(reason: str, deadline: Any) -> Callable[[int, Any], None]:
+def _raiser(reason: str) -> Callable[[int, Any], None]:
     def expire(signum: int, frame: Any) -> None:
-        if deadline is not None:
-            deadline.value = 0.0  # the worker is free again: the parent must not kill it
         raise _AgentTimeoutError(reason)
 
     return expire
@@ -263,6 +270,7 @@ def _run_episode(
             if "submission" not in info:
                 emit(("step", episode_id, *trail.news()))
     except _AgentTimeoutError as timeout:
+        clock.release()  # the parent must not kill a worker that is free again
         emit(("timeout", episode_id, str(timeout)))
         return False
     except Exception as exc:  # the agent's (or its action's) failure, reported with its place

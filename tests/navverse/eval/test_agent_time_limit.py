@@ -49,6 +49,27 @@ class StubbornAgent(SleepyAgent):
         return super().act(observation, info)
 
 
+class SwallowingAgent(SleepyAgent):
+    """Catches the interruption and sleeps on."""
+
+    def act(self, observation, info):
+        try:
+            return super().act(observation, info)
+        except BaseException:
+            time.sleep(1000)
+
+
+class LateAgent(SleepyAgent):
+    """Catches the interruption and answers, late."""
+
+    def act(self, observation, info):
+        try:
+            return super().act(observation, info)
+        except BaseException:
+            self._stuck = False
+            return super().act(observation, info)
+
+
 class SlowAgent(OracleAgent):
     """Takes 0.3 s per action in one episode: within the step limit, not the episode's."""
 
@@ -168,10 +189,18 @@ def test_an_agent_stuck_in_act_is_stopped_and_the_run_goes_on(room, reference, t
     )
 
 
-def test_an_agent_that_ignores_the_alarm_has_its_process_killed(room, reference, tmp_path: Path):
+@pytest.mark.parametrize("agent", ["StubbornAgent", "SwallowingAgent"])
+def test_an_agent_that_ignores_the_alarm_has_its_process_killed(room, reference, tmp_path: Path, agent: str):
     out = tmp_path / "stubborn.jsonl"
-    summary = _run(room, out, "StubbornAgent", jobs=1, step_timeout=1.0)
+    summary = _run(room, out, agent, jobs=1, step_timeout=1.0)
     _check_timed_out(summary, out, reference, "its worker process was killed")
+
+
+def test_an_answer_after_the_limit_is_a_timeout_too(room, reference, tmp_path: Path):
+    out = tmp_path / "late.jsonl"
+    summary = _run(room, out, "LateAgent", jobs=0, step_timeout=1.0)
+    stuck = _check_timed_out(summary, out, reference, "act took longer than the 1 s step limit")
+    assert len(stuck["trajectory"]) == 1  # its late action was not executed
 
 
 def test_the_episode_limit_counts_the_agents_calls_together(room, reference, tmp_path: Path):
