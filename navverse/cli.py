@@ -385,6 +385,15 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--friction", type=float, default=None, help="friction of every terrain class (a diagnostic)"
     )
+    run.add_argument(
+        "--step-timeout", type=float, default=None, metavar="SECONDS",
+        help="wall-clock limit of one agent call (reset or act); over it the episode ends as "
+        "agent_timeout (default: 30)",
+    )  # fmt: skip
+    run.add_argument(
+        "--episode-timeout", type=float, default=None, metavar="SECONDS",
+        help="wall-clock limit of the agent's calls in one episode, together (default: 600)",
+    )  # fmt: skip
     run.set_defaults(func=partial(cli_data.cmd_run_agent, built_dir=_built_dir))
 
     show = sub.add_parser("show", help="draw or print what was built")

@@ -96,6 +96,7 @@ def cmd_show_episode(args: argparse.Namespace, console: Console, *, built_dir: C
     from navverse.scene.locate import built_scene_dir
 
     dataset = Dataset(args.dataset)
+    dataset.verify()
     episode = dataset.episode(args.episode_id)
     scene_dir = built_scene_dir(built_dir(), episode.scene_id)
     out = draw_episode(
@@ -108,23 +109,25 @@ def cmd_show_episode(args: argparse.Namespace, console: Console, *, built_dir: C
 
 
 def cmd_validate_dataset(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
-    """Check a dataset: format, checksums, bounds, and (with --replay) its oracle rollouts under physics."""
+    """Check a dataset: format, files and checksums against the manifest, counts, bounds, and (with
+    --replay) its oracle rollouts under physics."""
     import numpy as np
     from rich.progress import Progress
 
-    from navverse.dataset import Dataset, DatasetError
+    from navverse.dataset import Dataset
     from navverse.episodes.inspect import check_bounds, replay
     from navverse.scene.directory import scene_hash
     from navverse.scene.locate import built_scene_dirs
 
     dataset = Dataset(args.dataset)
-    bad = dataset.verify_checksums()
-    if bad:
-        raise DatasetError(f"{dataset.root}: files differ from the manifest's checksums: {', '.join(bad)}")
+    dataset.verify()
     episodes = list(dataset.episodes())
     violations = [(e.episode_id, r) for e in episodes if (r := check_bounds(e)) is not None]
     console.print(
-        f"{dataset.root}: format {dataset.manifest.format_version}, {len(episodes)} episodes, checksums ok"
+        f"{dataset.root}: format {dataset.manifest.format_version}, {len(episodes)} episodes; "
+        f"{len(dataset.manifest.files)} files, checksums and counts match the manifest "
+        f"(manifest.json sha256 {dataset.manifest_sha256})",
+        highlight=False,
     )
     console.print(
         f"distance and duration bounds: {len(episodes) - len(violations)} of {len(episodes)} keep them"
@@ -287,6 +290,7 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
 
     _check_out_dir(args.out)
     dataset = Dataset(args.dataset)
+    dataset.verify()
     ids = _split_of(dataset, args.split)
     scene_dirs = built_scene_dirs(dataset.episodes(split=args.split), built_dir=built_dir())
     bounds = episode_bounds(dataset.episodes(split=args.split), scene_dirs)
@@ -350,10 +354,11 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
     from navverse.dataset import Dataset
-    from navverse.eval.runner import run_agent
+    from navverse.eval.runner import EPISODE_TIMEOUT, STEP_TIMEOUT, run_agent
     from navverse.scene.locate import built_scene_dirs
 
     dataset = Dataset(args.dataset)
+    dataset.verify()
     _split_of(dataset, args.split)
     embodiment = args.embodiment or dataset.manifest.embodiment
     scene_dirs = built_scene_dirs(dataset.episodes(split=args.split), built_dir=built_dir())
@@ -373,8 +378,16 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
             seed=args.seed,
             max_steps=args.max_steps,
             terrain_friction=args.friction,
+            step_timeout=STEP_TIMEOUT if args.step_timeout is None else args.step_timeout,
+            episode_timeout=EPISODE_TIMEOUT if args.episode_timeout is None else args.episode_timeout,
             progress=lambda done, total: bar.update(task, completed=done, total=total),
         )
+    for episode_id, reason in summary.timeouts[:10]:
+        console.print(f"agent_timeout: {episode_id}: {reason}", style="yellow", highlight=False, markup=False)
+    if len(summary.timeouts) > 10:
+        console.print(f"agent_timeout: ... and {len(summary.timeouts) - 10} more episodes", style="yellow")
+    if summary.log is not None:
+        console.print(f"the agent's output is in {summary.log}", highlight=False, markup=False)
     ended = ", ".join(f"{label} {count}" for label, count in sorted(summary.terminations.items()))
     resumed = f" ({summary.resumed} resumed from an interrupted run)" if summary.resumed else ""
     console.print(

@@ -12,28 +12,60 @@ Episodes follow habitat-lab's layout (``start_position``, ``start_rotation`` as 
 ``goals``, ``reference_path``...). Files are written with sorted keys and a zero gzip time stamp, so
 the same content gives the same bytes. :class:`Dataset` reads a version and checks its format version;
 :func:`publish` copies a built dataset into ``episodes/`` and refuses to change a published version.
+
+Integrity: the manifest is read with a size cap and validated strictly (a ``files`` entry is a plain
+``<split>/<task>[.rollouts].json.gz`` inside the version directory, checksums are SHA-256 hex).
+:meth:`Dataset.verify` checks a version against its manifest before it is used (the listing, regular
+files only, checksums, the episode counts); an episode or rollouts file is decompressed only once its
+checksum matched, and never beyond :data:`MAX_FILE_BYTES`.
 """
 
 from __future__ import annotations
 
+import errno
 import gzip
 import hashlib
 import json
 import math
 import os
+import re
 import shutil
+import zlib
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    NonNegativeInt,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
+from navverse.dataset_files import (
+    MAX_ENTRIES,
+    MAX_FILE_BYTES,
+    TooLargeError,
+    describe,
+    gunzip,
+    listing,
+    member_state,
+    mib,
+    open_regular,
+    read_checked,
+    sha256_of,
+)
 from navverse.errors import NavverseError
 from navverse.files import atomic_dir, atomic_write
 from navverse.scene_types import SceneType, scene_profile
 
 __all__ = [
     "FORMAT_VERSION",
+    "MAX_FILE_BYTES",
+    "MAX_MANIFEST_BYTES",
     "TASKS",
     "Dataset",
     "DatasetError",
@@ -58,6 +90,16 @@ __all__ = [
 FORMAT_VERSION = "1.0"
 """Format of the dataset files (``major.minor``); a reader takes its own major, minors up to its own."""
 TASKS = ("objnav", "placenav", "vln")
+MAX_MANIFEST_BYTES = 4 << 20
+"""Largest ``manifest.json`` read (bytes)."""
+_MEMBER = re.compile(
+    r"(?P<split>[a-z][a-z0-9_]*)/(?P<task>objnav|placenav|vln)(?P<rollouts>\.rollouts)?\.json\.gz"
+)
+"""A ``files`` entry: ``<split>/<task>.json.gz`` or ``<split>/<task>.rollouts.json.gz``."""
+_REMEDY = (
+    "This dataset version is not as it was packaged: re-download it, or rebuild it with `make episodes` "
+    "(`navverse build <dataset>`); never edit a published version"
+)
 
 Vec3 = tuple[float, float, float]
 Task = Literal["objnav", "placenav", "vln"]
@@ -169,23 +211,69 @@ class EpisodeFile(BaseModel):
     category_to_task_category_id: dict[str, int] = {}
 
 
+Sha256 = Annotated[str, Field(pattern=r"^[0-9a-f]{64}$")]
+SplitName = Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*$")]
+Name = Annotated[str, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9._-]*$", max_length=200)]
+"""A dataset or scene name: one path component, never ``.`` or ``..``."""
+
+
 class DatasetManifest(BaseModel):
-    """``manifest.json`` of a dataset version."""
+    """``manifest.json`` of a dataset version.
+
+    ``files`` lists every file of the version but the manifest, by its path relative to the version
+    directory (``<split>/<task>.json.gz`` or ``<split>/<task>.rollouts.json.gz``), with its SHA-256;
+    ``counts`` holds the episodes per split, task and scene type.
+    """
 
     model_config = _CONFIG
 
     format_version: str
-    name: str
-    version: str
+    name: Name
+    version: Annotated[str, Field(pattern=r"^\d+\.\d+$")]
     toolkit_version: str
     recipe: str
     recipe_hash: str
     embodiment: str
-    scene_hashes: dict[str, str]
-    splits: dict[str, list[str]]
-    counts: dict[str, dict[str, dict[str, int]]]
-    difficulty_thresholds: dict[str, tuple[float, float]]
-    files: dict[str, str]
+    scene_hashes: dict[Name, str]
+    splits: dict[SplitName, list[Name]]
+    counts: dict[SplitName, dict[Task, dict[SceneType, NonNegativeInt]]]
+    difficulty_thresholds: dict[Task, tuple[float, float]]
+    files: dict[str, Sha256]
+
+    @field_validator("files")
+    @classmethod
+    def _plain_paths(cls, files: dict[str, str]) -> dict[str, str]:
+        for name in files:
+            problem = _member_problem(name)
+            if problem is not None:
+                raise ValueError(
+                    f"files entry {name!r} {problem}: every entry is <split>/<task>.json.gz or "
+                    "<split>/<task>.rollouts.json.gz inside the version directory"
+                )
+        return files
+
+    @model_validator(mode="after")
+    def _known_splits(self) -> DatasetManifest:
+        named = [n.split("/")[0] for n in self.files] + list(self.counts)
+        unknown = sorted(set(named) - set(self.splits))
+        if unknown:
+            raise ValueError(f"files or counts name splits that splits does not list: {', '.join(unknown)}")
+        scenes = [scene for members in self.splits.values() for scene in members]
+        shared = sorted({scene for scene in scenes if scenes.count(scene) > 1})
+        if shared:
+            raise ValueError(f"splits must be scene-disjoint; in several splits: {', '.join(shared)}")
+        return self
+
+
+def _member_problem(name: str) -> str | None:
+    """What is wrong with a ``files`` entry, or None for a plain ``<split>/<task>...json.gz``."""
+    if name.startswith("/") or re.match(r"^[A-Za-z]:", name):
+        return "is an absolute path"
+    if any(part in ("..", ".") for part in re.split(r"[/\\]", name)):
+        return "leaves the version directory"
+    if _MEMBER.fullmatch(name) is None:
+        return "is not a dataset file name"
+    return None
 
 
 # ---------------------------------------------------------------------------------------------- geometry
@@ -220,30 +308,76 @@ def write_json_gz(data: Any, path: str | os.PathLike[str]) -> Path:
     return path
 
 
-def read_json_gz(path: str | os.PathLike[str]) -> Any:
-    """Read a gzipped JSON file.
+def read_json_gz(path: str | os.PathLike[str], *, max_bytes: int = MAX_FILE_BYTES) -> Any:
+    """Read a gzipped JSON file, decompressing it in chunks up to ``max_bytes``.
 
     Raises
     ------
     DatasetError
-        If the file is missing, not gzip or not JSON.
+        If the file is missing, not gzip, not JSON, or decompresses to more than ``max_bytes``.
     """
     path = Path(path)
     try:
-        return json.loads(gzip.decompress(path.read_bytes()))
+        with open(path, "rb") as handle:
+            _, data = gunzip(handle, limit=max_bytes, keep=True)
     except FileNotFoundError:
         raise DatasetError(f"{path} does not exist") from None
-    except (OSError, EOFError, ValueError) as exc:
+    except TooLargeError:
+        raise DatasetError(f"{path} decompresses to more than {mib(max_bytes)}: refused") from None
+    except (OSError, EOFError, zlib.error) as exc:
         raise DatasetError(f"{path} is not a gzipped JSON file ({exc})") from None
+    return _parse_json(data, path)
 
 
 def file_sha256(path: str | os.PathLike[str]) -> str:
-    """Hex SHA-256 of a file's bytes."""
-    digest = hashlib.sha256()
+    """Hex SHA-256 of a file's bytes (read in chunks)."""
     with open(path, "rb") as handle:
-        for block in iter(lambda: handle.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()
+        return sha256_of(handle)
+
+
+def _parse_json(data: bytes, source: Path) -> Any:
+    try:
+        return json.loads(data)
+    except (ValueError, RecursionError) as exc:
+        raise DatasetError(f"{source} is not a gzipped JSON file ({type(exc).__name__}: {exc})") from None
+
+
+def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """A JSON object's dict, refusing a key given twice (JSON would keep the last one silently)."""
+    out: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in out:
+            raise ValueError(f"the key {key!r} appears twice in one object")
+        out[key] = value
+    return out
+
+
+def _no_constant(name: str) -> Any:
+    raise ValueError(f"{name} is not a JSON number")
+
+
+def _read_manifest(path: Path) -> tuple[DatasetManifest, str]:
+    """Read and strictly validate ``manifest.json`` (at most :data:`MAX_MANIFEST_BYTES`); with its SHA-256."""
+    try:
+        with open_regular(path) as handle:
+            text = handle.read(MAX_MANIFEST_BYTES + 1)
+    except OSError as exc:
+        what = "is a symbolic link" if exc.errno == errno.ELOOP else f"cannot be read ({exc.strerror})"
+        raise DatasetError(f"{path} {what}: a dataset manifest is a regular file. {_REMEDY}") from None
+    if len(text) > MAX_MANIFEST_BYTES:
+        raise DatasetError(
+            f"{path} is larger than {mib(MAX_MANIFEST_BYTES)}: not a dataset manifest. {_REMEDY}"
+        )
+    try:
+        raw = json.loads(text, object_pairs_hook=_unique_keys, parse_constant=_no_constant)
+    except (ValueError, RecursionError) as exc:
+        raise DatasetError(f"{path} is not JSON ({exc}). {_REMEDY}") from None
+    _check_format(str(raw.get("format_version", "?")) if isinstance(raw, dict) else "?", path)
+    try:
+        manifest = DatasetManifest.model_validate_json(text, strict=True)
+    except ValidationError as exc:
+        raise DatasetError(f"{path} is malformed: {_first_error(exc)}. {_REMEDY}") from None
+    return manifest, hashlib.sha256(text).hexdigest()
 
 
 def _check_format(version: str, source: Path) -> None:
@@ -272,10 +406,24 @@ def _toolkit_version() -> str:
 class Dataset:
     """One version of a dataset, read from its directory.
 
+    Opening a version reads and validates its manifest only. Call :meth:`verify` before using the
+    dataset for anything that counts (scoring, running agents): it checks every file against the
+    manifest. Whatever the reader decompresses it checks against the manifest's checksum first.
+
     Parameters
     ----------
     root : path
         ``episodes/<name>/v<version>`` (or ``episodes/<name>``: its newest version).
+
+    Attributes
+    ----------
+    root : Path
+        The version directory.
+    manifest : DatasetManifest
+        Its manifest.
+    manifest_sha256 : str
+        The SHA-256 of the manifest's bytes, to compare with a published value (the manifest holds
+        every other file's checksum).
 
     Raises
     ------
@@ -298,15 +446,7 @@ class Dataset:
                 f"{root} is not a dataset version (no manifest.json); build one with `make episodes` "
                 "and pass episodes/<name>/v<version>"
             )
-        try:
-            raw = json.loads(manifest_path.read_text())
-        except ValueError as exc:
-            raise DatasetError(f"{manifest_path} is not JSON ({exc})") from None
-        _check_format(str(raw.get("format_version", "?")) if isinstance(raw, dict) else "?", manifest_path)
-        try:
-            self.manifest = DatasetManifest.model_validate(raw)
-        except ValidationError as exc:
-            raise DatasetError(f"{manifest_path} is malformed: {_first_error(exc)}") from None
+        self.manifest, self.manifest_sha256 = _read_manifest(manifest_path)
         self.root = root
         self._files: dict[tuple[str, str], EpisodeFile] = {}
 
@@ -316,21 +456,27 @@ class Dataset:
         return sorted(self.manifest.splits)
 
     def tasks(self, split: str) -> list[str]:
-        """Tasks that have a file in ``split``."""
-        return sorted(t for t in TASKS if (self.root / split / f"{t}.json.gz").is_file())
+        """Tasks that have an episode file in ``split`` (as the manifest lists them)."""
+        return sorted(t for t in TASKS if f"{split}/{t}.json.gz" in self.manifest.files)
 
     def file(self, split: str, task: str) -> EpisodeFile:
-        """The episode file of a split and task (read once)."""
+        """The episode file of a split and task (read once, after its checksum matched).
+
+        Raises
+        ------
+        DatasetError
+            If the manifest lists no such file, or the file is not the one it lists.
+        """
         key = (split, task)
         if key not in self._files:
-            path = self.root / split / f"{task}.json.gz"
-            if not path.is_file():
+            name = f"{split}/{task}.json.gz"
+            if name not in self.manifest.files:
                 have = ", ".join(f"{s}/{t}" for s in self.splits for t in self.tasks(s)) or "none"
                 raise DatasetError(f"{self.root} has no {split}/{task} episodes (it has: {have})")
             try:
-                self._files[key] = EpisodeFile.model_validate(read_json_gz(path))
+                self._files[key] = EpisodeFile.model_validate(self._load(name))
             except ValidationError as exc:
-                raise DatasetError(f"{path} is malformed: {_first_error(exc)}") from None
+                raise DatasetError(f"{self.root / name} is malformed: {_first_error(exc)}") from None
         return self._files[key]
 
     def episodes(
@@ -341,7 +487,7 @@ class Dataset:
             if s not in self.manifest.splits:
                 raise DatasetError(f"{self.root} has no split {s!r} (splits: {', '.join(self.splits)})")
             for t in [task] if task is not None else self.tasks(s):
-                if task is not None and not (self.root / s / f"{t}.json.gz").is_file():
+                if t not in self.tasks(s):
                     continue
                 for episode in self.file(s, t).episodes:
                     if scene_type is None or episode.scene_type == scene_type:
@@ -363,27 +509,117 @@ class Dataset:
     def rollout(self, episode: Episode) -> list[list[float]] | None:
         """The verification rollout of an episode (10 Hz ``[t, x, y, z, qx, qy, qz, qw]`` rows), if kept."""
         for split in self.splits:
-            path = self.root / split / f"{episode.task}.rollouts.json.gz"
-            if path.is_file():
-                rows = read_json_gz(path).get(episode.episode_id)
+            name = f"{split}/{episode.task}.rollouts.json.gz"
+            if name in self.manifest.files and episode.scene_id in self.manifest.splits[split]:
+                rollouts = self._load(name)
+                if not isinstance(rollouts, dict):
+                    raise DatasetError(f"{self.root / name} is malformed: not an object of rollouts")
+                rows = rollouts.get(episode.episode_id)
                 if rows is not None:
                     return rows
         return None
 
+    def verify(self) -> None:
+        """Check the version against its manifest; do this before using it for results.
+
+        The manifest must list every file of the version directory and nothing else; each listed
+        path is a regular file inside the directory (no symbolic link), at most
+        :data:`MAX_FILE_BYTES` compressed and decompressed, with the listed SHA-256; the episode
+        files, read only once their checksum matched, hold the episodes ``counts`` says, of their
+        split's scenes and their file's task, each id once. Nothing is cached across processes: it
+        hashes the whole version (a few MB) each time.
+
+        Raises
+        ------
+        DatasetError
+            Naming the files that do not match and what to do (re-download or rebuild).
+        """
+        problems = self._file_problems()
+        if problems:
+            raise DatasetError(f"{self.root}: {describe(problems)}. {_REMEDY}")
+        self._check_contents()
+
     def verify_checksums(self) -> list[str]:
-        """Files whose SHA-256 differs from the manifest's (or that are missing)."""
-        bad = []
-        for name, digest in sorted(self.manifest.files.items()):
-            path = self.root / name
-            if not path.is_file() or file_sha256(path) != digest:
-                bad.append(name)
-        return bad
+        """Files that are missing, unlisted, not regular files, too large or not as listed (sorted).
+
+        :meth:`verify` checks this and the episode counts, and says what to do.
+        """
+        return sorted({name for names in self._file_problems().values() for name in names})
+
+    # ------------------------------------------------------------------ integrity
+
+    def _load(self, name: str) -> Any:
+        """A listed ``.json.gz`` file's content, decompressed only once its checksum matched."""
+        path = self.root / name
+        problem = member_state(self.root, name)
+        data = b""
+        if problem is None:
+            problem, data = read_checked(path, self.manifest.files[name], keep=True)
+        if problem is not None:
+            raise DatasetError(f"{self.root}: {describe({problem: [name]})}. {_REMEDY}")
+        return _parse_json(data, path)
+
+    def _file_problems(self) -> dict[str, list[str]]:
+        """Problem kind -> files, over the listing and every listed file (empty: all sound)."""
+        problems: dict[str, list[str]] = {}
+        try:
+            present, overflow = listing(self.root)
+        except OSError as exc:
+            return {"unreadable": [f"a folder of the version directory ({exc.strerror})"]}
+        if overflow:
+            problems["crowded"] = [f"more than {MAX_ENTRIES} entries"]
+        for name in sorted(present - set(self.manifest.files)):
+            problems.setdefault("unlisted", []).append(name)
+        for name, expected in sorted(self.manifest.files.items()):
+            problem = member_state(self.root, name) or read_checked(self.root / name, expected)[0]
+            if problem is not None:
+                problems.setdefault(problem, []).append(name)
+        return problems
+
+    def _check_contents(self) -> None:
+        """The episode files against ``counts``, the splits' scenes and their own task."""
+        found: dict[tuple[str, str, str], int] = {}
+        problems: list[str] = []
+        seen: set[str] = set()
+        for split in self.splits:
+            scenes = set(self.manifest.splits[split])
+            for task in self.tasks(split):
+                for episode in self.file(split, task).episodes:
+                    where = f"{split}/{task}.json.gz: {episode.episode_id}"
+                    if episode.task != task:
+                        problems.append(f"{where} is an episode of task {episode.task}")
+                    if episode.scene_id not in scenes:
+                        problems.append(f"{where} is in scene {episode.scene_id}, not one of split {split}")
+                    if episode.episode_id in seen:
+                        problems.append(f"{where} appears twice")
+                    seen.add(episode.episode_id)
+                    key = (split, episode.task, episode.scene_type)
+                    found[key] = found.get(key, 0) + 1
+        listed = {
+            (s, t, k): n
+            for s, tasks in self.manifest.counts.items()
+            for t, c in tasks.items()
+            for k, n in c.items()
+        }
+        for key in sorted(set(found) | set(listed)):
+            if found.get(key, 0) != listed.get(key, 0):
+                problems.append(
+                    f"counts {'/'.join(key)} is {listed.get(key, 0)} in manifest.json but the episode files "
+                    f"hold {found.get(key, 0)}"
+                )
+        if problems:
+            shown = "; ".join(problems[:5]) + (
+                f"; ... ({len(problems) - 5} more)" if len(problems) > 5 else ""
+            )
+            raise DatasetError(
+                f"{self.root}: the episode files do not match manifest.json: {shown}. {_REMEDY}"
+            )
 
 
 def _first_error(exc: ValidationError) -> str:
     error = exc.errors()[0]
     where = ".".join(str(p) for p in error["loc"]) or "top level"
-    return f"{where}: {error['msg']}"
+    return f"{where}: {error['msg'].removeprefix('Value error, ')}"
 
 
 # ---------------------------------------------------------------------------------------------- publishing
@@ -424,9 +660,10 @@ def publish(built: str | os.PathLike[str], episodes_dir: str | os.PathLike[str])
     Raises
     ------
     DatasetError
-        If that version exists with other content.
+        If the built version does not match its manifest, or that version exists with other content.
     """
     dataset = Dataset(built)
+    dataset.verify()
     manifest = dataset.manifest
     target = Path(episodes_dir) / manifest.name / f"v{manifest.version}"
     if (target / "manifest.json").is_file():

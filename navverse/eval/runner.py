@@ -9,50 +9,50 @@ dataset, split, embodiment, seed, limits), so a run that is killed resumes where
 same command is given again; the submission itself is written atomically at the end and the partial
 file removed. An agent gets a seed per episode derived from ``--seed`` and the episode id, so the
 output does not depend on how many processes ran it.
+
+The agent's time is limited per call and per episode (:mod:`navverse.eval.agent_workers`): an
+episode whose agent runs out of time ends with the label ``agent_timeout`` and the run goes on. What
+the agent prints in the worker processes goes to ``<out>.log`` (kept only when not empty).
 """
 
 from __future__ import annotations
 
-import hashlib
 import json
 import math
-import multiprocessing
 import os
-import queue
 import time
-import traceback
 from collections import Counter
 from collections.abc import Callable, Sequence
-from concurrent.futures import Future, ProcessPoolExecutor
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from navverse.dataset import Dataset, Episode
-from navverse.errors import NavverseError
+from navverse.eval.agent_workers import (
+    EPISODE_TIMEOUT,
+    STEP_TIMEOUT,
+    Chunk,
+    Results,
+    RunError,
+    RunSettings,
+    agent_seed,
+    run_here,
+    run_in_pool,
+)
 from navverse.sim.recorder import write_submission
 
-__all__ = ["RunError", "RunSettings", "RunSummary", "agent_seed", "pick_episodes", "run_agent"]
-
-
-class RunError(NavverseError):
-    """An agent run that cannot start (bad arguments) or whose agent failed."""
-
-
-@dataclass(frozen=True)
-class RunSettings:
-    """What a run is: its results can be resumed only under the same settings."""
-
-    agent: str
-    dataset: str
-    dataset_version: str
-    split: str
-    embodiment: str
-    seed: int = 0
-    max_steps: int | None = None
-    terrain_friction: float | None = None
+__all__ = [
+    "EPISODE_TIMEOUT",
+    "STEP_TIMEOUT",
+    "RunError",
+    "RunSettings",
+    "RunSummary",
+    "agent_seed",
+    "pick_episodes",
+    "run_agent",
+]
 
 
 @dataclass(frozen=True)
@@ -68,9 +68,14 @@ class RunSummary:
     resumed : int
         Episodes taken from an earlier, interrupted run.
     terminations : dict
-        How many episodes ended each way (the simulator's label: stop, fall, timeout...).
+        How many episodes ended each way (the simulator's label: stop, fall, timeout..., and
+        ``agent_timeout`` when the agent ran out of time).
     seconds : float
         Wall time of this run.
+    timeouts : list of (str, str)
+        The episodes of this run that ended by the agent's time limit, and why.
+    log : Path or None
+        What the agent printed in the worker processes (None: nothing).
     """
 
     out: Path
@@ -78,12 +83,8 @@ class RunSummary:
     resumed: int
     terminations: dict[str, int]
     seconds: float
-
-
-def agent_seed(seed: int, episode_id: str) -> int:
-    """The seed an agent gets for an episode: a hash of the run's seed and the episode id."""
-    digest = hashlib.sha256(f"{seed}:{episode_id}".encode()).digest()
-    return int.from_bytes(digest[:4], "little")
+    timeouts: list[tuple[str, str]] = field(default_factory=list)
+    log: Path | None = None
 
 
 def pick_episodes(episodes: Sequence[Episode], limit: int | None) -> list[Episode]:
@@ -98,6 +99,10 @@ def pick_episodes(episodes: Sequence[Episode], limit: int | None) -> list[Episod
 
 def _partial_path(out: Path) -> Path:
     return out.with_name(out.name + ".partial")
+
+
+def _log_path(out: Path) -> Path:
+    return out.with_name(out.name + ".log")
 
 
 def _read_partial(path: Path, settings: RunSettings) -> dict[str, dict[str, Any]]:
@@ -130,67 +135,43 @@ def _chunks(episodes: Sequence[Episode], jobs: int) -> list[list[Episode]]:
     return [group[i : i + size] for group in by_scene.values() for i in range(0, len(group), size)]
 
 
-def _task_for(episode: Episode, *, embodiment: str, radius: float, categories: dict[int, str],
-              seed: int, scene_dir: Path):  # fmt: skip
-    from navverse.eval.agents.base import AgentTask
-
-    instruction = episode.instruction
-    goal = instruction.instruction_text if instruction is not None else episode.goal_category
-    return AgentTask(
-        episode_id=episode.episode_id,
-        task=episode.task,
-        goal=goal,
-        goal_category=episode.goal_category,
-        scene_type=episode.scene_type,
-        embodiment=embodiment,
-        robot_radius=radius,
-        semantic_categories=categories,
-        seed=agent_seed(seed, episode.episode_id),
-        scene_dir=str(scene_dir),
-    )
+# ---------------------------------------------------------------------------------------------- the run
 
 
-def _run_chunk(
+def _run_all(
     settings: RunSettings,
-    scene_dir: str,
-    episodes: list[dict[str, Any]],
-    sink: Any,
-) -> None:
-    """Worker: run ``episodes`` of one scene and put ``(episode_id, record)`` on ``sink`` as each ends."""
-    from navverse.env import SENSORS, NavVerseEnv
-    from navverse.eval.agents import load_agent
+    episodes: list[Episode],
+    records: dict[str, dict[str, Any]],
+    scene_dirs: dict[str, Path],
+    *,
+    jobs: int,
+    partial: Path,
+    log: Path,
+    progress: Callable[[int, int], None] | None,
+) -> Results:
+    """Run the episodes that have no record yet, appending each new record to ``partial``."""
+    with partial.open("w") as sink:
+        sink.write(json.dumps({"navverse_run": asdict(settings)}) + "\n")
+        for record in records.values():
+            sink.write(json.dumps(record, separators=(",", ":")) + "\n")
+        sink.flush()
 
-    agent = load_agent(settings.agent)
-    env = NavVerseEnv(
-        scene_dir,
-        embodiment=settings.embodiment,
-        action_mode=agent.action_mode,
-        privileged=bool(getattr(agent, "privileged", False)),
-        sensors=tuple(getattr(agent, "sensors", SENSORS)),
-        max_steps=settings.max_steps,
-        terrain_friction=settings.terrain_friction,
-    )
-    try:
-        categories = {o.id: o.category for o in env.scene.annotations.objects if o.category}
-        radius = float(env.sim.robot.radius)
-        for data in episodes:
-            episode = Episode.model_validate(data)
-            task = _task_for(episode, embodiment=settings.embodiment, radius=radius, categories=categories,
-                             seed=settings.seed, scene_dir=Path(scene_dir))  # fmt: skip
-            try:
-                agent.reset(task)
-                observation, info = env.reset(seed=task.seed, options={"episode": data})
-                while "submission" not in info:
-                    action = agent.act(observation, info)
-                    observation, _, _, _, info = env.step(action)
-            except Exception as exc:  # the agent's (or its action's) failure, reported with its place
-                frame = traceback.extract_tb(exc.__traceback__)[-1]
-                where = f"{Path(frame.filename).name}:{frame.lineno} in {frame.name}"
-                sink.put(("error", episode.episode_id, f"{type(exc).__name__}: {exc} (at {where})"))
-                return
-            sink.put(("record", episode.episode_id, info["submission"]))
-    finally:
-        env.close()
+        def advance() -> None:
+            if progress is not None:
+                progress(len(records), len(episodes))
+
+        advance()
+        results = Results(records, sink, advance)
+        todo = [e for e in episodes if e.episode_id not in records]
+        chunks = [
+            Chunk(str(scene_dirs[chunk[0].scene_id]), [e.model_dump(mode="json") for e in chunk])
+            for chunk in _chunks(todo, max(1, jobs))
+        ]
+        if jobs == 0:
+            run_here(settings, chunks, results)
+        elif chunks:
+            run_in_pool(settings, chunks, jobs, results, log)
+    return results
 
 
 def run_agent(
@@ -206,6 +187,8 @@ def run_agent(
     seed: int = 0,
     max_steps: int | None = None,
     terrain_friction: float | None = None,
+    step_timeout: float = STEP_TIMEOUT,
+    episode_timeout: float = EPISODE_TIMEOUT,
     progress: Callable[[int, int], None] | None = None,
 ) -> RunSummary:
     """Run an agent on a split and write its submission.
@@ -213,7 +196,7 @@ def run_agent(
     Parameters
     ----------
     dataset : Dataset
-        The dataset version.
+        The dataset version (verified by the caller: :meth:`Dataset.verify`).
     agent : str
         A built-in agent name, ``module:Class`` or ``file.py:Class`` (see
         :func:`navverse.eval.agents.load_agent`).
@@ -224,7 +207,7 @@ def run_agent(
     out : path
         The submission (``.jsonl`` or ``.jsonl.gz``).
     jobs : int
-        Worker processes; 0 runs in this process.
+        Worker processes; 0 runs in this process (time limits by alarm only, in the main thread).
     limit : int, optional
         Run only this many episodes, spread evenly over the split.
     seed : int
@@ -233,6 +216,10 @@ def run_agent(
         Actions per episode before it is cut (label ``max_steps``); the 300 s time limit always holds.
     terrain_friction : float, optional
         Friction of every terrain class instead of the scene's (the friction diagnostic).
+    step_timeout : float
+        Wall-clock seconds one call to the agent (``reset`` or ``act``) may take.
+    episode_timeout : float
+        Wall-clock seconds the agent's calls in one episode may take together.
     progress : callable, optional
         Called with ``(done, total)`` episodes.
 
@@ -243,12 +230,16 @@ def run_agent(
     Raises
     ------
     RunError
-        When the agent cannot be loaded, or raises during an episode (the episodes done so far are
-        kept for a resumed run).
+        When the arguments are wrong, the agent cannot be loaded, or it raises during an episode
+        (the episodes done so far are kept for a resumed run). An agent out of time is not an
+        error: its episode ends with the label ``agent_timeout``.
     """
     from navverse.eval.agents import load_agent
 
     started = time.perf_counter()
+    for flag, value in (("--step-timeout", step_timeout), ("--episode-timeout", episode_timeout)):
+        if not (math.isfinite(value) and value > 0):
+            raise RunError(f"{flag} must be a positive number of seconds, got {value}")
     load_agent(agent)  # fail here, clearly, rather than in a worker
     if jobs < 0:
         raise RunError(f"--jobs must be 0 or more, got {jobs}")
@@ -267,52 +258,28 @@ def run_agent(
         seed=seed,
         max_steps=max_steps,
         terrain_friction=terrain_friction,
+        step_timeout=float(step_timeout),
+        episode_timeout=float(episode_timeout),
     )
-    partial = _partial_path(out)
+    partial, log = _partial_path(out), _log_path(out)
     wanted = {e.episode_id for e in episodes}
     records = {k: v for k, v in _read_partial(partial, settings).items() if k in wanted}
     resumed = len(records)
-    with partial.open("w") as sink_file:
-        sink_file.write(json.dumps({"navverse_run": asdict(settings)}) + "\n")
-        for record in records.values():
-            sink_file.write(json.dumps(record, separators=(",", ":")) + "\n")
-        sink_file.flush()
-        todo = [e for e in episodes if e.episode_id not in records]
-        if progress is not None:
-            progress(len(records), len(episodes))
-
-        errors: list[tuple[str, str]] = []
-
-        def collect(item: tuple[str, str, Any]) -> None:
-            kind, episode_id, payload = item
-            if kind == "error":
-                errors.append((episode_id, payload))
-                return
-            records[episode_id] = payload
-            sink_file.write(json.dumps(payload, separators=(",", ":")) + "\n")
-            sink_file.flush()
-            if progress is not None:
-                progress(len(records), len(episodes))
-
-        chunks = _chunks(todo, max(1, jobs))
-        work = [
-            (str(scene_dirs[chunk[0].scene_id]), [e.model_dump(mode="json") for e in chunk])
-            for chunk in chunks
-        ]
-        if jobs == 0:
-            local: queue.SimpleQueue = queue.SimpleQueue()
-            for scene_dir, batch in work:
-                _run_chunk(settings, scene_dir, batch, local)
-                while not local.empty():
-                    collect(local.get())
-        elif work:
-            _run_in_pool(settings, work, jobs, collect, expected=len(todo))
-    if errors:
-        episode_id, message = errors[0]
+    log.write_bytes(b"")
+    try:
+        results = _run_all(settings, episodes, records, scene_dirs, jobs=jobs, partial=partial, log=log,
+                           progress=progress)  # fmt: skip
+    finally:
+        kept_log = log if log.is_file() and log.stat().st_size else None
+        if kept_log is None:
+            log.unlink(missing_ok=True)
+    if results.errors:
+        episode_id, message = results.errors[0]
         raise RunError(
-            f"agent {agent!r} failed in episode {episode_id} ({len(errors)} failures; the rest of each "
-            f"failing scene group was not run): {message}. {len(records)} finished episodes are kept in "
-            f"{partial}; fix the agent and run the same command again to resume"
+            f"agent {agent!r} failed in episode {episode_id} ({len(results.errors)} failures; the rest of "
+            f"each failing scene group was not run): {message}. {len(records)} finished episodes are kept "
+            f"in {partial}; fix the agent and run the same command again to resume"
+            + (f" (its output is in {kept_log})" if kept_log else "")
         )
     ordered = [records[e.episode_id] for e in episodes]
     write_submission(ordered, out)
@@ -323,38 +290,6 @@ def run_agent(
         resumed=resumed,
         terminations=dict(Counter(str(r.get("termination")) for r in ordered)),
         seconds=time.perf_counter() - started,
+        timeouts=results.timeouts,
+        log=kept_log,
     )
-
-
-def _run_in_pool(
-    settings: RunSettings,
-    work: list[tuple[str, list[dict[str, Any]]]],
-    jobs: int,
-    collect: Callable[[tuple[str, str, Any]], None],
-    *,
-    expected: int,
-) -> None:
-    """Run the chunks in ``jobs`` spawned processes, collecting results as episodes finish."""
-    context = multiprocessing.get_context("spawn")
-    with context.Manager() as manager:
-        sink = manager.Queue()
-        with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
-            futures: list[Future] = [pool.submit(_run_chunk, settings, d, batch, sink) for d, batch in work]
-            received = 0
-            try:
-                while received < expected:
-                    try:
-                        item = sink.get(timeout=0.5)
-                    except queue.Empty:
-                        failed = next((f for f in futures if f.done() and f.exception() is not None), None)
-                        if failed is not None:
-                            raise RunError(f"a worker failed: {failed.exception()}") from None
-                        if all(f.done() for f in futures) and sink.empty():
-                            break
-                        continue
-                    received += 1
-                    collect(item)
-            except BaseException:
-                for future in futures:
-                    future.cancel()
-                raise

@@ -5,7 +5,11 @@
 * ``timeout``: simulated time exceeds :data:`TIMEOUT`;
 * ``out_of_bounds``: the robot leaves the scene's bounds (or drops far below them);
 * ``stuck``: while commanded to move, it covered less than :data:`STUCK_DISTANCE` in the last
-  :data:`STUCK_WINDOW` seconds (used by episode verification, off for agents by default).
+  :data:`STUCK_WINDOW` seconds (used by episode verification, off for agents by default);
+* ``agent_timeout`` (:data:`AGENT_TIMEOUT`): the agent itself took too long, in wall-clock time, to
+  answer (one ``reset`` or ``act`` call over the step limit, or its calls in an episode over the
+  episode limit). ``navverse run-agent`` sets it, not the monitor: the episode ends where the robot
+  stands, without a stop, and the run goes on with the next episode.
 """
 
 from __future__ import annotations
@@ -18,9 +22,11 @@ from navverse.sim.embodiment import FALL_TILT
 from navverse.sim.simulator import Simulator
 from navverse.sim.world import PHYSICS_HZ
 
-__all__ = ["STUCK_DISTANCE", "STUCK_WINDOW", "TIMEOUT", "TerminationMonitor"]
+__all__ = ["AGENT_TIMEOUT", "STUCK_DISTANCE", "STUCK_WINDOW", "TIMEOUT", "TerminationMonitor"]
 
 TIMEOUT = 300.0
+AGENT_TIMEOUT = "agent_timeout"
+"""The termination label of an episode whose agent ran out of wall-clock time (set by the runner)."""
 STUCK_WINDOW = 10.0
 STUCK_DISTANCE = 0.2
 

@@ -17,7 +17,15 @@ from pathlib import Path
 import pytest
 from PIL import Image
 
-from navverse.dataset import FORMAT_VERSION, Dataset, Episode, EpisodeFile, write_json_gz
+from navverse.dataset import (
+    FORMAT_VERSION,
+    Dataset,
+    Episode,
+    EpisodeFile,
+    counts_table,
+    file_sha256,
+    write_json_gz,
+)
 from navverse.eval import figures, screenshot
 from navverse.eval.report import write_report
 from navverse.eval.scoring import EvalResult, score
@@ -98,11 +106,13 @@ def _dataset(root: Path) -> Dataset:
     for task in ("objnav", "vln"):
         chosen = [e for e in episodes if e.task == task]
         write_json_gz(EpisodeFile(episodes=chosen).model_dump(mode="json"), root / "eval" / f"{task}.json.gz")
+    splits = {"eval": ["tiny_room", "tiny_room_b"]}
+    files = {name: file_sha256(root / name) for name in ("eval/objnav.json.gz", "eval/vln.json.gz")}
     manifest = {
         "format_version": FORMAT_VERSION, "name": "toy", "version": "1.0", "toolkit_version": "0.1.0",
         "recipe": "recipes/datasets/toy.yaml", "recipe_hash": "0" * 64, "embodiment": "spot",
-        "scene_hashes": {}, "splits": {"eval": ["tiny_room", "tiny_room_b"]}, "counts": {},
-        "difficulty_thresholds": {"objnav": [4.0, 8.0], "vln": [3.5, 7.5]}, "files": {},
+        "scene_hashes": {}, "splits": splits, "counts": counts_table(episodes, splits),
+        "difficulty_thresholds": {"objnav": [4.0, 8.0], "vln": [3.5, 7.5]}, "files": files,
     }  # fmt: skip
     (root / "manifest.json").write_text(json.dumps(manifest))
     return Dataset(root)
