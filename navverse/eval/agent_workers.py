@@ -38,6 +38,7 @@ from typing import Any
 
 from navverse.dataset import Episode
 from navverse.errors import NavverseError
+from navverse.processes import end_with_parent
 from navverse.sim.recorder import RolloutRecorder
 from navverse.sim.terminations import AGENT_TIMEOUT
 
@@ -318,6 +319,7 @@ def _run_chunk(settings: RunSettings, chunk: Chunk, emit: Emit, *, alarm: bool, 
 def _worker_main(conn: Any, settings: RunSettings, deadline: Any, log: str) -> None:
     """A worker process: run the chunks the parent sends until it sends None."""
     os.setpgrp()  # its own process group: the parent can stop whatever the agent started with it
+    end_with_parent()  # and a killed run-agent leaves no worker behind
     _send_output_to(log)
     with _alarms() as alarm:
         while True:
