@@ -383,11 +383,19 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
             progress=lambda done, total: bar.update(task, completed=done, total=total),
         )
     for episode_id, reason in summary.timeouts[:10]:
-        console.print(f"agent_timeout: {episode_id}: {reason}", style="yellow", highlight=False, markup=False)
+        console.print(
+            f"agent_timeout: {episode_id}: {reason}",
+            style="yellow",
+            highlight=False,
+            markup=False,
+            soft_wrap=True,
+        )
     if len(summary.timeouts) > 10:
         console.print(f"agent_timeout: ... and {len(summary.timeouts) - 10} more episodes", style="yellow")
     if summary.log is not None:
-        console.print(f"the agent's output is in {summary.log}", highlight=False, markup=False)
+        console.print(
+            f"the agent's output is in {summary.log}", highlight=False, markup=False, soft_wrap=True
+        )
     ended = ", ".join(f"{label} {count}" for label, count in sorted(summary.terminations.items()))
     resumed = f" ({summary.resumed} resumed from an interrupted run)" if summary.resumed else ""
     console.print(
@@ -395,11 +403,13 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
         f"ended: {ended}",
         highlight=False,
         markup=False,
+        soft_wrap=True,
     )
     console.print(
         f"wrote {summary.out}; score it with: navverse eval --dataset {args.dataset} "
         f"--submission {summary.out} --split {args.split}",
         highlight=False,
         markup=False,
+        soft_wrap=True,
     )
     return 0
