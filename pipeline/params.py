@@ -147,7 +147,8 @@ class ReadPolicy:
 # ------------------------------------------------------------------------------- file kind and size
 
 
-def _kind(mode: int) -> str:
+def file_kind(mode: int) -> str:
+    """What a file of ``st_mode`` ``mode`` is, in words, for messages."""
     kinds = (
         (stat.S_ISDIR, "a directory"),
         (stat.S_ISFIFO, "a named pipe (FIFO)"),
@@ -185,7 +186,7 @@ def regular_file_problem(path: Path, *, max_bytes: int = MAX_SOURCE_BYTES) -> st
     except OSError as exc:
         return f"cannot read {path}: {exc.strerror or exc}"
     if not stat.S_ISREG(info.st_mode):
-        return f"{path} is {_kind(info.st_mode)}, not a regular file; name a regular file"
+        return f"{path} is {file_kind(info.st_mode)}, not a regular file; name a regular file"
     if info.st_size > max_bytes:
         return (
             f"{path} is {_size_text(info.st_size)}, over the {_size_text(max_bytes)} limit of a source "

@@ -22,6 +22,8 @@ from typing import Any
 
 import yaml
 
+from pipeline.params import file_kind
+
 KeyPath = tuple[str | int, ...]
 
 MAX_FILE_BYTES = 1 << 20
@@ -49,14 +51,6 @@ _OVERFLOWING_NUMBER = re.compile(r"[-+]?[0-9]+(?:\.[0-9]*)?[eE][-+]?[0-9]+")
 but it is meant as a number; one beyond the float range is refused (as ``1e309``)."""
 _INT_TEXT_LIMIT = 40
 """Characters of an integer's text beyond which it is too large without being parsed."""
-
-_FILE_KINDS = (
-    (stat.S_ISDIR, "a directory"),
-    (stat.S_ISFIFO, "a named pipe (FIFO)"),
-    (stat.S_ISCHR, "a device"),
-    (stat.S_ISBLK, "a device"),
-    (stat.S_ISSOCK, "a socket"),
-)
 
 _BOMS = {
     b"\xff\xfe\x00\x00": "UTF-32",
@@ -148,7 +142,7 @@ def _stat_problem(path: Path, exc: OSError) -> str:
 def _check_regular(file: str, info: os.stat_result, limit: int) -> None:
     mode = info.st_mode
     if not stat.S_ISREG(mode):
-        kind = next((name for is_kind, name in _FILE_KINDS if is_kind(mode)), "not a file")
+        kind = file_kind(mode)
         raise YamlSourceError(
             file, None, f"is {kind}, not a regular file; recipes are read from regular .yaml files only"
         )

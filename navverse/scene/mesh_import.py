@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import os
 import re
-import stat
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,6 +29,7 @@ from typing import Literal
 import numpy as np
 
 from navverse.errors import NavverseError
+from navverse.files import regular_file_problem
 from navverse.scene.colors import default_color
 from navverse.scene.compose import ObjectPart
 from navverse.scene.geometry import MeshData, Surface
@@ -199,47 +199,12 @@ def _trimesh_face_colors(geometry: object, name: str) -> np.ndarray:
 # -------------------------------------------------------------------------------------------- files
 
 
-def _kind(mode: int) -> str:
-    kinds = (
-        (stat.S_ISDIR, "a directory"),
-        (stat.S_ISFIFO, "a named pipe (FIFO)"),
-        (stat.S_ISCHR, "a character device"),
-        (stat.S_ISBLK, "a block device"),
-        (stat.S_ISSOCK, "a socket"),
-    )
-    return next((name for test, name in kinds if test(mode)), "a special file")
-
-
 def file_problem(path: Path, *, max_bytes: int = MAX_MESH_BYTES) -> str | None:
-    """Why ``path`` cannot be read as a mesh file (None: it can), found with ``os.stat``, never opening it.
-
-    Parameters
-    ----------
-    path : Path
-        The file (symbolic links are followed).
-    max_bytes : int
-        The size cap.
-
-    Returns
-    -------
-    str or None
-        E.g. ``"/x/a.obj is a named pipe (FIFO), not a regular file"``, or None for a regular file
-        within the cap.
-    """
-    try:
-        info = os.stat(path)
-    except FileNotFoundError:
-        return f"{path} does not exist"
-    except OSError as exc:
-        return f"cannot read {path}: {exc.strerror or exc}"
-    if not stat.S_ISREG(info.st_mode):
-        return f"{path} is {_kind(info.st_mode)}, not a regular file"
-    if info.st_size > max_bytes:
-        return (
-            f"{path} is {info.st_size / 1024**3:.2f} GiB, over the {max_bytes / 1024**3:.2f} GiB limit "
-            "of a mesh file; decimate or split it first (e.g. in Blender)"
-        )
-    return None
+    """Why ``path`` cannot be read as a mesh file (None: it can), found with ``os.stat``, never opening it."""
+    problem = regular_file_problem(path, max_bytes=max_bytes, what="mesh file")
+    if problem is not None and "limit" in problem:
+        problem += "; decimate or split it first (e.g. in Blender)"
+    return problem
 
 
 class _ConfinedResolver:

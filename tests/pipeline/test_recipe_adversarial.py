@@ -153,7 +153,7 @@ def test_files_that_are_not_recipe_files(workspace, stages, tmp_path):
     expected = {
         "folder.yaml": "is a directory, not a regular file",
         "loop.yaml": "is a symbolic link loop",
-        "zero.yaml": "is a device, not a regular file",
+        "zero.yaml": "is a character device, not a regular file",
         "gone.yaml": "is a symbolic link to 'nowhere.yaml', which does not exist",
         "pipe.yaml": "is a named pipe (FIFO), not a regular file",
         "big.yaml": f"recipe files are at most {yaml_source.MAX_FILE_BYTES:,} bytes",
@@ -461,7 +461,7 @@ def test_validate_recipe_refuses_files_that_are_not_files(cli_root, monkeypatch,
     for line in (
         "  dir.yaml: is a directory, not a regular file",
         "  loop.yaml: is a symbolic link loop",
-        "  zero.yaml: is a device, not a regular file",
+        "  zero.yaml: is a character device, not a regular file",
         "  fifo.yaml: is a named pipe (FIFO), not a regular file",
     ):
         assert line in err
