@@ -351,7 +351,7 @@ def _deep(kind: str, depth: int) -> str:
 
 def _import_mesh_recipe(mesh: str) -> str:
     params = f"source: {json.dumps(mesh)}, up_axis: z, scene_type: indoor"
-    return f"stages:\n  import_mesh: {{{params}}}\n  navmesh: {{}}\n"
+    return f"stages:\n  import_mesh: {{{params}}}\n  decimate: {{ratio: 1.0}}\n  navmesh: {{}}\n"
 
 
 def _outside_mesh(scratch: Scratch, folder: Path) -> list[Step]:
