@@ -17,6 +17,7 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
+from navverse.eval.measures import POSITION_LIMIT
 from navverse.eval.submission import (
     FIELDS,
     MAX_ABS_COORD,
@@ -75,6 +76,8 @@ def _check_kept(submission: Submission | None, bounds: dict[str, Box] | None = N
         assert np.isfinite(rows).all() and rows[0, 0] >= 0.0 and (np.diff(rows[:, 0]) > 0).all()
         assert np.all(np.abs(np.linalg.norm(rows[:, 4:], axis=1) - 1.0) <= QUATERNION_TOLERANCE)
         assert np.abs(rows[:, 1:4]).max() <= MAX_ABS_COORD
+        # ...and within the range the measures take exactly: a kept record is scored as submitted.
+        assert np.abs(rows[:, 1:4]).max() < POSITION_LIMIT
         if bounds is not None:
             box = bounds[episode_id]
             assert (rows[:, 1:4] >= box.low).all() and (rows[:, 1:4] <= box.high).all()
