@@ -1,0 +1,1 @@
+"""Outdoor cities: OpenStreetMap tags read as numbers and rules (:mod:`.tags`)."""
