@@ -1,1 +1,2 @@
-"""Outdoor cities: OpenStreetMap tags read as numbers and rules (:mod:`.tags`)."""
+"""Outdoor cities: the city map contract (:mod:`.map`) and OpenStreetMap tags read as numbers and
+rules (:mod:`.tags`)."""
