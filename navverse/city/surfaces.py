@@ -1,0 +1,169 @@
+"""The ground plan of a city: which surface class covers each point of the window, in 2-D.
+
+:func:`plan_surfaces` turns a :class:`~navverse.city.map.CityMap` into disjoint polygons, one
+(multi)polygon per class, that together tile the window exactly:
+
+- ``road``: carriageways, each centre line buffered by half its width (round joins and ends, so
+  junctions are filled without slivers), all unioned;
+- ``crosswalk``: where a crossing is, a strip ``crosswalk_width`` wide across the road it names
+  (perpendicular to the road at that point), and mapped ``footway=crossing`` ways over a road;
+- ``curb``: the ``curb_width`` top strip along every road edge that borders a walked surface;
+  ``lowered_curb`` where that strip meets a crosswalk (the geometry stage lowers it);
+- ``sidewalk``: the strips beside roads (each side its width, from the map) and mapped walkways;
+- ``building``: footprints (courtyards are holes, so they get the class beneath);
+- ``water``, ``parking``, ``plaza``, ``pedestrian``, ``green``: land areas;
+- ``ground``: whatever is left.
+
+Overlaps are settled by :data:`PRIORITY` (a building wins over the sidewalk at its facade, a road
+over the park it crosses). Everything is clipped to the window.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+import shapely
+from shapely.geometry import LineString, MultiPolygon, Polygon, box
+from shapely.geometry.base import BaseGeometry
+
+from navverse.city.map import CityMap, Polygon2, Road
+
+__all__ = ["CROSSWALK_WIDTH", "CURB_WIDTH", "PRIORITY", "SURFACE_CLASSES", "plan_surfaces"]
+
+CURB_WIDTH = 0.15
+"""Width of the curb's top strip (m)."""
+CROSSWALK_WIDTH = 4.0
+"""Width of a crosswalk along the road (m); crosswalks are 3–5 m wide."""
+PRIORITY = (
+    "building",
+    "crosswalk",
+    "road",
+    "lowered_curb",
+    "curb",
+    "sidewalk",
+    "water",
+    "parking",
+    "plaza",
+    "pedestrian",
+    "green",
+)
+"""Surface classes from the one that wins an overlap to the one that loses; ``ground`` fills the rest."""
+SURFACE_CLASSES = (*PRIORITY, "ground")
+"""Every class :func:`plan_surfaces` returns."""
+
+
+def _polygon(shape: Polygon2) -> BaseGeometry:
+    polygon = Polygon(shape.exterior, shape.holes)
+    return polygon if polygon.is_valid else shapely.make_valid(polygon)
+
+
+def _areal(geometry: BaseGeometry) -> BaseGeometry:
+    """The polygonal part of ``geometry`` (a difference can leave lines and points behind)."""
+    parts = [g for g in getattr(geometry, "geoms", [geometry]) if isinstance(g, Polygon | MultiPolygon)]
+    if not parts:
+        return Polygon()
+    return shapely.union_all(parts)
+
+
+def _union(geometries: Iterable[BaseGeometry]) -> BaseGeometry:
+    items = [g for g in geometries if not g.is_empty]
+    return shapely.union_all(items) if items else Polygon()
+
+
+def _carriageway(road: Road) -> BaseGeometry:
+    return LineString(road.centerline.points).buffer(road.width / 2.0, join_style="round")
+
+
+def _sidewalk_strips(road: Road) -> list[BaseGeometry]:
+    """The strips beside a road, each side's sidewalk width beyond the carriageway edge."""
+    line = LineString(road.centerline.points)
+    strips = []
+    for width, sign in ((road.sidewalk_left, 1.0), (road.sidewalk_right, -1.0)):
+        if width is None:
+            continue
+        outer = line.buffer(sign * (road.width / 2.0 + width), single_sided=True, join_style="round")
+        strips.append(outer)
+    return strips
+
+
+def _crosswalk(road: Road, position: tuple[float, float], width: float) -> BaseGeometry:
+    """A strip ``width`` wide along ``road`` at ``position``, spanning the carriageway and its curbs."""
+    line = LineString(road.centerline.points)
+    along = line.project(shapely.Point(position))
+    before = line.interpolate(max(0.0, along - 0.5))
+    after = line.interpolate(min(line.length, along + 0.5))
+    dx, dy = after.x - before.x, after.y - before.y
+    norm = math.hypot(dx, dy) or 1.0
+    ux, uy = dx / norm, dy / norm
+    centre = line.interpolate(along)
+    half_along, half_across = width / 2.0, road.width / 2.0 + 2.0 * CURB_WIDTH
+    corners = [
+        (
+            centre.x + sa * half_along * ux - sc * half_across * uy,
+            centre.y + sa * half_along * uy + sc * half_across * ux,
+        )
+        for sa, sc in ((-1, -1), (1, -1), (1, 1), (-1, 1))
+    ]
+    return Polygon(corners)
+
+
+def plan_surfaces(
+    city: CityMap, *, curb_width: float = CURB_WIDTH, crosswalk_width: float = CROSSWALK_WIDTH
+) -> dict[str, BaseGeometry]:
+    """Disjoint (multi)polygons per surface class that tile the city's window.
+
+    Parameters
+    ----------
+    city : CityMap
+        The map.
+    curb_width : float
+        Width of the curb top strip along road edges (m).
+    crosswalk_width : float
+        Width of a crosswalk along the road (m).
+
+    Returns
+    -------
+    dict
+        ``{class: geometry}`` for every class of :data:`SURFACE_CLASSES` (empty geometries
+        included), pairwise disjoint (up to shared edges), covering the window.
+    """
+    window = box(*city.window)
+    roads = {road.id: road for road in city.roads}
+    road_area = _union(_carriageway(road) for road in city.roads)
+    walkway_area = _union(
+        LineString(w.centerline.points).buffer(w.width / 2.0, join_style="round")
+        for w in city.walkways
+        if w.kind != "crossing"
+    )
+    crossing_ways = _union(
+        LineString(w.centerline.points).buffer(w.width / 2.0, cap_style="flat")
+        for w in city.walkways
+        if w.kind == "crossing"
+    )
+    crosswalks = _union(
+        [_crosswalk(roads[c.road], c.position, crosswalk_width) for c in city.crossings] + [crossing_ways]
+    )
+    sidewalk_area = _union([*(s for road in city.roads for s in _sidewalk_strips(road)), walkway_area])
+    walked = _union([sidewalk_area, crosswalks])
+    edge_strip = road_area.buffer(curb_width, join_style="mitre").difference(road_area)
+    curb = edge_strip.intersection(walked)
+    lowered = curb.intersection(crosswalks)
+    by_class: dict[str, BaseGeometry] = {
+        "building": _union(_polygon(b.footprint) for b in city.buildings),
+        "crosswalk": crosswalks.intersection(road_area),
+        "road": road_area,
+        "lowered_curb": lowered,
+        "curb": curb,
+        "sidewalk": sidewalk_area,
+    }
+    for cls in ("water", "parking", "plaza", "pedestrian", "green"):
+        by_class[cls] = _union(_polygon(a.polygon) for a in city.areas if a.cls == cls)
+    taken: BaseGeometry = Polygon()
+    plan: dict[str, BaseGeometry] = {}
+    for cls in PRIORITY:
+        own = _areal(by_class[cls].intersection(window).difference(taken))
+        plan[cls] = own
+        taken = _union([taken, own])
+    plan["ground"] = _areal(window.difference(taken))
+    return plan
