@@ -1,0 +1,41 @@
+"""A city map written as OSM XML opens in osmnx, with its streets, crossings and buildings."""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import osmnx
+
+from navverse.city.osm_xml import write_osm
+from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+
+CITY = synthetic_city(SyntheticCityParams(size=(300.0, 250.0)), seed=7)
+
+
+def test_osmnx_reads_the_street_network(tmp_path: Path):
+    path = write_osm(CITY, tmp_path / "city.osm")
+    graph = osmnx.graph_from_xml(path, simplify=False, retain_all=True)
+    # osmnx reads every way of a local file (buildings too); the streets are the highway ways.
+    kinds = {road.highway for road in CITY.roads}
+    streets = [
+        d for _, _, d in graph.edges(data=True) if d.get("highway") in kinds and d.get("area") != "yes"
+    ]
+    assert {d["highway"] for d in streets} == kinds
+    crossing_nodes = [n for n, data in graph.nodes(data=True) if data.get("highway") == "crossing"]
+    assert len(crossing_nodes) == len(CITY.crossings)
+    edge_km = sum(d["length"] for d in streets) / 1000.0
+    road_km = sum(r.centerline.length for r in CITY.roads) / 1000.0
+    assert abs(edge_km / 2 - road_km) / road_km < 0.02  # two-way streets: an edge each way
+
+
+def test_buildings_and_areas_carry_their_tags_and_the_bytes_are_stable(tmp_path: Path):
+    first = write_osm(CITY, tmp_path / "a.osm").read_bytes()
+    assert write_osm(CITY, tmp_path / "b.osm").read_bytes() == first
+    root = ET.fromstring(first)
+    ways = [{t.get("k"): t.get("v") for t in way.iter("tag")} for way in root.iter("way")]
+    buildings = [w for w in ways if w.get("building") == "yes"]
+    assert len(buildings) == len(CITY.buildings)
+    assert {float(w["height"]) for w in buildings} == {b.height for b in CITY.buildings}
+    roads = [w for w in ways if "highway" in w and w.get("area") != "yes"]
+    assert all(w["sidewalk"] == "both" and "sidewalk:left:width" in w for w in roads)
