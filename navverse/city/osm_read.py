@@ -1,0 +1,330 @@
+"""Streaming an OpenStreetMap file through osmium, keeping only what a window needs.
+
+:func:`read_extract` reads the file with pyosmium's ``FileProcessor`` (which reads it twice:
+relations first, for the multipolygon assembler, then everything) and keeps, projected to the
+window's local frame:
+
+- tagged nodes with a key of interest that lie in the window;
+- ways with a key of interest whose bounding box meets the window's lat/lon box, with their node
+  ids and positions (a node missing from the file is a NaN row);
+- multipolygon relations with a key of interest, assembled by osmium's area assembler, whose
+  bounding box meets the window's lat/lon box.
+
+Memory: the Python side holds only those objects. Osmium keeps the location of every node of the
+file in its location index, to give ways their geometry: in memory (``flex_mem``, about 16 bytes a
+node) for files up to :data:`IN_MEMORY_INDEX_BYTES`, else in a sparse index file in a temporary
+directory (``sparse_file_array``, 16 bytes a node on disk, paged in by the OS). The area assembler
+keeps the multipolygon relations with a key of interest and their member ways until each is built;
+the ids of those member ways are kept in an osmium ``IdSet``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+from collections import Counter
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import osmium
+import osmium.filter
+import osmium.index
+import osmium.osm
+
+from navverse.city.osm_files import Progress, osmium_failure
+from navverse.city.osm_window import LonLatBox, Window
+
+__all__ = [
+    "IN_MEMORY_INDEX_BYTES",
+    "OsmExtract",
+    "OsmMultipolygon",
+    "OsmNode",
+    "OsmWay",
+    "read_extract",
+]
+
+IN_MEMORY_INDEX_BYTES = 128 * 1024**2
+"""Files up to this size keep osmium's node location index in memory; larger ones on disk."""
+_PROGRESS_EVERY = 50_000
+
+
+@dataclass(frozen=True)
+class OsmNode:
+    """A tagged node in the window: its id, local position and tags."""
+
+    id: int
+    xy: tuple[float, float]
+    tags: dict[str, str]
+
+
+@dataclass(frozen=True)
+class OsmWay:
+    """A way whose bounding box meets the window: node ids, local positions (NaN rows: missing nodes)."""
+
+    id: int
+    tags: dict[str, str]
+    refs: tuple[int, ...]
+    xy: np.ndarray
+
+    @property
+    def closed(self) -> bool:
+        """Whether the way ends at the node it starts from (and has at least 4 node references)."""
+        return len(self.refs) >= 4 and self.refs[0] == self.refs[-1]
+
+
+@dataclass(frozen=True)
+class OsmMultipolygon:
+    """A multipolygon relation assembled by osmium: per outer ring, the ring and its inner rings (local,
+    closed), and the node ids of each outer ring."""
+
+    id: int
+    tags: dict[str, str]
+    polygons: list[tuple[np.ndarray, list[np.ndarray]]]
+    outer_refs: list[frozenset[int]]
+
+    @property
+    def refs(self) -> frozenset[int]:
+        """Node ids of all outer rings."""
+        return frozenset().union(*self.outer_refs)
+
+
+@dataclass
+class OsmExtract:
+    """What :func:`read_extract` kept, and what it counted as dropped or repaired (by reason)."""
+
+    nodes: dict[int, OsmNode] = field(default_factory=dict)
+    ways: dict[int, OsmWay] = field(default_factory=dict)
+    multipolygons: dict[int, OsmMultipolygon] = field(default_factory=dict)
+    dropped: Counter[str] = field(default_factory=Counter)
+    extent: LonLatBox | None = None
+
+    def extend(self, box: LonLatBox) -> None:
+        """Grow :attr:`extent` (the lat/lon box of the data of interest read) by ``box``."""
+        if self.extent is None:
+            self.extent = box
+        else:
+            e = self.extent
+            self.extent = (min(e[0], box[0]), min(e[1], box[1]), max(e[2], box[2]), max(e[3], box[3]))
+
+
+class _RelationMembers:
+    """First-pass handler: the ways that are members of multipolygon relations of interest."""
+
+    def __init__(self) -> None:
+        self.ways = osmium.index.IdSet()
+
+    def relation(self, relation: Any) -> None:
+        if relation.tags.get("type") != "multipolygon":
+            return
+        for member in relation.members:
+            if member.type == "w":
+                self.ways.set(member.ref)
+
+
+@contextmanager
+def _location_index(path: Path, node_index: str | None) -> Iterator[str]:
+    if node_index is not None:
+        yield node_index
+    elif os.path.getsize(path) <= IN_MEMORY_INDEX_BYTES:
+        yield "flex_mem"
+    else:
+        with tempfile.TemporaryDirectory(prefix="navverse-osm-") as directory:
+            yield f"sparse_file_array,{os.path.join(directory, 'nodes.idx')}"
+
+
+def _way_geometry(way: Any) -> tuple[tuple[int, ...], list[float], list[float]]:
+    refs, lons, lats = [], [], []
+    for node in way.nodes:
+        refs.append(node.ref)
+        location = node.location
+        if location.valid():
+            lons.append(location.lon)
+            lats.append(location.lat)
+        else:
+            lons.append(math.nan)
+            lats.append(math.nan)
+    return tuple(refs), lons, lats
+
+
+def _nan_box(lons: list[float], lats: list[float]) -> LonLatBox | None:
+    lon, lat = np.asarray(lons), np.asarray(lats)
+    valid = ~np.isnan(lon)
+    if not valid.any():
+        return None
+    return (
+        float(lon[valid].min()),
+        float(lat[valid].min()),
+        float(lon[valid].max()),
+        float(lat[valid].max()),
+    )
+
+
+class _Collector:
+    """Second-pass logic: keep what the window needs from each object osmium hands over."""
+
+    def __init__(self, window: Window, keys: tuple[str, ...], members: _RelationMembers) -> None:
+        self.window, self.keys, self.members = window, keys, members
+        self.extract = OsmExtract()
+        self.member_ways_in_window: set[int] = set()
+        self.expected_relations: set[int] = set()
+        self.empty_relations: set[int] = set()
+
+    def _relevant(self, tags: Any) -> bool:
+        return any(key in tags for key in self.keys)
+
+    def node(self, node: Any) -> None:
+        location = node.location
+        if not location.valid():
+            self.extract.dropped["node without a valid location"] += 1
+            return
+        lon, lat = location.lon, location.lat
+        self.extract.extend((lon, lat, lon, lat))
+        if not self.window.contains_lonlat(lon, lat):
+            return
+        x, y = (float(v) for v in self.window.project([lon], [lat])[0])
+        if not self.window.contains(x, y):
+            return
+        if node.id in self.extract.nodes:
+            self.extract.dropped["duplicate OSM object (the first is kept)"] += 1
+            return
+        self.extract.nodes[node.id] = OsmNode(node.id, (x, y), dict(node.tags))
+
+    def way(self, way: Any) -> None:
+        relevant, member = self._relevant(way.tags), way.id in self.members.ways
+        if not (relevant or member):
+            return
+        refs, lons, lats = _way_geometry(way)
+        box = _nan_box(lons, lats)
+        if box is None:
+            if relevant and refs:
+                self.extract.dropped["way whose nodes are all missing"] += 1
+            return
+        if relevant:
+            self.extract.extend(box)
+        if not self.window.meets(box):
+            return
+        if member:
+            self.member_ways_in_window.add(way.id)
+        if not relevant:
+            return
+        if way.id in self.extract.ways:
+            self.extract.dropped["duplicate OSM object (the first is kept)"] += 1
+            return
+        xy = self.window.project(lons, lats)
+        self.extract.ways[way.id] = OsmWay(way.id, dict(way.tags), refs, xy)
+
+    def relation(self, relation: Any) -> None:
+        if relation.tags.get("type") != "multipolygon":
+            return
+        if any(m.type == "w" and m.ref in self.member_ways_in_window for m in relation.members):
+            self.expected_relations.add(relation.id)
+
+    def area(self, area: Any) -> None:
+        if area.from_way():
+            return  # closed ways are read as ways, so broken rings can be repaired
+        relation_id = area.orig_id()
+        polygons, lons_all, lats_all = [], [], []
+        for outer in area.outer_rings():
+            ring = [(n.ref, n.lon, n.lat) for n in outer]
+            inners = [[(n.lon, n.lat) for n in inner] for inner in area.inner_rings(outer)]
+            polygons.append((ring, inners))
+            lons_all += [p[1] for p in ring]
+            lats_all += [p[2] for p in ring]
+        if not polygons:
+            self.empty_relations.add(relation_id)
+            return
+        box = (min(lons_all), min(lats_all), max(lons_all), max(lats_all))
+        self.extract.extend(box)
+        if not self.window.meets(box):
+            return
+        if relation_id in self.extract.multipolygons:
+            self.extract.dropped["duplicate OSM object (the first is kept)"] += 1
+            return
+        projected = []
+        for ring, inners in polygons:
+            outer_xy = self.window.project([p[1] for p in ring], [p[2] for p in ring])
+            inner_xy = [self.window.project([p[0] for p in h], [p[1] for p in h]) for h in inners]
+            projected.append((outer_xy, inner_xy))
+        refs = [frozenset(p[0] for p in ring) for ring, _ in polygons]
+        self.extract.multipolygons[relation_id] = OsmMultipolygon(
+            relation_id, dict(area.tags), projected, refs
+        )
+
+    def finish(self) -> OsmExtract:
+        missing = self.expected_relations - set(self.extract.multipolygons)
+        if missing:
+            self.extract.dropped["multipolygon that could not be assembled"] += len(missing)
+        return self.extract
+
+
+def read_extract(
+    path: str | os.PathLike[str],
+    fmt: str,
+    window: Window,
+    *,
+    keys: tuple[str, ...],
+    node_index: str | None = None,
+    progress: Progress | None = None,
+) -> OsmExtract:
+    """Stream an OSM file and keep the tagged nodes, ways and multipolygons of interest in ``window``.
+
+    Parameters
+    ----------
+    path : path
+        A file that passed :func:`check_osm_file`.
+    fmt : str
+        Its format, from :func:`check_osm_file`.
+    window : Window
+        What to keep.
+    keys : tuple of str
+        Tag keys of interest: objects with none of them are skipped (but for the member ways of
+        multipolygons, which the assembler needs).
+    node_index : str, optional
+        An osmium location index type (``"flex_mem"``, ``"sparse_file_array,/tmp/x.idx"``...);
+        default: in memory up to :data:`IN_MEMORY_INDEX_BYTES`, else a sparse file array in a
+        temporary directory.
+    progress : callable, optional
+        ``progress("read", objects)`` every 50,000 objects handed over by osmium.
+
+    Raises
+    ------
+    CityMapError
+        If osmium cannot read the file (truncated, damaged, malformed).
+    """
+    path = Path(path)
+    members = _RelationMembers()
+    collector = _Collector(window, keys, members)
+    area_filter = osmium.filter.KeyFilter(*keys)
+    main_filter = osmium.filter.KeyFilter(*keys)
+    main_filter.enable_for(osmium.osm.NODE | osmium.osm.RELATION | osmium.osm.AREA)
+    handlers = {"n": collector.node, "w": collector.way, "r": collector.relation, "a": collector.area}
+    with _location_index(path, node_index) as index:
+        processor = (
+            osmium.FileProcessor(str(path))
+            .with_locations(index)
+            .with_areas(area_filter, members)
+            .with_filter(main_filter)
+        )
+        objects = iter(processor)
+        count = 0
+        while True:
+            try:
+                obj = next(objects)
+            except StopIteration:
+                break
+            except RuntimeError as exc:
+                raise osmium_failure(path, fmt, exc) from None
+            handler = handlers.get(obj.type_str())
+            if handler is not None:
+                handler(obj)
+            count += 1
+            if progress is not None and count % _PROGRESS_EVERY == 0:
+                progress("read", count)
+    if progress is not None:
+        progress("read", count)
+    return collector.finish()
