@@ -16,6 +16,13 @@ node) for files up to :data:`IN_MEMORY_INDEX_BYTES`, else in a sparse index file
 directory (``sparse_file_array``, 16 bytes a node on disk, paged in by the OS). The area assembler
 keeps the multipolygon relations with a key of interest and their member ways until each is built;
 the ids of those member ways are kept in an osmium ``IdSet``.
+
+Osmium's assembler needs ways sorted by id, each once (as ``osmium sort``, Geofabrik and the OSM
+API write them). A file of at most :data:`MAX_SORT_BYTES` that is not is sorted in memory first
+(pyosmium's ``MergeInputReader``, keeping one copy, the newest version, of an object the file holds
+twice) into a temporary PBF; a larger one is refused with the command that sorts it. Objects with
+negative ids (unsaved editor objects) get no location from osmium's index: their ways count as
+missing nodes.
 """
 
 from __future__ import annotations
@@ -36,11 +43,14 @@ import osmium.filter
 import osmium.index
 import osmium.osm
 
+from navverse.city.map import CityMapError
 from navverse.city.osm_files import Progress, osmium_failure
 from navverse.city.osm_window import LonLatBox, Window
 
 __all__ = [
+    "DUPLICATE",
     "IN_MEMORY_INDEX_BYTES",
+    "MAX_SORT_BYTES",
     "OsmExtract",
     "OsmMultipolygon",
     "OsmNode",
@@ -50,7 +60,11 @@ __all__ = [
 
 IN_MEMORY_INDEX_BYTES = 128 * 1024**2
 """Files up to this size keep osmium's node location index in memory; larger ones on disk."""
+MAX_SORT_BYTES = 128 * 1024**2
+"""Largest unsorted file (or one holding an object twice) sorted in memory before reading."""
+DUPLICATE = "duplicate OSM object (one copy kept)"
 _PROGRESS_EVERY = 50_000
+_ORDER_WORDS = ("out of order", "twice in input")
 
 
 @dataclass(frozen=True)
@@ -167,8 +181,14 @@ def _nan_box(lons: list[float], lats: list[float]) -> LonLatBox | None:
 class _Collector:
     """Second-pass logic: keep what the window needs from each object osmium hands over."""
 
-    def __init__(self, window: Window, keys: tuple[str, ...], members: _RelationMembers) -> None:
-        self.window, self.keys, self.members = window, keys, members
+    def __init__(
+        self,
+        window: Window,
+        keys: tuple[str, ...],
+        members: _RelationMembers,
+        duplicates: frozenset[tuple[str, int]],
+    ) -> None:
+        self.window, self.keys, self.members, self.duplicates = window, keys, members, duplicates
         self.extract = OsmExtract()
         self.member_ways_in_window: set[int] = set()
         self.expected_relations: set[int] = set()
@@ -176,6 +196,15 @@ class _Collector:
 
     def _relevant(self, tags: Any) -> bool:
         return any(key in tags for key in self.keys)
+
+    def _first(self, kind: str, object_id: int, kept: dict[int, Any]) -> bool:
+        """Whether an object is seen for the first time (a repeat, or one a sort removed, is counted)."""
+        if object_id in kept:
+            self.extract.dropped[DUPLICATE] += 1
+            return False
+        if (kind, object_id) in self.duplicates:
+            self.extract.dropped[DUPLICATE] += 1
+        return True
 
     def node(self, node: Any) -> None:
         location = node.location
@@ -189,8 +218,7 @@ class _Collector:
         x, y = (float(v) for v in self.window.project([lon], [lat])[0])
         if not self.window.contains(x, y):
             return
-        if node.id in self.extract.nodes:
-            self.extract.dropped["duplicate OSM object (the first is kept)"] += 1
+        if not self._first("n", node.id, self.extract.nodes):
             return
         self.extract.nodes[node.id] = OsmNode(node.id, (x, y), dict(node.tags))
 
@@ -212,8 +240,7 @@ class _Collector:
             self.member_ways_in_window.add(way.id)
         if not relevant:
             return
-        if way.id in self.extract.ways:
-            self.extract.dropped["duplicate OSM object (the first is kept)"] += 1
+        if not self._first("w", way.id, self.extract.ways):
             return
         xy = self.window.project(lons, lats)
         self.extract.ways[way.id] = OsmWay(way.id, dict(way.tags), refs, xy)
@@ -242,8 +269,7 @@ class _Collector:
         self.extract.extend(box)
         if not self.window.meets(box):
             return
-        if relation_id in self.extract.multipolygons:
-            self.extract.dropped["duplicate OSM object (the first is kept)"] += 1
+        if not self._first("r", relation_id, self.extract.multipolygons):
             return
         projected = []
         for ring, inners in polygons:
@@ -262,6 +288,84 @@ class _Collector:
         return self.extract
 
 
+class _UnsortedError(Exception):
+    """Osmium's assembler met a way out of order, or twice."""
+
+
+def _stream(
+    path: Path,
+    source: Path,
+    fmt: str,
+    collector: _Collector,
+    *,
+    node_index: str | None,
+    progress: Progress | None,
+) -> OsmExtract:
+    """One read of ``path`` through osmium into ``collector`` (errors name ``source``)."""
+    keys = collector.keys
+    area_filter = osmium.filter.KeyFilter(*keys)
+    main_filter = osmium.filter.KeyFilter(*keys)
+    main_filter.enable_for(osmium.osm.NODE | osmium.osm.RELATION | osmium.osm.AREA)
+    handlers = {"n": collector.node, "w": collector.way, "r": collector.relation, "a": collector.area}
+    with _location_index(path, node_index) as index:
+        processor = (
+            osmium.FileProcessor(str(path))
+            .with_locations(index)
+            .with_areas(area_filter, collector.members)
+            .with_filter(main_filter)
+        )
+        objects = iter(processor)
+        count = 0
+        while True:
+            try:
+                obj = next(objects)
+            except StopIteration:
+                break
+            except RuntimeError as exc:
+                if any(words in str(exc).lower() for words in _ORDER_WORDS):
+                    raise _UnsortedError(str(exc)) from None
+                raise osmium_failure(source, fmt, exc) from None
+            handler = handlers.get(obj.type_str())
+            if handler is not None:
+                handler(obj)
+            count += 1
+            if progress is not None and count % _PROGRESS_EVERY == 0:
+                progress("read", count)
+    if progress is not None:
+        progress("read", count)
+    return collector.finish()
+
+
+def _sorted_copy(path: Path, fmt: str, target: Path) -> frozenset[tuple[str, int]]:
+    """Write ``path`` sorted, each object once, to the PBF ``target``; return the objects it held twice."""
+    positive = {kind: osmium.index.IdSet() for kind in "nwr"}
+    negative: dict[str, set[int]] = {kind: set() for kind in "nwr"}
+    duplicates: set[tuple[str, int]] = set()
+    try:
+        for obj in osmium.FileProcessor(str(path)):  # a plain read: nothing here needs order
+            kind = obj.type_str()
+            if kind not in positive:
+                continue
+            if obj.id >= 0:
+                seen = positive[kind].get(obj.id)
+                positive[kind].set(obj.id)
+            else:
+                seen = obj.id in negative[kind]
+                negative[kind].add(obj.id)
+            if seen:
+                duplicates.add((kind, obj.id))
+        merger = osmium.MergeInputReader()
+        merger.add_file(str(path))
+        writer = osmium.SimpleWriter(str(target))
+        try:
+            merger.apply(writer, simplify=True)
+        finally:
+            writer.close()
+    except RuntimeError as exc:
+        raise osmium_failure(path, fmt, exc) from None
+    return frozenset(duplicates)
+
+
 def read_extract(
     path: str | os.PathLike[str],
     fmt: str,
@@ -276,9 +380,9 @@ def read_extract(
     Parameters
     ----------
     path : path
-        A file that passed :func:`check_osm_file`.
+        A file that passed :func:`~.osm_files.check_osm_file`.
     fmt : str
-        Its format, from :func:`check_osm_file`.
+        Its format, from :func:`~.osm_files.check_osm_file`.
     window : Window
         What to keep.
     keys : tuple of str
@@ -294,37 +398,31 @@ def read_extract(
     Raises
     ------
     CityMapError
-        If osmium cannot read the file (truncated, damaged, malformed).
+        If osmium cannot read the file (truncated, damaged, malformed), or it is unsorted and larger
+        than :data:`MAX_SORT_BYTES`.
     """
     path = Path(path)
-    members = _RelationMembers()
-    collector = _Collector(window, keys, members)
-    area_filter = osmium.filter.KeyFilter(*keys)
-    main_filter = osmium.filter.KeyFilter(*keys)
-    main_filter.enable_for(osmium.osm.NODE | osmium.osm.RELATION | osmium.osm.AREA)
-    handlers = {"n": collector.node, "w": collector.way, "r": collector.relation, "a": collector.area}
-    with _location_index(path, node_index) as index:
-        processor = (
-            osmium.FileProcessor(str(path))
-            .with_locations(index)
-            .with_areas(area_filter, members)
-            .with_filter(main_filter)
+
+    def collector(duplicates: frozenset[tuple[str, int]]) -> _Collector:
+        return _Collector(window, keys, _RelationMembers(), duplicates)
+
+    try:
+        return _stream(path, path, fmt, collector(frozenset()), node_index=node_index, progress=progress)
+    except _UnsortedError as exc:
+        problem = str(exc)
+    size = os.path.getsize(path)
+    if size > MAX_SORT_BYTES:
+        raise CityMapError(
+            f"{path} is not sorted by type and id, or holds a way twice ({problem}), and at "
+            f"{size / 1024**2:.0f} MiB is too large to sort in memory: sort it first, e.g. "
+            f"`osmium sort {path.name} -o sorted.osm.pbf` (osmium-tool)"
         )
-        objects = iter(processor)
-        count = 0
-        while True:
-            try:
-                obj = next(objects)
-            except StopIteration:
-                break
-            except RuntimeError as exc:
-                raise osmium_failure(path, fmt, exc) from None
-            handler = handlers.get(obj.type_str())
-            if handler is not None:
-                handler(obj)
-            count += 1
-            if progress is not None and count % _PROGRESS_EVERY == 0:
-                progress("read", count)
-    if progress is not None:
-        progress("read", count)
-    return collector.finish()
+    with tempfile.TemporaryDirectory(prefix="navverse-osm-") as directory:
+        target = Path(directory) / "sorted.osm.pbf"
+        duplicates = _sorted_copy(path, fmt, target)
+        try:
+            return _stream(
+                target, path, "pbf", collector(duplicates), node_index=node_index, progress=progress
+            )
+        except _UnsortedError as exc:  # not expected of a sorted copy; say so rather than loop
+            raise CityMapError(f"{path} could not be read even sorted ({exc})") from None
