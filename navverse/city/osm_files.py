@@ -18,6 +18,7 @@ import zlib
 from collections.abc import Callable
 from pathlib import Path
 
+import osmium
 import osmium.io
 import osmium.osm
 
@@ -27,6 +28,7 @@ from navverse.files import regular_file_problem
 
 __all__ = [
     "MAX_OSM_BYTES",
+    "OSMIUM_ERRORS",
     "PROLOG_LIMIT",
     "Progress",
     "check_osm_file",
@@ -42,6 +44,15 @@ PROLOG_LIMIT = 64 * 1024
 
 Progress = Callable[[str, int], None]
 """``progress(phase, done)``: ``"checksum"`` with bytes hashed, ``"read"`` with OSM objects read."""
+
+OSMIUM_ERRORS: tuple[type[Exception], ...] = (
+    RuntimeError,
+    ValueError,
+    OSError,
+    osmium.InvalidLocationError,
+)
+"""What osmium raises on bad input (libosmium's io, xml and pbf errors, ``illegal id: 'abc'``,
+unreadable coordinates): each is turned into a :class:`CityMapError` naming the file."""
 
 _SUFFIXES = ((".osm.pbf", "pbf"), (".osm.gz", "xml.gz"), (".osm", "xml"))
 _CONTENT_NAMES = {
@@ -191,6 +202,7 @@ def file_sha256(path: str | os.PathLike[str], *, progress: Progress | None = Non
 
 
 def osmium_failure(path: Path, fmt: str, exc: Exception) -> CityMapError:
+    """The :class:`CityMapError` for an error osmium raised reading ``path`` (of format ``fmt``)."""
     message = str(exc)
     lowered = message.lower()
     ends = ("eof", "truncated", "no element found", "unclosed token", "gzip error", "read close failed")
@@ -200,7 +212,7 @@ def osmium_failure(path: Path, fmt: str, exc: Exception) -> CityMapError:
             f"{path} ends early or is damaged ({message}): the file is truncated or corrupt; "
             "fetch or export it again"
         )
-    return CityMapError(f"{path} cannot be read as {what} ({message}); fetch or export it again")
+    return CityMapError(f"{path} cannot be read as {what} ({message}): fix the file or export it again")
 
 
 def file_bounds(path: str | os.PathLike[str], fmt: str) -> LonLatBox | None:
@@ -211,7 +223,7 @@ def file_bounds(path: str | os.PathLike[str], fmt: str) -> LonLatBox | None:
             box = reader.header().box()
         finally:
             reader.close()
-    except RuntimeError as exc:
+    except OSMIUM_ERRORS as exc:
         raise osmium_failure(Path(path), fmt, exc) from None
     if not box.valid():
         return None

@@ -44,7 +44,7 @@ import osmium.index
 import osmium.osm
 
 from navverse.city.map import CityMapError
-from navverse.city.osm_files import Progress, osmium_failure
+from navverse.city.osm_files import OSMIUM_ERRORS, Progress, osmium_failure
 from navverse.city.osm_window import LonLatBox, Window
 
 __all__ = [
@@ -209,7 +209,7 @@ class _Collector:
     def node(self, node: Any) -> None:
         location = node.location
         if not location.valid():
-            self.extract.dropped["node without a valid location"] += 1
+            self.extract.dropped["node without a valid location (anywhere in the file)"] += 1
             return
         lon, lat = location.lon, location.lat
         self.extract.extend((lon, lat, lon, lat))
@@ -230,7 +230,7 @@ class _Collector:
         box = _nan_box(lons, lats)
         if box is None:
             if relevant and refs:
-                self.extract.dropped["way whose nodes are all missing"] += 1
+                self.extract.dropped["way whose nodes are all missing (anywhere in the file)"] += 1
             return
         if relevant:
             self.extract.extend(box)
@@ -321,7 +321,7 @@ def _stream(
                 obj = next(objects)
             except StopIteration:
                 break
-            except RuntimeError as exc:
+            except OSMIUM_ERRORS as exc:
                 if any(words in str(exc).lower() for words in _ORDER_WORDS):
                     raise _UnsortedError(str(exc)) from None
                 raise osmium_failure(source, fmt, exc) from None
@@ -361,7 +361,7 @@ def _sorted_copy(path: Path, fmt: str, target: Path) -> frozenset[tuple[str, int
             merger.apply(writer, simplify=True)
         finally:
             writer.close()
-    except RuntimeError as exc:
+    except OSMIUM_ERRORS as exc:
         raise osmium_failure(path, fmt, exc) from None
     return frozenset(duplicates)
 

@@ -304,6 +304,21 @@ def test_content_that_does_not_match_the_name_is_refused(tmp_path: Path) -> None
         read_osm(_write(tmp_path / "empty.osm", ""))
 
 
+@pytest.mark.parametrize(
+    ("body", "what"),
+    [
+        ('<node id="abc" lat="48" lon="11"/>', "illegal id"),
+        ('<node id="1" lat="x" lon="11"/>', "coordinate"),
+        ('<node id="1" lat="48" lon="11"/><way id="5"><nd ref="zz"/></way>', "illegal id"),
+        ('<node id="1" lat="48" lon="11">', "not well-formed|mismatched|no element"),
+    ],
+)
+def test_malformed_objects_are_a_clear_error(body: str, what: str, tmp_path: Path) -> None:
+    path = _write(tmp_path / "bad.osm", f'<?xml version="1.0"?>\n<osm version="0.6">\n{body}\n</osm>\n')
+    with pytest.raises(CityMapError, match=f"bad.osm .*({what})"):
+        read_osm(path, center=(48.0, 11.0))
+
+
 def test_only_regular_files_are_read(tmp_path: Path) -> None:
     with pytest.raises(CityMapError, match="does not exist"):
         read_osm(tmp_path / "missing.osm")
@@ -447,6 +462,21 @@ def test_untagged_heights_depend_on_seed_and_object_only(tmp_path: Path) -> None
 def test_unsorted_file_is_sorted_in_memory(tmp_path: Path) -> None:
     town = _heights(_town(tmp_path / "town.osm", range(12)), 7)
     assert _heights(_town(tmp_path / "nwot.osm", range(12), reverse=True), 7) == town
+
+
+def test_unsorted_file_too_large_to_sort_says_how(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr("navverse.city.osm_read.MAX_SORT_BYTES", 0)
+    path = _town(tmp_path / "nwot.osm", range(3), reverse=True)
+    with pytest.raises(
+        CityMapError, match=r"too large to sort in memory: sort it first, e\.g\. `osmium sort"
+    ):
+        read_osm(path, center=(48.0, 11.0))
+
+
+def test_large_files_keep_node_locations_on_disk(junction: CityMap, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr("navverse.city.osm_read.IN_MEMORY_INDEX_BYTES", 0)
+    on_disk = read_osm(T_JUNCTION, center=(48.0, 11.0), size_m=(200.0, 200.0))
+    assert on_disk == junction
 
 
 # Tag tables and geometry helpers -----------------------------------------------------------------
