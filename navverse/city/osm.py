@@ -59,14 +59,16 @@ furniture      nodes ``natural=tree``, ``highway=street_lamp|bus_stop|traffic_si
                ``emergency=fire_hydrant``; kind is the value
 =============  ==========================================================================================
 
-Messy data is repaired or left out, and counted in ``CityMap.dropped`` by reason: ways with missing
-nodes (lines are split at the gaps, rings skip them), self-intersecting polygons (``make_valid``,
-polygonal part kept), degenerate pieces after clipping (lines under 0.1 m, polygons under 0.5 m²),
-duplicate OSM objects (the first is kept), ways repeating their multipolygon's outline, multipolygons
-osmium cannot assemble, tags that do not read as numbers (the rule is used), features not at ground
-level. Features are numbered in the order (OSM type, OSM id, part), coordinates rounded to the
-millimetre: the same file, window and seed give the same bytes from
-:func:`~navverse.city.map.write_city_map`.
+Polygons of closed ways are built here (so broken rings can be repaired); multipolygon relations
+are assembled by osmium (inner rings become holes). Messy data is repaired or left out, and counted
+in ``CityMap.dropped`` by reason: ways with missing nodes (lines are split at the gaps, rings skip
+them), self-intersecting polygons (``make_valid``, the polygonal part kept), degenerate pieces after
+clipping (lines under 0.1 m, polygons under 0.5 m²), OSM objects the file holds twice (one copy
+kept; a file osmium refuses as unsorted is sorted in memory first, see :mod:`.osm_read`), ways
+repeating their multipolygon's outline, multipolygons osmium cannot assemble, tags that do not read
+as numbers (the rule is used), features not at ground level. Features are numbered in the order
+(OSM type, OSM id, part), coordinates rounded to the millimetre: the same file, window and seed give
+the same bytes from :func:`~navverse.city.map.write_city_map`.
 
 Memory: only the window's objects are kept in Python; osmium's node location index holds every node of
 the file, in memory for files up to 128 MiB and in a temporary file beyond (see :mod:`.osm_read`).
@@ -130,7 +132,7 @@ def read_osm(
     Raises
     ------
     CityMapError
-        If the file cannot be read (see :func:`~.osm_read.check_osm_file`), the window is invalid or
+        If the file cannot be read (see :func:`~.osm_files.check_osm_file`), the window is invalid or
         misses the file's data, or the window holds no roads and no buildings.
     """
     path = Path(path)

@@ -129,18 +129,40 @@ class OsmExtract:
             self.extent = (min(e[0], box[0]), min(e[1], box[1]), max(e[2], box[2]), max(e[3], box[3]))
 
 
+class _Ids:
+    """A set of OSM ids: osmium's compact ``IdSet`` for ids >= 0, a Python set for negative ones
+    (editors give unsaved objects negative ids, which ``IdSet`` refuses)."""
+
+    def __init__(self) -> None:
+        self._positive = osmium.index.IdSet()
+        self._negative: set[int] = set()
+
+    def add(self, object_id: int) -> bool:
+        """Add an id; return whether it was there already."""
+        if object_id >= 0:
+            seen = self._positive.get(object_id)
+            self._positive.set(object_id)
+        else:
+            seen = object_id in self._negative
+            self._negative.add(object_id)
+        return seen
+
+    def __contains__(self, object_id: int) -> bool:
+        return self._positive.get(object_id) if object_id >= 0 else object_id in self._negative
+
+
 class _RelationMembers:
     """First-pass handler: the ways that are members of multipolygon relations of interest."""
 
     def __init__(self) -> None:
-        self.ways = osmium.index.IdSet()
+        self.ways = _Ids()
 
     def relation(self, relation: Any) -> None:
         if relation.tags.get("type") != "multipolygon":
             return
         for member in relation.members:
             if member.type == "w":
-                self.ways.set(member.ref)
+                self.ways.add(member.ref)
 
 
 @contextmanager
@@ -364,21 +386,12 @@ def _stream(
 
 def _sorted_copy(path: Path, fmt: str, target: Path) -> frozenset[tuple[str, int]]:
     """Write ``path`` sorted, each object once, to the PBF ``target``; return the objects it held twice."""
-    positive = {kind: osmium.index.IdSet() for kind in "nwr"}
-    negative: dict[str, set[int]] = {kind: set() for kind in "nwr"}
+    seen = {kind: _Ids() for kind in "nwr"}
     duplicates: set[tuple[str, int]] = set()
     try:
         for obj in osmium.FileProcessor(str(path)):  # a plain read: nothing here needs order
             kind = obj.type_str()
-            if kind not in positive:
-                continue
-            if obj.id >= 0:
-                seen = positive[kind].get(obj.id)
-                positive[kind].set(obj.id)
-            else:
-                seen = obj.id in negative[kind]
-                negative[kind].add(obj.id)
-            if seen:
+            if kind in seen and seen[kind].add(obj.id):
                 duplicates.add((kind, obj.id))
         merger = osmium.MergeInputReader()
         merger.add_file(str(path))

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from pyproj import Transformer
 
-from navverse.city.map import MAX_COORDINATE, CityMapError
+from navverse.city.map import CityMapError
 
 __all__ = ["MAX_WINDOW_SIDE", "LonLatBox", "Window", "box_text", "make_window", "utm_epsg"]
 
@@ -34,6 +34,7 @@ def utm_epsg(lat: float, lon: float) -> int:
 
 
 def box_text(box: LonLatBox) -> str:
+    """A lat/lon box in words, for messages: ``lat a..b, lon c..d``."""
     return f"lat {box[1]:.6f}..{box[3]:.6f}, lon {box[0]:.6f}..{box[2]:.6f}"
 
 
@@ -55,6 +56,8 @@ class Window:
         ``(min_x, min_y, max_x, max_y)`` in the local frame (m).
     lonlat : tuple of float
         ``(min_lon, min_lat, max_lon, max_lat)`` covering ``rect``, a little padded.
+
+    Positions are projected with :meth:`project` (WGS 84 to the zone, minus the origin).
     """
 
     epsg: int
@@ -111,6 +114,58 @@ def _ring_points(rect: tuple[float, float, float, float], steps: int = 16) -> tu
     return xs, ys
 
 
+def _bbox(bbox: object) -> tuple[float, float, float, float]:
+    try:
+        min_lat, min_lon, max_lat, max_lon = (float(v) for v in bbox)  # type: ignore[attr-defined]
+    except (TypeError, ValueError):
+        raise CityMapError(f"bbox must be (min_lat, min_lon, max_lat, max_lon), not {bbox!r}") from None
+    finite = all(map(math.isfinite, (min_lat, min_lon, max_lat, max_lon)))
+    if not (finite and min_lat < max_lat and min_lon < max_lon):
+        raise CityMapError(f"bbox {bbox!r} must be finite (min_lat, min_lon, max_lat, max_lon), min < max")
+    _check_lat_lon(min_lat, min_lon, "bbox corner")
+    _check_lat_lon(max_lat, max_lon, "bbox corner")
+    return min_lat, min_lon, max_lat, max_lon
+
+
+def _centre(
+    center: object, bbox: tuple[float, float, float, float] | None, data_bounds: LonLatBox | None, path: Path
+) -> tuple[float, float]:
+    """The window's centre (lat, lon): ``center``, else the centre of ``bbox`` or ``data_bounds``
+    (rounded to 1e-7°, OSM's precision)."""
+    if bbox is not None:
+        return round((bbox[0] + bbox[2]) / 2.0, 7), round((bbox[1] + bbox[3]) / 2.0, 7)
+    if center is not None:
+        lat, lon = _pair(center, "center (lat, lon)")
+        _check_lat_lon(lat, lon, "center")
+        return lat, lon
+    if data_bounds is None:
+        raise CityMapError(
+            f"{path} declares no data bounds in its header: give the window as center=(lat, lon) or bbox"
+        )
+    lat = round((data_bounds[1] + data_bounds[3]) / 2.0, 7)
+    lon = round((data_bounds[0] + data_bounds[2]) / 2.0, 7)
+    _check_lat_lon(lat, lon, f"the centre of the bounds of {path.name}")
+    return lat, lon
+
+
+def _rect_around(
+    bbox: tuple[float, float, float, float], forward: Transformer, origin: tuple[float, float]
+) -> tuple[float, float, float, float]:
+    """The local rectangle around a lat/lon box, rounded outwards to the millimetre."""
+    min_lat, min_lon, max_lat, max_lon = bbox
+    xs, ys = forward.transform(*_ring_points((min_lon, min_lat, max_lon, max_lat)))
+    xs, ys = np.asarray(xs) - origin[0], np.asarray(ys) - origin[1]
+    rect = (
+        math.floor(float(np.min(xs)) * 1000.0) / 1000.0,
+        math.floor(float(np.min(ys)) * 1000.0) / 1000.0,
+        math.ceil(float(np.max(xs)) * 1000.0) / 1000.0,
+        math.ceil(float(np.max(ys)) * 1000.0) / 1000.0,
+    )
+    if max(rect[2] - rect[0], rect[3] - rect[1]) > MAX_WINDOW_SIDE:
+        raise CityMapError(f"bbox {bbox!r} is wider than {MAX_WINDOW_SIDE:g} m: choose a smaller one")
+    return rect
+
+
 def make_window(
     *,
     center: tuple[float, float] | None,
@@ -126,7 +181,8 @@ def make_window(
     center : (lat, lon) or None
         Centre of a ``size_m`` window.
     size_m : (width, height)
-        East-west and north-south sides of a centred window (m), at most :data:`MAX_WINDOW_SIDE`.
+        East-west and north-south sides of a centred window (m), at most :data:`MAX_WINDOW_SIDE`;
+        unused with ``bbox``.
     bbox : (min_lat, min_lon, max_lat, max_lon) or None
         A lat/lon box instead: the window is the local rectangle around it, centred on its centre.
     data_bounds : lon/lat box or None
@@ -142,54 +198,22 @@ def make_window(
     """
     if center is not None and bbox is not None:
         raise CityMapError("give the window as center (with size_m) or as bbox, not both")
-    rect: tuple[float, float, float, float] | None = None
-    if bbox is not None:
-        try:
-            min_lat, min_lon, max_lat, max_lon = (float(v) for v in bbox)
-        except (TypeError, ValueError):
-            raise CityMapError(f"bbox must be (min_lat, min_lon, max_lat, max_lon), not {bbox!r}") from None
-        if not all(map(math.isfinite, (min_lat, min_lon, max_lat, max_lon))) or not (
-            min_lat < max_lat and min_lon < max_lon
-        ):
-            raise CityMapError(
-                f"bbox {bbox!r} must be finite (min_lat, min_lon, max_lat, max_lon), min < max"
-            )
-        _check_lat_lon(min_lat, min_lon, "bbox corner")
-        _check_lat_lon(max_lat, max_lon, "bbox corner")
-        lat, lon = round((min_lat + max_lat) / 2.0, 7), round((min_lon + max_lon) / 2.0, 7)
-    elif center is not None:
-        lat, lon = _pair(center, "center (lat, lon)")
-        _check_lat_lon(lat, lon, "center")
-    elif data_bounds is not None:
-        lat = round((data_bounds[1] + data_bounds[3]) / 2.0, 7)
-        lon = round((data_bounds[0] + data_bounds[2]) / 2.0, 7)
-        _check_lat_lon(lat, lon, f"the centre of the bounds of {path.name}")
-    else:
-        raise CityMapError(
-            f"{path} declares no data bounds in its header: give the window as center=(lat, lon) or bbox"
-        )
-    width, height = _pair(size_m, "size_m (width, height)")
-    if bbox is None and not (0.0 < width <= MAX_WINDOW_SIDE and 0.0 < height <= MAX_WINDOW_SIDE):
-        raise CityMapError(f"size_m {size_m!r} must be two sides in (0, {MAX_WINDOW_SIDE:g}] m")
+    box = _bbox(bbox) if bbox is not None else None
+    lat, lon = _centre(center, box, data_bounds, path)
     epsg = utm_epsg(lat, lon)
     forward = Transformer.from_crs("EPSG:4326", f"EPSG:{epsg}", always_xy=True)
-    inverse = Transformer.from_crs(f"EPSG:{epsg}", "EPSG:4326", always_xy=True)
-    origin_x, origin_y = forward.transform(lon, lat)
-    if bbox is not None:
-        xs, ys = forward.transform(*_ring_points((min_lon, min_lat, max_lon, max_lat)))
-        rect = (
-            math.floor((float(np.min(xs)) - origin_x) * 1000.0) / 1000.0,
-            math.floor((float(np.min(ys)) - origin_y) * 1000.0) / 1000.0,
-            math.ceil((float(np.max(xs)) - origin_x) * 1000.0) / 1000.0,
-            math.ceil((float(np.max(ys)) - origin_y) * 1000.0) / 1000.0,
-        )
-        if max(rect[2] - rect[0], rect[3] - rect[1]) > MAX_WINDOW_SIDE:
-            raise CityMapError(f"bbox {bbox!r} is wider than {MAX_WINDOW_SIDE:g} m: choose a smaller one")
+    origin = forward.transform(lon, lat)
+    if box is not None:
+        rect = _rect_around(box, forward, origin)
     else:
+        width, height = _pair(size_m, "size_m (width, height)")
+        if not (0.0 < width <= MAX_WINDOW_SIDE and 0.0 < height <= MAX_WINDOW_SIDE):
+            raise CityMapError(f"size_m {size_m!r} must be two sides in (0, {MAX_WINDOW_SIDE:g}] m")
         rect = (-width / 2.0, -height / 2.0, width / 2.0, height / 2.0)
+    inverse = Transformer.from_crs(f"EPSG:{epsg}", "EPSG:4326", always_xy=True)
     xs, ys = _ring_points(rect)
-    lons, lats = inverse.transform(xs + origin_x, ys + origin_y)
-    pad = 1e-6
+    lons, lats = inverse.transform(xs + origin[0], ys + origin[1])
+    pad = 1e-6  # about 0.1 m
     lonlat = (
         float(np.min(lons)) - pad,
         float(np.min(lats)) - pad,
@@ -198,8 +222,7 @@ def make_window(
     )
     if lonlat[0] < -180.0 or lonlat[2] > 180.0 or not all(map(math.isfinite, lonlat)):
         raise CityMapError("the window crosses the antimeridian (longitude ±180°), which is not supported")
-    assert max(map(abs, rect)) < MAX_COORDINATE
-    window = Window(epsg, lat, lon, rect, lonlat, forward, (origin_x, origin_y))
+    window = Window(epsg, lat, lon, rect, lonlat, forward, (origin[0], origin[1]))
     if data_bounds is not None and not window.meets(data_bounds):
         raise CityMapError(
             f"the window ({box_text(lonlat)}) does not meet the data of {path.name} "

@@ -410,6 +410,30 @@ def test_messy_data_is_repaired_or_dropped_and_counted(tmp_path: Path) -> None:
     }
 
 
+def test_negative_ids_of_editor_files_are_counted_not_fatal(tmp_path: Path) -> None:
+    nodes = {-1: (0, 0, {}), -2: (30, 0, {}), -3: (30, 30, {}), 1: (-50, -5, {}), 2: (50, -5, {})}
+    ways = {-10: ([-1, -2, -3, -1], {"building": "yes"}), 5: ([1, 2], {"highway": "residential"})}
+    relations = {-20: ([("way", -10, "outer")], {"type": "multipolygon", "landuse": "grass"})}
+    path = _write(tmp_path / "josm.osm", _osm_xml(nodes, ways, relations))
+    city = read_osm(path, center=(48.0, 11.0))
+    assert [r.osm for r in city.roads] == ["way/5"]
+    assert city.dropped == {"way whose nodes are all missing (anywhere in the file)": 1}
+
+
+def test_nodes_and_relations_given_twice_keep_one_copy(tmp_path: Path) -> None:
+    nodes = {1: (0, 0, {}), 2: (30, 0, {}), 3: (30, 30, {}), 4: (0, 30, {}), 5: (5, 5, {"shop": "bakery"})}
+    ways = {10: ([1, 2, 3, 4, 1], {})}
+    relations = {20: ([("way", 10, "outer")], {"type": "multipolygon", "building": "yes"})}
+    text = _osm_xml(nodes, ways, relations)
+    node = text[text.index('  <node id="5"') : text.index("</node>", text.index('<node id="5"')) + 8]
+    relation = text[text.index("  <relation") : text.index("</relation>") + 12]
+    text = text.replace(node, node + node).replace(relation, relation + relation)
+    city = read_osm(_write(tmp_path / "twice.osm", text), center=(48.0, 11.0))
+    assert [b.osm for b in city.buildings] == ["relation/20"]
+    assert [(p.osm, p.building) for p in city.pois] == [("node/5", city.buildings[0].id)]
+    assert city.dropped == {"duplicate OSM object (one copy kept)": 2}
+
+
 def test_duplicate_outline_of_a_multipolygon_is_dropped(tmp_path: Path) -> None:
     nodes = {1: (0, 0, {}), 2: (30, 0, {}), 3: (30, 30, {}), 4: (0, 30, {})}
     ways = {10: ([1, 2, 3, 4, 1], {"building": "yes"})}
