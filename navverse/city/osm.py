@@ -71,7 +71,8 @@ as numbers (the rule is used), features not at ground level. Features are number
 the same bytes from :func:`~navverse.city.map.write_city_map`.
 
 Memory: only the window's objects are kept in Python; osmium's node location index holds every node of
-the file, in memory for files up to 128 MiB and in a temporary file beyond (see :mod:`.osm_read`).
+the file, in memory for files that can hold at most 4 million nodes and in a temporary file beyond
+(see :mod:`.osm_read`). Nothing is decompressed into memory but stream chunks.
 """
 
 from __future__ import annotations
@@ -99,7 +100,6 @@ def read_osm(
     size_m: tuple[float, float] = (1000.0, 1000.0),
     bbox: tuple[float, float, float, float] | None = None,
     seed: int = 0,
-    node_index: str | None = None,
     progress: Progress | None = None,
 ) -> CityMap:
     """Read a city map from a local OSM file, in a window.
@@ -117,9 +117,6 @@ def read_osm(
         it, with the origin at its centre.
     seed : int
         Seed of the heights drawn for buildings without height tags (recorded as ``source.seed``).
-    node_index : str, optional
-        Osmium's node location index type (e.g. ``"sparse_file_array,/scratch/nodes.idx"`` for a
-        large file on a disk of your choice); default: chosen by file size.
     progress : callable, optional
         ``progress(phase, done)`` with ``"checksum"`` (bytes) and ``"read"`` (OSM objects).
 
@@ -138,11 +135,11 @@ def read_osm(
     path = Path(path)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise CityMapError(f"seed must be a whole number >= 0, not {seed!r}")
-    fmt = check_osm_file(path)
-    bounds = file_bounds(path, fmt)
+    osm_file = check_osm_file(path)
+    bounds = file_bounds(path, osm_file.format)
     window = make_window(center=center, size_m=size_m, bbox=bbox, data_bounds=bounds, path=path)
     sha256 = file_sha256(path, progress=progress)
-    extract = read_extract(path, fmt, window, keys=FEATURE_KEYS, node_index=node_index, progress=progress)
+    extract = read_extract(osm_file, window, keys=FEATURE_KEYS, progress=progress)
     if bounds is None and (extract.extent is None or not window.meets(extract.extent)):
         data = box_text(extract.extent) if extract.extent else "no map features at all"
         raise CityMapError(

@@ -1,22 +1,32 @@
 """Checks of an OpenStreetMap file before a parser opens it, and what osmium's errors mean.
 
 :func:`check_osm_file` makes sure a file is a regular file of at most :data:`MAX_OSM_BYTES` whose
-content matches its name (``.osm`` OSM XML, ``.osm.gz`` gzipped OSM XML, ``.osm.pbf`` PBF); an XML
-file whose prolog holds a ``<!DOCTYPE`` (where entity declarations live, which can expand without
-bound) is refused, and a plain ``.osm`` file that does not end with ``</osm>`` is reported as
-truncated. What osmium still finds wrong while reading (a truncated PBF or gzip stream, malformed
-XML) becomes a :class:`~navverse.city.map.CityMapError` naming the file (:func:`osmium_failure`).
+content matches its name (``.osm`` OSM XML, ``.osm.gz`` gzipped OSM XML, ``.osm.pbf`` PBF), and
+measures how much data it holds once decompressed, without parsing it:
+
+- XML: an XML file whose prolog holds a ``<!DOCTYPE`` (where entity declarations live, which can
+  expand without bound) is refused, and one that does not end with ``</osm>`` is truncated;
+- gzip: the file is decompressed once as a stream (constant memory) to check the same of the XML it
+  holds, to find a truncated stream, and to refuse a decompression bomb (more than
+  :data:`MAX_OSM_BYTES` of XML, or more than :data:`MAX_RATIO` times the file's size);
+- PBF: the blob headers are walked (no decompression) to find a truncated or malformed file and
+  to sum the blobs' decompressed sizes, with the same bomb limits.
+
+What osmium still finds wrong while reading (malformed XML, bad ids or coordinates, damaged blobs)
+becomes a :class:`~navverse.city.map.CityMapError` naming the file (:func:`osmium_failure`).
 """
 
 from __future__ import annotations
 
-import gzip
 import hashlib
+import io
 import os
 import re
 import zlib
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
+from typing import IO
 
 import osmium
 import osmium.io
@@ -28,8 +38,10 @@ from navverse.files import regular_file_problem
 
 __all__ = [
     "MAX_OSM_BYTES",
+    "MAX_RATIO",
     "OSMIUM_ERRORS",
     "PROLOG_LIMIT",
+    "OsmFile",
     "Progress",
     "check_osm_file",
     "file_bounds",
@@ -41,6 +53,14 @@ MAX_OSM_BYTES = 16 * 1024**3
 """Largest OSM file read (bytes): a large country's PBF; cut a smaller extract from anything larger."""
 PROLOG_LIMIT = 64 * 1024
 """Bytes of an XML file scanned before its root element (XML declaration, comments)."""
+MAX_RATIO = 100
+"""Most data a compressed file may decompress to, per byte, once past :data:`_RATIO_FREE` bytes:
+OSM XML gzips about 10:1 and PBF blobs 3:1; far more is a decompression bomb."""
+_RATIO_FREE = 64 * 1024**2
+_CHUNK = 1024 * 1024
+_TAIL = 4096
+_MAX_BLOB_HEADER = 64 * 1024
+_MAX_BLOB = 32 * 1024**2
 
 Progress = Callable[[str, int], None]
 """``progress(phase, done)``: ``"checksum"`` with bytes hashed, ``"read"`` with OSM objects read."""
@@ -125,11 +145,9 @@ def _check_prolog(head: bytes, path: Path, *, complete: bool) -> None:
         return
 
 
-def _check_xml_end(path: Path, size: int) -> None:
-    """Report a plain XML file that does not end with its root's end tag as truncated."""
-    with open(path, "rb") as handle:
-        handle.seek(max(0, size - 4096))
-        tail = handle.read().rstrip()
+def _check_xml_tail(tail: bytes, path: Path) -> None:
+    """Report XML whose last bytes are not its root's end tag (comments may follow) as truncated."""
+    tail = tail.rstrip()
     while tail.endswith(b"-->") and b"<!--" in tail:
         tail = tail[: tail.rfind(b"<!--")].rstrip()
     if not (tail.endswith(b"</osm>") or re.search(rb"<osm\b[^<>]*/>$", tail)):
@@ -139,8 +157,143 @@ def _check_xml_end(path: Path, size: int) -> None:
         )
 
 
-def check_osm_file(path: str | os.PathLike[str]) -> str:
-    """Check an OSM file before any parser opens it, and return its format.
+def _bomb(path: Path, size: int, compressed: int) -> CityMapError | None:
+    if size > MAX_OSM_BYTES or (size > _RATIO_FREE and size > MAX_RATIO * compressed):
+        return CityMapError(
+            f"{path} decompresses to more than {min(size, MAX_OSM_BYTES) / 1024**2:.0f} MiB from "
+            f"{compressed / 1024**2:.1f} MiB (over {MAX_RATIO}:1 or {MAX_OSM_BYTES / 1024**3:.0f} GiB): "
+            "refused as a decompression bomb; cut a smaller extract"
+        )
+    return None
+
+
+def _gzip_scan(path: Path) -> tuple[bytes, bytes, int]:
+    """The first :data:`PROLOG_LIMIT` bytes, the last bytes and the size of what a gzip file holds,
+    decompressed as a stream (members one after the other, as ``gzip`` writes them)."""
+    compressed = os.path.getsize(path)
+    head, tail, size = bytearray(), b"", 0
+    decompressor, fed = zlib.decompressobj(zlib.MAX_WBITS | 16), False
+    with open(path, "rb") as handle:
+        while chunk := handle.read(_CHUNK):
+            pending = chunk
+            while pending:
+                try:
+                    out = decompressor.decompress(pending, _CHUNK)
+                except zlib.error as exc:
+                    raise CityMapError(f"{path} is a damaged gzip file ({exc}); fetch it again") from None
+                fed = True
+                size += len(out)
+                if len(head) < PROLOG_LIMIT:
+                    head += out[: PROLOG_LIMIT - len(head)]
+                tail = (tail + out)[-_TAIL:]
+                if (error := _bomb(path, size, compressed)) is not None:
+                    raise error
+                if decompressor.eof:
+                    pending = decompressor.unused_data
+                    decompressor, fed = zlib.decompressobj(zlib.MAX_WBITS | 16), False
+                    if pending and not pending.startswith(b"\x1f\x8b"):
+                        pending = b""  # trailing bytes after the last member, as gzip ignores them
+                else:
+                    pending = decompressor.unconsumed_tail
+    if fed:
+        raise CityMapError(f"{path} ends inside its gzip stream: the file is truncated; fetch it again")
+    return bytes(head), tail, size
+
+
+def _truncated_pbf(path: Path) -> CityMapError:
+    return CityMapError(f"{path} ends inside a PBF block: the file is truncated; fetch it again")
+
+
+def _varint(stream: IO[bytes], path: Path) -> int:
+    value, shift = 0, 0
+    while True:
+        byte = stream.read(1)
+        if not byte:
+            raise _truncated_pbf(path)
+        value |= (byte[0] & 0x7F) << shift
+        if byte[0] < 0x80:
+            return value
+        shift += 7
+        if shift > 63:
+            raise CityMapError(f"{path} is not a valid PBF file (a malformed number)")
+
+
+def _fields(stream: IO[bytes], end: int, path: Path) -> dict[int, int]:
+    """The fields of a protobuf message ending at offset ``end``: varints as their value, other
+    fields as their length (their bytes are skipped, never read)."""
+    fields: dict[int, int] = {}
+    while stream.tell() < end:
+        key = _varint(stream, path)
+        field, wire = key >> 3, key & 7
+        if wire == 0:
+            fields[field] = _varint(stream, path)
+        elif wire == 2:
+            fields[field] = _varint(stream, path)
+            stream.seek(fields[field], os.SEEK_CUR)
+        else:
+            raise CityMapError(f"{path} is not a valid PBF file (a field of wire type {wire})")
+    return fields
+
+
+def _pbf_block(handle: IO[bytes], size: int, path: Path) -> int:
+    """Walk one PBF block (header length, ``BlobHeader``, ``Blob``): its decompressed size."""
+    if size - handle.tell() < 4:
+        raise _truncated_pbf(path)
+    length = int.from_bytes(handle.read(4), "big")
+    if not 0 < length <= _MAX_BLOB_HEADER:
+        raise CityMapError(f"{path} is not a valid PBF file (a block header of {length} bytes)")
+    header = handle.read(length)
+    if len(header) < length:
+        raise _truncated_pbf(path)
+    fields = _fields(io.BytesIO(header), length, path)  # 1: type, 3: datasize
+    datasize = fields.get(3, 0)
+    if 1 not in fields or not 0 < datasize <= _MAX_BLOB:
+        raise CityMapError(f"{path} is not a valid PBF file (a block of {datasize} bytes)")
+    start = handle.tell()
+    if start + datasize > size:
+        raise _truncated_pbf(path)
+    blob = _fields(handle, start + datasize, path)  # 1: raw data, 2: raw_size of compressed data
+    handle.seek(start + datasize)
+    raw = blob.get(2, blob.get(1, 0))
+    if raw > _MAX_BLOB:
+        raise CityMapError(f"{path} is not a valid PBF file (a block of {raw} bytes decompressed)")
+    return raw
+
+
+def _pbf_scan(path: Path) -> int:
+    """The decompressed size of a PBF file's blocks, from their headers (their data is skipped, not
+    read); a block reaching past the end of the file means the file is truncated."""
+    size = os.path.getsize(path)
+    total = 0
+    with open(path, "rb") as handle:
+        while handle.tell() < size:
+            total += _pbf_block(handle, size, path)
+            if (error := _bomb(path, total, size)) is not None:
+                raise error
+    return total
+
+
+@dataclass(frozen=True)
+class OsmFile:
+    """An OSM file that passed :func:`check_osm_file`.
+
+    Attributes
+    ----------
+    path : Path
+        The file.
+    format : str
+        ``"xml"``, ``"xml.gz"`` or ``"pbf"``.
+    data_bytes : int
+        What it holds decompressed: the XML text, or the sum of the PBF blocks.
+    """
+
+    path: Path
+    format: str
+    data_bytes: int
+
+
+def check_osm_file(path: str | os.PathLike[str]) -> OsmFile:
+    """Check an OSM file before any parser opens it: what it is and how much data it holds.
 
     Parameters
     ----------
@@ -149,15 +302,14 @@ def check_osm_file(path: str | os.PathLike[str]) -> str:
 
     Returns
     -------
-    str
-        ``"xml"``, ``"xml.gz"`` or ``"pbf"``.
+    OsmFile
+        Its format and decompressed size.
 
     Raises
     ------
     CityMapError
         If the file is missing, not a regular file, too large, empty, named for one format and holding
-        another, truncated (plain XML: no ``</osm>`` at the end; gzip: ends within the first bytes),
-        or XML with a DOCTYPE or a root other than ``<osm>``.
+        another, truncated, a decompression bomb, or XML with a DOCTYPE or a root other than ``<osm>``.
     """
     path = Path(path)
     problem = regular_file_problem(path, max_bytes=MAX_OSM_BYTES, what="OSM file")
@@ -172,21 +324,20 @@ def check_osm_file(path: str | os.PathLike[str]) -> str:
     if kind != _EXPECTED[fmt]:
         found = _CONTENT_NAMES.get(kind, "something that is neither OSM XML, gzip nor PBF")
         raise CityMapError(f"{path} is named {_NAMES[fmt]} but holds {found}")
+    if fmt == "pbf":
+        return OsmFile(path, fmt, _pbf_scan(path))
     if fmt == "xml":
-        _check_prolog(head, path, complete=len(head) < PROLOG_LIMIT)
-        _check_xml_end(path, os.path.getsize(path))
-    elif fmt == "xml.gz":
-        try:
-            with gzip.open(path, "rb") as handle:
-                inner = handle.read(PROLOG_LIMIT)
-        except (EOFError, OSError, zlib.error) as exc:
-            raise CityMapError(
-                f"{path} is a damaged or truncated gzip file ({exc}); fetch it again"
-            ) from None
-        if _content_kind(inner) != "xml":
+        size = os.path.getsize(path)
+        with open(path, "rb") as handle:
+            handle.seek(max(0, size - _TAIL))
+            tail = handle.read()
+    else:
+        head, tail, size = _gzip_scan(path)
+        if _content_kind(head) != "xml":
             raise CityMapError(f"{path} is gzip, but what it holds is not OSM XML")
-        _check_prolog(inner, path, complete=len(inner) < PROLOG_LIMIT)
-    return fmt
+    _check_prolog(head, path, complete=len(head) < PROLOG_LIMIT)
+    _check_xml_tail(tail, path)
+    return OsmFile(path, fmt, size)
 
 
 def file_sha256(path: str | os.PathLike[str], *, progress: Progress | None = None) -> str:

@@ -12,8 +12,10 @@ window's local frame:
 
 Memory: the Python side holds only those objects. Osmium keeps the location of every node of the
 file in its location index, to give ways their geometry: in memory (``flex_mem``, about 16 bytes a
-node) for files up to :data:`IN_MEMORY_INDEX_BYTES`, else in a sparse index file in a temporary
-directory (``sparse_file_array``, 16 bytes a node on disk, paged in by the OS). The area assembler
+node) when the file's decompressed size (:class:`~.osm_files.OsmFile`) leaves room for at most
+:data:`IN_MEMORY_INDEX_NODES` nodes (a node takes at least 30 bytes of XML, 3 of a PBF block), else
+in a sparse index file in a temporary directory (``sparse_file_array``, 16 bytes a node on disk,
+paged in by the OS; ``TMPDIR`` chooses the disk). The area assembler
 keeps the multipolygon relations with a key of interest and their member ways until each is built;
 the ids of those member ways are kept in an osmium ``IdSet``.
 
@@ -47,12 +49,12 @@ import osmium.index
 import osmium.osm
 
 from navverse.city.map import CityMapError
-from navverse.city.osm_files import OSMIUM_ERRORS, Progress, osmium_failure
+from navverse.city.osm_files import OSMIUM_ERRORS, OsmFile, Progress, osmium_failure
 from navverse.city.osm_window import LonLatBox, Window
 
 __all__ = [
     "DUPLICATE",
-    "IN_MEMORY_INDEX_BYTES",
+    "IN_MEMORY_INDEX_NODES",
     "MAX_SORT_BYTES",
     "OsmExtract",
     "OsmMultipolygon",
@@ -61,8 +63,10 @@ __all__ = [
     "read_extract",
 ]
 
-IN_MEMORY_INDEX_BYTES = 128 * 1024**2
-"""Files up to this size keep osmium's node location index in memory; larger ones on disk."""
+IN_MEMORY_INDEX_NODES = 4_000_000
+"""Files that can hold at most this many nodes keep osmium's node location index in memory (at most
+64 MB); larger ones on disk."""
+_FEWEST_BYTES_PER_NODE = {"xml": 30, "xml.gz": 30, "pbf": 3}
 MAX_SORT_BYTES = 128 * 1024**2
 """Largest unsorted file (or one holding an object twice) sorted in memory before reading."""
 DUPLICATE = "duplicate OSM object (one copy kept)"
@@ -166,10 +170,9 @@ class _RelationMembers:
 
 
 @contextmanager
-def _location_index(path: Path, node_index: str | None) -> Iterator[str]:
-    if node_index is not None:
-        yield node_index
-    elif os.path.getsize(path) <= IN_MEMORY_INDEX_BYTES:
+def _location_index(most_nodes: int) -> Iterator[str]:
+    """Osmium's node location index for a file of at most ``most_nodes`` nodes (see the module)."""
+    if most_nodes <= IN_MEMORY_INDEX_NODES:
         yield "flex_mem"
     else:
         with tempfile.TemporaryDirectory(prefix="navverse-osm-") as directory:
@@ -346,7 +349,7 @@ def _stream(
     fmt: str,
     collector: _Collector,
     *,
-    node_index: str | None,
+    most_nodes: int,
     progress: Progress | None,
 ) -> OsmExtract:
     """One read of ``path`` through osmium into ``collector`` (errors name ``source``)."""
@@ -355,7 +358,7 @@ def _stream(
     main_filter = osmium.filter.KeyFilter(*keys)
     main_filter.enable_for(osmium.osm.NODE | osmium.osm.RELATION | osmium.osm.AREA)
     handlers = {"n": collector.node, "w": collector.way, "r": collector.relation, "a": collector.area}
-    with _location_index(path, node_index) as index:
+    with _location_index(most_nodes) as index:
         processor = (
             osmium.FileProcessor(str(path))
             .with_locations(index)
@@ -406,31 +409,23 @@ def _sorted_copy(path: Path, fmt: str, target: Path) -> frozenset[tuple[str, int
 
 
 def read_extract(
-    path: str | os.PathLike[str],
-    fmt: str,
+    osm_file: OsmFile,
     window: Window,
     *,
     keys: tuple[str, ...],
-    node_index: str | None = None,
     progress: Progress | None = None,
 ) -> OsmExtract:
     """Stream an OSM file and keep the tagged nodes, ways and multipolygons of interest in ``window``.
 
     Parameters
     ----------
-    path : path
-        A file that passed :func:`~.osm_files.check_osm_file`.
-    fmt : str
-        Its format, from :func:`~.osm_files.check_osm_file`.
+    osm_file : OsmFile
+        A file checked by :func:`~.osm_files.check_osm_file`.
     window : Window
         What to keep.
     keys : tuple of str
         Tag keys of interest: objects with none of them are skipped (but for the member ways of
         multipolygons, which the assembler needs).
-    node_index : str, optional
-        An osmium location index type (``"flex_mem"``, ``"sparse_file_array,/tmp/x.idx"``...);
-        default: in memory up to :data:`IN_MEMORY_INDEX_BYTES`, else a sparse file array in a
-        temporary directory.
     progress : callable, optional
         ``progress("read", objects)`` every 50,000 objects handed over by osmium.
 
@@ -440,13 +435,14 @@ def read_extract(
         If osmium cannot read the file (truncated, damaged, malformed), or it is unsorted and larger
         than :data:`MAX_SORT_BYTES`.
     """
-    path = Path(path)
+    path, fmt = osm_file.path, osm_file.format
+    most_nodes = osm_file.data_bytes // _FEWEST_BYTES_PER_NODE[fmt]
 
     def collector(duplicates: frozenset[tuple[str, int]]) -> _Collector:
         return _Collector(window, keys, _RelationMembers(), duplicates)
 
     try:
-        return _stream(path, path, fmt, collector(frozenset()), node_index=node_index, progress=progress)
+        return _stream(path, path, fmt, collector(frozenset()), most_nodes=most_nodes, progress=progress)
     except _UnsortedError as exc:
         problem = str(exc)
     size = os.path.getsize(path)
@@ -461,7 +457,7 @@ def read_extract(
         duplicates = _sorted_copy(path, fmt, target)
         try:
             return _stream(
-                target, path, "pbf", collector(duplicates), node_index=node_index, progress=progress
+                target, path, "pbf", collector(duplicates), most_nodes=most_nodes, progress=progress
             )
         except _UnsortedError as exc:  # not expected of a sorted copy; say so rather than loop
             raise CityMapError(f"{path} could not be read even sorted ({exc})") from None

@@ -261,6 +261,30 @@ def test_truncated_pbf_and_gzip_are_refused(tmp_path: Path) -> None:
         read_osm(gz)
 
 
+def test_decompression_bombs_are_refused(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr("navverse.city.osm_files._RATIO_FREE", 0)  # the ratio applies from the first byte
+    bomb = tmp_path / "bomb.osm.gz"
+    bomb.write_bytes(gzip.compress(b"<?xml version='1.0'?>\n<osm>" + b" " * 2_000_000 + b"</osm>\n"))
+    with pytest.raises(CityMapError, match="decompression bomb"):
+        read_osm(bomb)
+    monkeypatch.setattr("navverse.city.osm_files.MAX_RATIO", 1)
+    pbf = _to_pbf(RAW / "west-oakland.osm", tmp_path / "w.osm.pbf")
+    with pytest.raises(CityMapError, match="decompression bomb"):
+        read_osm(pbf, center=(37.8076, -122.3004))
+
+
+def test_damaged_pbf_block_header_is_refused(tmp_path: Path) -> None:
+    data = _to_pbf(RAW / "west-oakland.osm", tmp_path / "w.osm.pbf").read_bytes()
+    header_length = int.from_bytes(data[:4], "big")
+    header = data[4 : 4 + header_length]
+    assert header[-2] == 0x18  # its last field is the block's size, a one-byte number in this file
+    second = 4 + header_length + header[-1]
+    damaged = tmp_path / "d.osm.pbf"
+    damaged.write_bytes(data[:second] + b"\xff\xff\xff\xff" + data[second + 4 :])  # the next header's length
+    with pytest.raises(CityMapError, match="not a valid PBF file"):
+        read_osm(damaged, center=(37.8076, -122.3004))
+
+
 def test_entity_expansion_is_refused_before_parsing(tmp_path: Path) -> None:
     bomb = (
         '<?xml version="1.0"?>\n<!DOCTYPE osm [\n <!ENTITY a "aaaaaaaaaa">\n'
@@ -498,7 +522,7 @@ def test_unsorted_file_too_large_to_sort_says_how(tmp_path: Path, monkeypatch: p
 
 
 def test_large_files_keep_node_locations_on_disk(junction: CityMap, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr("navverse.city.osm_read.IN_MEMORY_INDEX_BYTES", 0)
+    monkeypatch.setattr("navverse.city.osm_read.IN_MEMORY_INDEX_NODES", 0)
     on_disk = read_osm(T_JUNCTION, center=(48.0, 11.0), size_m=(200.0, 200.0))
     assert on_disk == junction
 
