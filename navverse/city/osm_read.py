@@ -47,6 +47,7 @@ import osmium.filter
 import osmium.geom
 import osmium.index
 import osmium.osm
+import shapely
 
 from navverse.city.map import CityMapError
 from navverse.city.osm_files import OSMIUM_ERRORS, OsmFile, Progress, osmium_failure
@@ -197,6 +198,18 @@ def _way_envelope(way: Any) -> LonLatBox | None:
     return (min(lons), min(lats), max(lons), max(lats))
 
 
+def _area_envelope(area: Any) -> LonLatBox | None:
+    """A multipolygon's lat/lon envelope from the WKB osmium builds in C++ (None: not assembled)."""
+    try:
+        geometry = shapely.from_wkb(_WKB.create_multipolygon(area))
+    except OSMIUM_ERRORS:
+        return None
+    if geometry.is_empty:
+        return None
+    low_lon, low_lat, high_lon, high_lat = shapely.bounds(geometry).tolist()
+    return (low_lon, low_lat, high_lon, high_lat)
+
+
 def _way_geometry(way: Any) -> tuple[tuple[int, ...], list[float], list[float]]:
     """A way's node ids and positions, node by node (NaN for a node without a location)."""
     refs, lons, lats = [], [], []
@@ -238,7 +251,6 @@ class _Collector:
         self.extract = OsmExtract()
         self.member_ways_in_window: set[int] = set()
         self.expected_relations: set[int] = set()
-        self.empty_relations: set[int] = set()
 
     def _relevant(self, tags: Any) -> bool:
         return any(key in tags for key in self.keys)
@@ -306,30 +318,23 @@ class _Collector:
         if area.from_way():
             return  # closed ways are read as ways, so broken rings can be repaired
         relation_id = area.orig_id()
-        polygons, lons_all, lats_all = [], [], []
-        for outer in area.outer_rings():
-            ring = [(n.ref, n.lon, n.lat) for n in outer]
-            inners = [[(n.lon, n.lat) for n in inner] for inner in area.inner_rings(outer)]
-            polygons.append((ring, inners))
-            lons_all += [p[1] for p in ring]
-            lats_all += [p[2] for p in ring]
-        if not polygons:
-            self.empty_relations.add(relation_id)
-            return
-        box = (min(lons_all), min(lats_all), max(lons_all), max(lats_all))
+        box = _area_envelope(area)
+        if box is None:
+            return  # not assembled: finish() counts it if the window needed it
         self.extract.extend(box)
-        if not self.window.meets(box):
+        if not self.window.meets(box) or not self._first("r", relation_id, self.extract.multipolygons):
             return
-        if not self._first("r", relation_id, self.extract.multipolygons):
-            return
-        projected = []
-        for ring, inners in polygons:
-            outer_xy = self.window.project([p[1] for p in ring], [p[2] for p in ring])
-            inner_xy = [self.window.project([p[0] for p in h], [p[1] for p in h]) for h in inners]
-            projected.append((outer_xy, inner_xy))
-        refs = [frozenset(p[0] for p in ring) for ring, _ in polygons]
+        polygons, outer_refs = [], []
+        for outer in area.outer_rings():
+            outer_refs.append(frozenset(n.ref for n in outer))
+            outer_xy = self.window.project(*zip(*[(n.lon, n.lat) for n in outer], strict=True))
+            inners = [
+                self.window.project(*zip(*[(n.lon, n.lat) for n in inner], strict=True))
+                for inner in area.inner_rings(outer)
+            ]
+            polygons.append((outer_xy, inners))
         self.extract.multipolygons[relation_id] = OsmMultipolygon(
-            relation_id, dict(area.tags), projected, refs
+            relation_id, dict(area.tags), polygons, outer_refs
         )
 
     def finish(self) -> OsmExtract:
