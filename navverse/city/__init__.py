@@ -1,2 +1,4 @@
-"""Outdoor cities: the city map contract (:mod:`.map`) and OpenStreetMap tags read as numbers and
-rules (:mod:`.tags`)."""
+"""Outdoor cities: the city map contract (:mod:`.map`), OpenStreetMap tags read as numbers and rules
+(:mod:`.tags`), and city maps read from local OSM files (:func:`.osm.read_osm`, with file checks in
+:mod:`.osm_files`, the window in :mod:`.osm_window`, streaming in :mod:`.osm_read`, tag tables in
+:mod:`.osm_classes`, geometry in :mod:`.osm_geometry` and the features in :mod:`.osm_features`)."""

@@ -106,6 +106,7 @@ class _Outline:
 
     @property
     def key(self) -> tuple[int, int]:
+        """(type rank, OSM id): the order features are numbered in."""
         return TYPE_RANK[self.osm_type], self.osm_id
 
 
@@ -149,6 +150,7 @@ class _Builder:
         return fields, reverse
 
     def roads(self) -> tuple[list[Road], dict[int, list[tuple[str, Any]]]]:
+        """Roads, numbered, and for each road way its pieces (id, line) for the crossings."""
         drafts: list[tuple[Key, dict[str, Any]]] = []
         for way in self.ways:
             if tag_value(way.tags, "highway") not in ROAD_HIGHWAYS or is_area(way.tags):
@@ -171,6 +173,7 @@ class _Builder:
         return roads, by_way
 
     def walkways(self) -> list[Walkway]:
+        """Walkways (sidewalks, footways, paths, steps, crossings, cycleways, pedestrian ways)."""
         drafts: list[tuple[Key, dict[str, Any]]] = []
         for way in self.ways:
             kind = walkway_kind(way.tags)
@@ -192,6 +195,7 @@ class _Builder:
         return _numbered(drafts, "walkway", Walkway)
 
     def crossings(self, roads_by_way: dict[int, list[tuple[str, Any]]]) -> list[Crossing]:
+        """Crossing nodes on a road way, each naming the road piece it lies on."""
         nodes = {n.id: n for n in self.nodes if tag_value(n.tags, "highway") == "crossing"}
         on_ways: dict[int, set[int]] = {}
         for way in self.ways:
@@ -272,6 +276,7 @@ class _Builder:
         return _Outline("relation", relation.id, relation.tags, kind, geometry, relation.refs)
 
     def outlines(self) -> list[_Outline]:
+        """Building and land-class polygons of multipolygons and closed ways, repaired, in id order."""
         outlines: list[_Outline] = []
         relation_rings: set[tuple[str, frozenset[int]]] = set()
         for relation_id in sorted(self.extract.multipolygons):
@@ -293,6 +298,7 @@ class _Builder:
         return outlines
 
     def areas(self, outlines: list[_Outline]) -> list[LandArea]:
+        """Land areas: the land-class outlines clipped to the window, a feature per part."""
         drafts: list[tuple[Key, dict[str, Any]]] = []
         for outline in outlines:
             if outline.kind == "building":
@@ -329,6 +335,7 @@ class _Builder:
         return {"height": height, "base_height": base, "height_source": source, "levels": levels}
 
     def buildings(self, outlines: list[_Outline]) -> tuple[list[Building], list[tuple[Key, str, Polygon]]]:
+        """Buildings (a feature per clipped part) and, per part, its key, id and shape for the POIs."""
         entrances = {n.id: n.xy for n in self.nodes if tag_value(n.tags, "entrance") not in (None, "no")}
         drafts: list[tuple[Key, dict[str, Any]]] = []
         shapes: dict[Key, Polygon] = {}
@@ -353,6 +360,7 @@ class _Builder:
     # Points --------------------------------------------------------------------------------------
 
     def pois(self, outlines: list[_Outline], buildings: list[tuple[Key, str, Polygon]]) -> list[Poi]:
+        """Places of building outlines (inside them) and of nodes (naming the building they are in)."""
         drafts: list[tuple[Key, dict[str, Any]]] = []
         first_part = {key[:2]: (building_id, shape) for key, building_id, shape in buildings if key[2] == 0}
         for outline in outlines:
@@ -402,6 +410,7 @@ class _Builder:
         }
 
     def furniture(self) -> list[StreetFurniture]:
+        """Street furniture nodes."""
         drafts: list[tuple[Key, dict[str, Any]]] = []
         for node in self.nodes:
             kind = furniture_kind(node.tags)

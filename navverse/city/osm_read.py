@@ -163,6 +163,7 @@ class _RelationMembers:
         self.ways = _Ids()
 
     def relation(self, relation: Any) -> None:
+        """Note the member ways of a multipolygon relation (osmium's first pass reads relations)."""
         if relation.tags.get("type") != "multipolygon":
             return
         for member in relation.members:
@@ -265,6 +266,7 @@ class _Collector:
         return True
 
     def node(self, node: Any) -> None:
+        """Keep a tagged node of interest that lies in the window."""
         location = node.location
         if not location.valid():
             self.extract.dropped["node without a valid location (anywhere in the file)"] += 1
@@ -281,6 +283,7 @@ class _Collector:
         self.extract.nodes[node.id] = OsmNode(node.id, (x, y), dict(node.tags))
 
     def way(self, way: Any) -> None:
+        """Keep a way of interest whose envelope meets the window; note multipolygon members there."""
         relevant, member = self._relevant(way.tags), way.id in self.members.ways
         if not (relevant or member):
             return
@@ -309,12 +312,14 @@ class _Collector:
         self.extract.ways[way.id] = OsmWay(way.id, dict(way.tags), refs, xy)
 
     def relation(self, relation: Any) -> None:
+        """Expect an assembled multipolygon for a relation with a member way in the window."""
         if relation.tags.get("type") != "multipolygon":
             return
         if any(m.type == "w" and m.ref in self.member_ways_in_window for m in relation.members):
             self.expected_relations.add(relation.id)
 
     def area(self, area: Any) -> None:
+        """Keep a multipolygon of interest assembled by osmium whose envelope meets the window."""
         if area.from_way():
             return  # closed ways are read as ways, so broken rings can be repaired
         relation_id = area.orig_id()
@@ -338,6 +343,7 @@ class _Collector:
         )
 
     def finish(self) -> OsmExtract:
+        """The extract, with the multipolygons the window needed but osmium could not assemble counted."""
         missing = self.expected_relations - set(self.extract.multipolygons)
         if missing:
             self.extract.dropped["multipolygon that could not be assembled"] += len(missing)
@@ -444,6 +450,7 @@ def read_extract(
     most_nodes = osm_file.data_bytes // _FEWEST_BYTES_PER_NODE[fmt]
 
     def collector(duplicates: frozenset[tuple[str, int]]) -> _Collector:
+        """A fresh collector (each read starts from nothing)."""
         return _Collector(window, keys, _RelationMembers(), duplicates)
 
     try:
