@@ -89,6 +89,8 @@ class Window:
 
 
 def _pair(value: object, what: str) -> tuple[float, float]:
+    if isinstance(value, (str, bytes)):
+        raise CityMapError(f"{what} must be two numbers, not the text {value!r}")
     try:
         first, second = (float(v) for v in value)  # type: ignore[attr-defined]
     except (TypeError, ValueError):
@@ -115,6 +117,8 @@ def _ring_points(rect: tuple[float, float, float, float], steps: int = 16) -> tu
 
 
 def _bbox(bbox: object) -> tuple[float, float, float, float]:
+    if isinstance(bbox, (str, bytes)):
+        raise CityMapError(f"bbox must be four numbers (min_lat, min_lon, max_lat, max_lon), not {bbox!r}")
     try:
         min_lat, min_lon, max_lat, max_lon = (float(v) for v in bbox)  # type: ignore[attr-defined]
     except (TypeError, ValueError):

@@ -379,6 +379,10 @@ def test_bad_window_arguments_are_refused() -> None:
         read_osm(T_JUNCTION, bbox=(48.1, 10.9, 47.9, 11.1))
     with pytest.raises(CityMapError, match="seed"):
         read_osm(T_JUNCTION, seed=-1)
+    with pytest.raises(CityMapError, match="two numbers"):
+        read_osm(T_JUNCTION, center="48")
+    with pytest.raises(CityMapError, match="four numbers"):
+        read_osm(T_JUNCTION, bbox="1234")
 
 
 def test_no_roads_or_buildings_is_an_error(tmp_path: Path) -> None:
