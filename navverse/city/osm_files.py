@@ -1,0 +1,382 @@
+"""Checks of an OpenStreetMap file before a parser opens it, and what osmium's errors mean.
+
+:func:`check_osm_file` makes sure a file is a regular file of at most :data:`MAX_OSM_BYTES` whose
+content matches its name (``.osm`` OSM XML, ``.osm.gz`` gzipped OSM XML, ``.osm.pbf`` PBF), and
+measures how much data it holds once decompressed, without parsing it:
+
+- XML: an XML file whose prolog holds a ``<!DOCTYPE`` (where entity declarations live, which can
+  expand without bound) is refused, and one that does not end with ``</osm>`` is truncated;
+- gzip: the file is decompressed once as a stream (constant memory) to check the same of the XML it
+  holds, to find a truncated stream, and to refuse a decompression bomb (more than
+  :data:`MAX_OSM_BYTES` of XML, or more than :data:`MAX_RATIO` times the file's size);
+- PBF: the blob headers are walked (no decompression) to find a truncated or malformed file and
+  to sum the blobs' decompressed sizes, with the same bomb limits.
+
+What osmium still finds wrong while reading (malformed XML, bad ids or coordinates, damaged blobs)
+becomes a :class:`~navverse.city.map.CityMapError` naming the file (:func:`osmium_failure`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import os
+import re
+import zlib
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO
+
+import osmium
+import osmium.io
+import osmium.osm
+
+from navverse.city.map import CityMapError
+from navverse.city.osm_window import LonLatBox
+from navverse.files import regular_file_problem
+
+__all__ = [
+    "MAX_OSM_BYTES",
+    "MAX_RATIO",
+    "OSMIUM_ERRORS",
+    "PROLOG_LIMIT",
+    "OsmFile",
+    "Progress",
+    "check_osm_file",
+    "file_bounds",
+    "file_sha256",
+    "osmium_failure",
+]
+
+MAX_OSM_BYTES = 16 * 1024**3
+"""Largest OSM file read (bytes): a large country's PBF; cut a smaller extract from anything larger."""
+PROLOG_LIMIT = 64 * 1024
+"""Bytes of an XML file scanned before its root element (XML declaration, comments)."""
+MAX_RATIO = 100
+"""Most data a compressed file may decompress to, per byte, once past :data:`_RATIO_FREE` bytes:
+OSM XML gzips about 10:1 and PBF blobs 3:1; far more is a decompression bomb."""
+_RATIO_FREE = 64 * 1024**2
+_CHUNK = 1024 * 1024
+_TAIL = 4096
+_MAX_BLOB_HEADER = 64 * 1024
+_MAX_BLOB = 32 * 1024**2
+
+Progress = Callable[[str, int], None]
+"""``progress(phase, done)``: ``"checksum"`` with bytes hashed, ``"read"`` with OSM objects read."""
+
+OSMIUM_ERRORS: tuple[type[Exception], ...] = (
+    RuntimeError,
+    ValueError,
+    OSError,
+    osmium.InvalidLocationError,
+)
+"""What osmium raises on bad input (libosmium's io, xml and pbf errors, ``illegal id: 'abc'``,
+unreadable coordinates): each is turned into a :class:`CityMapError` naming the file."""
+
+_SUFFIXES = ((".osm.pbf", "pbf"), (".osm.gz", "xml.gz"), (".osm", "xml"))
+_CONTENT_NAMES = {
+    "pbf": "PBF data (name it .osm.pbf)",
+    "gzip": "gzip data (name it .osm.gz if it is gzipped OSM XML)",
+    "xml": "XML (name it .osm if it is OSM XML)",
+    "bzip2": "bzip2 data (unpack it with bunzip2 and read the .osm)",
+}
+_EXPECTED = {"pbf": "pbf", "xml.gz": "gzip", "xml": "xml"}
+_NAMES = {"pbf": ".osm.pbf", "xml.gz": ".osm.gz", "xml": ".osm"}
+
+
+def _content_kind(head: bytes) -> str:
+    """What the first bytes of a file hold: pbf, gzip, bzip2, xml, empty or unknown."""
+    if not head:
+        return "empty"
+    if head[:2] == b"\x1f\x8b":
+        return "gzip"
+    if head[:3] == b"BZh":
+        return "bzip2"
+    if len(head) >= 15 and head[4:15] == b"\x0a\x09OSMHeader":
+        return "pbf"
+    if head.removeprefix(b"\xef\xbb\xbf").lstrip(b" \t\r\n")[:1] == b"<":
+        return "xml"
+    return "unknown"
+
+
+def _osm_format(path: Path) -> str:
+    name = path.name.lower()
+    for suffix, fmt in _SUFFIXES:
+        if name.endswith(suffix):
+            return fmt
+    raise CityMapError(
+        f"{path} is not named as an OSM file: use .osm (OSM XML), .osm.gz (gzipped OSM XML) or .osm.pbf"
+    )
+
+
+def _check_prolog(head: bytes, path: Path, *, complete: bool) -> None:
+    """Refuse XML whose prolog declares a DOCTYPE, or whose root element is not ``<osm>``.
+
+    Walks the prolog token by token (XML declaration, processing instructions, comments) up to the
+    root element, so a DOCTYPE anywhere before it is found, and a prolog longer than the scanned
+    bytes is refused rather than parsed blind.
+    """
+    text, i = head.removeprefix(b"\xef\xbb\xbf"), 0
+    too_long = f"{path}: no <osm> root element in the first {PROLOG_LIMIT // 1024} KiB of XML"
+    while True:
+        while i < len(text) and text[i : i + 1] in b" \t\r\n":
+            i += 1
+        if i >= len(text):
+            raise CityMapError(too_long if not complete else f"{path} holds no XML element: not OSM XML")
+        if text.startswith(b"<?", i) or text.startswith(b"<!--", i):
+            end_mark = b"?>" if text.startswith(b"<?", i) else b"-->"
+            end = text.find(end_mark, i + 2)
+            if end < 0:
+                raise CityMapError(too_long if not complete else f"{path} ends inside its XML prolog")
+            i = end + len(end_mark)
+            continue
+        if text.startswith(b"<!", i):
+            raise CityMapError(
+                f"{path} declares a <!DOCTYPE> (entity declarations can expand without bound): "
+                "refused; OSM XML needs none, remove it"
+            )
+        match = re.match(rb"<([A-Za-z_][A-Za-z0-9_.:-]*)", text[i:])
+        if match is None:
+            raise CityMapError(f"{path} is not well-formed XML at byte {i}: not OSM XML")
+        if match.group(1) != b"osm":
+            root = match.group(1).decode("ascii", "replace")
+            raise CityMapError(f"{path} is XML but not OSM XML: its root element is <{root}>, not <osm>")
+        return
+
+
+def _check_xml_tail(tail: bytes, path: Path) -> None:
+    """Report XML whose last bytes are not its root's end tag (comments may follow) as truncated."""
+    tail = tail.rstrip()
+    while tail.endswith(b"-->") and b"<!--" in tail:
+        tail = tail[: tail.rfind(b"<!--")].rstrip()
+    if not (tail.endswith(b"</osm>") or re.search(rb"<osm\b[^<>]*/>$", tail)):
+        raise CityMapError(
+            f"{path} ends before </osm>: the file is truncated (an interrupted download or copy?); "
+            "fetch or export it again"
+        )
+
+
+def _bomb(path: Path, size: int, compressed: int) -> CityMapError | None:
+    if size > MAX_OSM_BYTES or (size > _RATIO_FREE and size > MAX_RATIO * compressed):
+        return CityMapError(
+            f"{path} decompresses to more than {min(size, MAX_OSM_BYTES) / 1024**2:.0f} MiB from "
+            f"{compressed / 1024**2:.1f} MiB (over {MAX_RATIO}:1 or {MAX_OSM_BYTES / 1024**3:.0f} GiB): "
+            "refused as a decompression bomb; cut a smaller extract"
+        )
+    return None
+
+
+def _gzip_scan(path: Path) -> tuple[bytes, bytes, int]:
+    """The first :data:`PROLOG_LIMIT` bytes, the last bytes and the size of what a gzip file holds,
+    decompressed as a stream (members one after the other, as ``gzip`` writes them)."""
+    compressed = os.path.getsize(path)
+    head, tail, size = bytearray(), b"", 0
+    decompressor, fed = zlib.decompressobj(zlib.MAX_WBITS | 16), False
+    with open(path, "rb") as handle:
+        while chunk := handle.read(_CHUNK):
+            pending = chunk
+            while pending:
+                try:
+                    out = decompressor.decompress(pending, _CHUNK)
+                except zlib.error as exc:
+                    raise CityMapError(f"{path} is a damaged gzip file ({exc}); fetch it again") from None
+                fed = True
+                size += len(out)
+                if len(head) < PROLOG_LIMIT:
+                    head += out[: PROLOG_LIMIT - len(head)]
+                tail = (tail + out)[-_TAIL:]
+                if (error := _bomb(path, size, compressed)) is not None:
+                    raise error
+                if decompressor.eof:
+                    pending = decompressor.unused_data
+                    decompressor, fed = zlib.decompressobj(zlib.MAX_WBITS | 16), False
+                    if pending and not pending.startswith(b"\x1f\x8b"):
+                        pending = b""  # trailing bytes after the last member, as gzip ignores them
+                else:
+                    pending = decompressor.unconsumed_tail
+    if fed:
+        raise CityMapError(f"{path} ends inside its gzip stream: the file is truncated; fetch it again")
+    return bytes(head), tail, size
+
+
+def _truncated_pbf(path: Path) -> CityMapError:
+    return CityMapError(f"{path} ends inside a PBF block: the file is truncated; fetch it again")
+
+
+def _varint(stream: IO[bytes], path: Path) -> int:
+    value, shift = 0, 0
+    while True:
+        byte = stream.read(1)
+        if not byte:
+            raise _truncated_pbf(path)
+        value |= (byte[0] & 0x7F) << shift
+        if byte[0] < 0x80:
+            return value
+        shift += 7
+        if shift > 63:
+            raise CityMapError(f"{path} is not a valid PBF file (a malformed number)")
+
+
+def _fields(stream: IO[bytes], end: int, path: Path) -> dict[int, int]:
+    """The fields of a protobuf message ending at offset ``end``: varints as their value, other
+    fields as their length (their bytes are skipped, never read)."""
+    fields: dict[int, int] = {}
+    while stream.tell() < end:
+        key = _varint(stream, path)
+        field, wire = key >> 3, key & 7
+        if wire == 0:
+            fields[field] = _varint(stream, path)
+        elif wire == 2:
+            fields[field] = _varint(stream, path)
+            stream.seek(fields[field], os.SEEK_CUR)
+        else:
+            raise CityMapError(f"{path} is not a valid PBF file (a field of wire type {wire})")
+    return fields
+
+
+def _pbf_block(handle: IO[bytes], size: int, path: Path) -> int:
+    """Walk one PBF block (header length, ``BlobHeader``, ``Blob``): its decompressed size."""
+    if size - handle.tell() < 4:
+        raise _truncated_pbf(path)
+    length = int.from_bytes(handle.read(4), "big")
+    if not 0 < length <= _MAX_BLOB_HEADER:
+        raise CityMapError(f"{path} is not a valid PBF file (a block header of {length} bytes)")
+    header = handle.read(length)
+    if len(header) < length:
+        raise _truncated_pbf(path)
+    fields = _fields(io.BytesIO(header), length, path)  # 1: type, 3: datasize
+    datasize = fields.get(3, 0)
+    if 1 not in fields or not 0 < datasize <= _MAX_BLOB:
+        raise CityMapError(f"{path} is not a valid PBF file (a block of {datasize} bytes)")
+    start = handle.tell()
+    if start + datasize > size:
+        raise _truncated_pbf(path)
+    blob = _fields(handle, start + datasize, path)  # 1: raw data, 2: raw_size of compressed data
+    handle.seek(start + datasize)
+    raw = blob.get(2, blob.get(1, 0))
+    if raw > _MAX_BLOB:
+        raise CityMapError(f"{path} is not a valid PBF file (a block of {raw} bytes decompressed)")
+    return raw
+
+
+def _pbf_scan(path: Path) -> int:
+    """The decompressed size of a PBF file's blocks, from their headers (their data is skipped, not
+    read); a block reaching past the end of the file means the file is truncated."""
+    size = os.path.getsize(path)
+    total = 0
+    with open(path, "rb") as handle:
+        while handle.tell() < size:
+            total += _pbf_block(handle, size, path)
+            if (error := _bomb(path, total, size)) is not None:
+                raise error
+    return total
+
+
+@dataclass(frozen=True)
+class OsmFile:
+    """An OSM file that passed :func:`check_osm_file`.
+
+    Attributes
+    ----------
+    path : Path
+        The file.
+    format : str
+        ``"xml"``, ``"xml.gz"`` or ``"pbf"``.
+    data_bytes : int
+        What it holds decompressed: the XML text, or the sum of the PBF blocks.
+    """
+
+    path: Path
+    format: str
+    data_bytes: int
+
+
+def check_osm_file(path: str | os.PathLike[str]) -> OsmFile:
+    """Check an OSM file before any parser opens it: what it is and how much data it holds.
+
+    Parameters
+    ----------
+    path : path
+        A ``.osm``, ``.osm.gz`` or ``.osm.pbf`` file.
+
+    Returns
+    -------
+    OsmFile
+        Its format and decompressed size.
+
+    Raises
+    ------
+    CityMapError
+        If the file is missing, not a regular file, too large, empty, named for one format and holding
+        another, truncated, a decompression bomb, or XML with a DOCTYPE or a root other than ``<osm>``.
+    """
+    path = Path(path)
+    problem = regular_file_problem(path, max_bytes=MAX_OSM_BYTES, what="OSM file")
+    if problem:
+        raise CityMapError(problem)
+    fmt = _osm_format(path)
+    with open(path, "rb") as handle:
+        head = handle.read(PROLOG_LIMIT)
+    kind = _content_kind(head)
+    if kind == "empty":
+        raise CityMapError(f"{path} is empty")
+    if kind != _EXPECTED[fmt]:
+        found = _CONTENT_NAMES.get(kind, "something that is neither OSM XML, gzip nor PBF")
+        raise CityMapError(f"{path} is named {_NAMES[fmt]} but holds {found}")
+    if fmt == "pbf":
+        return OsmFile(path, fmt, _pbf_scan(path))
+    if fmt == "xml":
+        size = os.path.getsize(path)
+        with open(path, "rb") as handle:
+            handle.seek(max(0, size - _TAIL))
+            tail = handle.read()
+    else:
+        head, tail, size = _gzip_scan(path)
+        if _content_kind(head) != "xml":
+            raise CityMapError(f"{path} is gzip, but what it holds is not OSM XML")
+    _check_prolog(head, path, complete=len(head) < PROLOG_LIMIT)
+    _check_xml_tail(tail, path)
+    return OsmFile(path, fmt, size)
+
+
+def file_sha256(path: str | os.PathLike[str], *, progress: Progress | None = None) -> str:
+    """The sha256 of a file, hex, read in 1 MiB chunks (``progress("checksum", bytes)`` per 64 MiB)."""
+    digest, done = hashlib.sha256(), 0
+    with open(path, "rb") as handle:
+        while chunk := handle.read(1024 * 1024):
+            digest.update(chunk)
+            done += len(chunk)
+            if progress is not None and done % (64 * 1024 * 1024) < len(chunk):
+                progress("checksum", done)
+    return digest.hexdigest()
+
+
+def osmium_failure(path: Path, fmt: str, exc: Exception) -> CityMapError:
+    """The :class:`CityMapError` for an error osmium raised reading ``path`` (of format ``fmt``)."""
+    message = str(exc)
+    lowered = message.lower()
+    ends = ("eof", "truncated", "no element found", "unclosed token", "gzip error", "read close failed")
+    what = {"pbf": "OSM PBF", "xml": "OSM XML", "xml.gz": "gzipped OSM XML"}[fmt]
+    if any(word in lowered for word in ends):
+        return CityMapError(
+            f"{path} ends early or is damaged ({message}): the file is truncated or corrupt; "
+            "fetch or export it again"
+        )
+    return CityMapError(f"{path} cannot be read as {what} ({message}): fix the file or export it again")
+
+
+def file_bounds(path: str | os.PathLike[str], fmt: str) -> LonLatBox | None:
+    """The data bounds the file's header declares (``<bounds>``, the PBF header bbox), or None."""
+    try:
+        reader = osmium.io.Reader(str(path), osmium.osm.NOTHING)
+        try:
+            box = reader.header().box()
+        finally:
+            reader.close()
+    except OSMIUM_ERRORS as exc:
+        raise osmium_failure(Path(path), fmt, exc) from None
+    if not box.valid():
+        return None
+    low, high = box.bottom_left, box.top_right
+    return (low.lon, low.lat, high.lon, high.lat)

@@ -1,0 +1,584 @@
+"""Reading city maps from OSM files: a hand-laid T-junction, the real extracts, hostile and messy input."""
+
+from __future__ import annotations
+
+import gzip
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import osmium
+import pytest
+from pyproj import Transformer
+from shapely.geometry import Polygon
+
+from navverse.city.map import CityMap, CityMapError, read_city_map, write_city_map
+from navverse.city.osm import OSM_ATTRIBUTION, read_osm
+from navverse.city.osm_classes import (
+    drawn_storeys,
+    kerb_of,
+    land_class,
+    parking_sides,
+    poi_of,
+    walkway_kind,
+)
+from navverse.city.osm_files import PROLOG_LIMIT
+from navverse.city.osm_geometry import clip_polyline
+from navverse.city.osm_window import utm_epsg
+
+DATA = Path(__file__).parent / "data"
+T_JUNCTION = DATA / "t_junction.osm"
+RAW = Path(__file__).parents[3] / "data" / "raw" / "osm"
+EXTRACTS = {  # file: (UTM EPSG, minimum roads, minimum buildings)
+    "aguascalientes.osm": (32613, 100, 1),
+    "west-oakland.osm": (32610, 15, 20),
+    "kirchberg-an-der-iller.osm": (32632, 10, 30),
+}
+
+_TO_LONLAT = Transformer.from_crs("EPSG:32632", "EPSG:4326", always_xy=True)
+_ORIGIN = Transformer.from_crs("EPSG:4326", "EPSG:32632", always_xy=True).transform(11.0, 48.0)
+
+
+def _area(polygon) -> float:
+    return Polygon(polygon.exterior, polygon.holes).area
+
+
+def _osm_xml(nodes: dict, ways: dict, relations: dict | None = None) -> str:
+    """OSM XML from nodes {id: (x, y, tags)} in meters around 48 N 11 E, ways {id: (refs, tags)} and
+    relations {id: (members [(type, ref, role)], tags)}."""
+    lines = ["<?xml version='1.0' encoding='UTF-8'?>", '<osm version="0.6">']
+    lines.append('  <bounds minlat="47.998" minlon="10.997" maxlat="48.002" maxlon="11.003"/>')
+
+    def tags_xml(tags: dict) -> list[str]:
+        return [f'    <tag k="{k}" v="{v}"/>' for k, v in tags.items()]
+
+    for node_id, (x, y, tags) in nodes.items():
+        lon, lat = _TO_LONLAT.transform(_ORIGIN[0] + x, _ORIGIN[1] + y)
+        lines += [f'  <node id="{node_id}" lat="{lat:.7f}" lon="{lon:.7f}">', *tags_xml(tags), "  </node>"]
+    for way_id, (refs, tags) in ways.items():
+        lines += [
+            f'  <way id="{way_id}">',
+            *[f'    <nd ref="{r}"/>' for r in refs],
+            *tags_xml(tags),
+            "  </way>",
+        ]
+    for relation_id, (members, tags) in (relations or {}).items():
+        lines.append(f'  <relation id="{relation_id}">')
+        lines += [f'    <member type="{t}" ref="{r}" role="{role}"/>' for t, r, role in members]
+        lines += [*tags_xml(tags), "  </relation>"]
+    return "\n".join([*lines, "</osm>", ""])
+
+
+def _write(path: Path, text: str) -> Path:
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _to_pbf(source: Path, target: Path) -> Path:
+    writer = osmium.SimpleWriter(str(target))
+    try:
+        for obj in osmium.FileProcessor(str(source)):
+            {"n": writer.add_node, "w": writer.add_way, "r": writer.add_relation}[obj.type_str()](obj)
+    finally:
+        writer.close()
+    return target
+
+
+def _without_source(city: CityMap) -> dict:
+    data = city.model_dump(mode="json", by_alias=True)
+    data.pop("source")
+    return data
+
+
+@pytest.fixture(scope="module")
+def junction() -> CityMap:
+    return read_osm(T_JUNCTION, center=(48.0, 11.0), size_m=(200.0, 200.0))
+
+
+# The hand-laid T-junction ------------------------------------------------------------------------
+
+
+def test_junction_frame_source_and_window(junction: CityMap) -> None:
+    assert junction.frame.epsg == 32632
+    assert (junction.frame.origin_lat, junction.frame.origin_lon) == (48.0, 11.0)
+    assert junction.window == (-100.0, -100.0, 100.0, 100.0)
+    assert junction.source.kind == "osm" and junction.source.name == "t_junction.osm"
+    assert junction.source.attribution == OSM_ATTRIBUTION
+    assert len(junction.source.sha256) == 64
+    assert junction.dropped == {}
+
+
+def test_junction_roads_widths_and_sidewalks(junction: CityMap) -> None:
+    main, side = junction.roads
+    assert main.osm == "way/100" and main.name == "Hauptstraße" and main.surface == "asphalt"
+    assert (main.width, main.width_source, main.lanes) == (7.0, "width", 2)
+    assert (main.sidewalk_left, main.sidewalk_right, main.sidewalk_source) == (1.5, 1.5, "tags")
+    assert side.osm == "way/101"
+    assert (side.width, side.width_source, side.lanes) == (6.5, "default", None)
+    assert (side.sidewalk_left, side.sidewalk_right, side.sidewalk_source) == (1.5, 1.5, "rule")
+    # local meters: the main street runs west to east through the origin, within centimetres
+    assert main.centerline.points[0] == pytest.approx((-80.0, 0.0), abs=0.02)
+    assert main.centerline.points[-1] == pytest.approx((80.0, 0.0), abs=0.02)
+    assert side.centerline.length == pytest.approx(80.0, abs=0.05)
+
+
+def test_junction_crossing_names_its_road(junction: CityMap) -> None:
+    (crossing,) = junction.crossings
+    assert crossing.osm == "node/4"
+    assert crossing.road == junction.roads[0].id
+    assert crossing.kerb == "raised"
+    assert crossing.position == pytest.approx((-20.0, 0.0), abs=0.02)
+    (walkway,) = junction.walkways
+    assert (walkway.kind, walkway.width) == ("crossing", 2.0)
+
+
+def test_junction_buildings_heights_hole_and_entrance(junction: CityMap) -> None:
+    by_osm = {b.osm: b for b in junction.buildings}
+    shop, house, courtyard = by_osm["way/110"], by_osm["way/111"], by_osm["relation/200"]
+    assert (shop.height, shop.height_source) == (12.0, "height")
+    assert (house.height, house.height_source, house.levels) == (9.0, "levels", 3.0)
+    assert (courtyard.height, courtyard.levels) == (12.0, 4.0)
+    assert len(courtyard.footprint.holes) == 1
+    assert _area(courtyard.footprint) == pytest.approx(40 * 40 - 20 * 20, rel=0.01)
+    assert shop.entrances == [pytest.approx((25.0, -10.0), abs=0.02)]
+    # the relation's untagged member ways are not buildings of their own
+    assert len(junction.buildings) == 3
+
+
+def test_junction_park_poi_and_tree(junction: CityMap) -> None:
+    (park,) = junction.areas
+    assert park.cls == "green" and park.osm == "way/114"
+    assert _area(park.polygon) == pytest.approx(1600.0, rel=0.01)
+    (poi,) = junction.pois
+    shop = next(b for b in junction.buildings if b.osm == "way/110")
+    assert (poi.category, poi.tag, poi.name, poi.building) == ("cafe", "amenity=cafe", "Café Eck", shop.id)
+    (tree,) = junction.furniture
+    assert tree.kind == "tree" and tree.position == pytest.approx((-40.0, -40.0), abs=0.02)
+
+
+def test_junction_round_trips_byte_identical(junction: CityMap, tmp_path: Path) -> None:
+    again = read_osm(T_JUNCTION, center=(48.0, 11.0), size_m=(200.0, 200.0))
+    first, second = write_city_map(junction, tmp_path / "a.json"), write_city_map(again, tmp_path / "b.json")
+    assert first.read_bytes() == second.read_bytes()
+    assert read_city_map(first) == junction
+
+
+def test_small_window_clips_features_crossing_its_edge() -> None:
+    city = read_osm(T_JUNCTION, center=(48.0, 11.0), size_m=(60.0, 60.0))
+    main = next(r for r in city.roads if r.osm == "way/100")
+    xs = [p[0] for p in main.centerline.points]
+    assert xs[0] == pytest.approx(-30.0, abs=1e-3) and xs[-1] == pytest.approx(30.0, abs=1e-3)  # west to east
+    (park,) = city.areas
+    assert _area(park.polygon) == pytest.approx(10.0 * 10.0, rel=0.02)  # (-30..-20, -30..-20)
+    for feature in [*city.roads, *city.walkways]:
+        assert all(abs(x) <= 30.0 and abs(y) <= 30.0 for x, y in feature.centerline.points)
+    courtyard = next(b for b in city.buildings if b.osm == "relation/200")
+    assert not courtyard.footprint.holes  # its courtyard (-50..-30, 20..40) is outside the window
+    assert _area(courtyard.footprint) == pytest.approx(10.0 * 20.0, rel=0.01)  # (-30..-20, 10..30)
+    assert {p.osm for p in city.pois} == {"node/30"}
+
+
+def test_bbox_window_is_centred_on_the_box() -> None:
+    city = read_osm(T_JUNCTION, bbox=(47.9995, 10.9990, 48.0005, 11.0010))
+    assert (city.frame.origin_lat, city.frame.origin_lon) == (48.0, 11.0)
+    min_x, min_y, max_x, max_y = city.window
+    assert min_x < -70 and max_x > 70 and min_y < -55 and max_y > 55
+    assert {r.osm for r in city.roads} == {"way/100", "way/101"}
+
+
+def test_default_window_is_centred_on_the_file_bounds() -> None:
+    city = read_osm(T_JUNCTION)
+    assert (city.frame.origin_lat, city.frame.origin_lon) == (48.0, 11.0)
+    assert city.window == (-500.0, -500.0, 500.0, 500.0)
+
+
+def test_progress_is_reported() -> None:
+    calls: list[tuple[str, int]] = []
+    read_osm(T_JUNCTION, center=(48.0, 11.0), size_m=(200.0, 200.0), progress=lambda *a: calls.append(a))
+    assert calls[-1][0] == "read" and calls[-1][1] > 0
+
+
+# The real extracts -------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", sorted(EXTRACTS))
+def test_real_extracts_load_with_plausible_counts(name: str, tmp_path: Path) -> None:
+    epsg, min_roads, min_buildings = EXTRACTS[name]
+    city = read_osm(RAW / name)
+    assert city.frame.epsg == epsg
+    assert len(city.roads) >= min_roads and len(city.buildings) >= min_buildings
+    assert all(r.width > 0 for r in city.roads)
+    assert all(b.height > b.base_height for b in city.buildings)
+    road_ids = {r.id for r in city.roads}
+    assert all(c.road in road_ids for c in city.crossings)
+    again = read_osm(RAW / name)
+    first, second = write_city_map(city, tmp_path / "a.json"), write_city_map(again, tmp_path / "b.json")
+    assert first.read_bytes() == second.read_bytes()
+
+
+def test_real_extract_counts_its_messy_data() -> None:
+    city = read_osm(RAW / "kirchberg-an-der-iller.osm")
+    # two building/area ways of a single node, a self-intersecting building, two multipolygons whose
+    # outer ways the extract cut open
+    assert city.dropped["building or area way that is not a closed ring"] == 2
+    assert city.dropped["invalid polygon (self-intersecting or overlapping rings; repaired)"] == 1
+    assert city.dropped["multipolygon that could not be assembled"] == 2
+
+
+def test_gzip_and_pbf_give_the_same_map_as_xml(tmp_path: Path) -> None:
+    source = RAW / "west-oakland.osm"
+    gz = tmp_path / "west-oakland.osm.gz"
+    gz.write_bytes(gzip.compress(source.read_bytes(), mtime=0))
+    pbf = _to_pbf(source, tmp_path / "west-oakland.osm.pbf")
+    center = (37.80765, -122.30042)
+    expected = _without_source(read_osm(source, center=center, size_m=(400.0, 400.0)))
+    assert _without_source(read_osm(gz, center=center, size_m=(400.0, 400.0))) == expected
+    assert _without_source(read_osm(pbf, center=center, size_m=(400.0, 400.0))) == expected
+
+
+# Hostile and wrong input -------------------------------------------------------------------------
+
+
+def test_truncated_xml_is_refused(tmp_path: Path) -> None:
+    data = (RAW / "aguascalientes.osm").read_bytes()
+    path = tmp_path / "cut.osm"
+    path.write_bytes(data[: len(data) // 2])
+    with pytest.raises(CityMapError, match="truncated"):
+        read_osm(path)
+
+
+def test_truncated_pbf_and_gzip_are_refused(tmp_path: Path) -> None:
+    pbf = _to_pbf(RAW / "west-oakland.osm", tmp_path / "whole.osm.pbf")
+    cut = tmp_path / "cut.osm.pbf"
+    cut.write_bytes(pbf.read_bytes()[: pbf.stat().st_size // 2])
+    with pytest.raises(CityMapError, match="truncated"):
+        read_osm(cut, center=(37.8076, -122.3004))
+    gz = tmp_path / "cut.osm.gz"
+    whole = gzip.compress((RAW / "west-oakland.osm").read_bytes(), mtime=0)
+    gz.write_bytes(whole[: len(whole) // 2])
+    with pytest.raises(CityMapError, match="truncated"):
+        read_osm(gz)
+
+
+def test_decompression_bombs_are_refused(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr("navverse.city.osm_files._RATIO_FREE", 0)  # the ratio applies from the first byte
+    bomb = tmp_path / "bomb.osm.gz"
+    bomb.write_bytes(gzip.compress(b"<?xml version='1.0'?>\n<osm>" + b" " * 2_000_000 + b"</osm>\n"))
+    with pytest.raises(CityMapError, match="decompression bomb"):
+        read_osm(bomb)
+    monkeypatch.setattr("navverse.city.osm_files.MAX_RATIO", 1)
+    pbf = _to_pbf(RAW / "west-oakland.osm", tmp_path / "w.osm.pbf")
+    with pytest.raises(CityMapError, match="decompression bomb"):
+        read_osm(pbf, center=(37.8076, -122.3004))
+
+
+def test_damaged_pbf_block_header_is_refused(tmp_path: Path) -> None:
+    data = _to_pbf(RAW / "west-oakland.osm", tmp_path / "w.osm.pbf").read_bytes()
+    header_length = int.from_bytes(data[:4], "big")
+    header = data[4 : 4 + header_length]
+    assert header[-2] == 0x18  # its last field is the block's size, a one-byte number in this file
+    second = 4 + header_length + header[-1]
+    damaged = tmp_path / "d.osm.pbf"
+    damaged.write_bytes(data[:second] + b"\xff\xff\xff\xff" + data[second + 4 :])  # the next header's length
+    with pytest.raises(CityMapError, match="not a valid PBF file"):
+        read_osm(damaged, center=(37.8076, -122.3004))
+
+
+def test_entity_expansion_is_refused_before_parsing(tmp_path: Path) -> None:
+    bomb = (
+        '<?xml version="1.0"?>\n<!DOCTYPE osm [\n <!ENTITY a "aaaaaaaaaa">\n'
+        ' <!ENTITY b "&a;&a;&a;&a;&a;">\n]>\n'
+        '<osm version="0.6"><node id="1" lat="48" lon="11"><tag k="name" v="&b;"/></node></osm>\n'
+    )
+    with pytest.raises(CityMapError, match="DOCTYPE"):
+        read_osm(_write(tmp_path / "bomb.osm", bomb))
+    hidden = "<?xml version='1.0'?>\n<!-- padding -->\n<!DOCTYPE osm SYSTEM 'x.dtd'>\n<osm/>\n"
+    with pytest.raises(CityMapError, match="DOCTYPE"):
+        read_osm(_write(tmp_path / "hidden.osm", hidden))
+    long_prolog = "<?xml version='1.0'?>\n<!--" + "x" * PROLOG_LIMIT + "-->\n<osm/>\n"
+    with pytest.raises(CityMapError, match="no <osm> root element"):
+        read_osm(_write(tmp_path / "long.osm", long_prolog))
+    gz = tmp_path / "bomb.osm.gz"
+    gz.write_bytes(gzip.compress(bomb.encode()))
+    with pytest.raises(CityMapError, match="DOCTYPE"):
+        read_osm(gz)
+
+
+def test_content_that_does_not_match_the_name_is_refused(tmp_path: Path) -> None:
+    xml_as_pbf = tmp_path / "x.osm.pbf"
+    xml_as_pbf.write_bytes(T_JUNCTION.read_bytes())
+    with pytest.raises(CityMapError, match=r"named \.osm\.pbf but holds XML"):
+        read_osm(xml_as_pbf)
+    pbf_as_xml = tmp_path / "y.osm"
+    pbf_as_xml.write_bytes(_to_pbf(T_JUNCTION, tmp_path / "t.osm.pbf").read_bytes())
+    with pytest.raises(CityMapError, match=r"named \.osm but holds PBF data"):
+        read_osm(pbf_as_xml)
+    plain_as_gz = tmp_path / "z.osm.gz"
+    plain_as_gz.write_bytes(T_JUNCTION.read_bytes())
+    with pytest.raises(CityMapError, match=r"named \.osm\.gz but holds XML"):
+        read_osm(plain_as_gz)
+    other = _write(tmp_path / "map.xml", "<osm/>")
+    with pytest.raises(CityMapError, match="not named as an OSM file"):
+        read_osm(other)
+    not_osm = _write(tmp_path / "page.osm", "<html><body/></html>\n")
+    with pytest.raises(CityMapError, match="root element is <html>"):
+        read_osm(not_osm)
+    with pytest.raises(CityMapError, match="is empty"):
+        read_osm(_write(tmp_path / "empty.osm", ""))
+
+
+@pytest.mark.parametrize(
+    ("body", "what"),
+    [
+        ('<node id="abc" lat="48" lon="11"/>', "illegal id"),
+        ('<node id="1" lat="x" lon="11"/>', "coordinate"),
+        ('<node id="1" lat="48" lon="11"/><way id="5"><nd ref="zz"/></way>', "illegal id"),
+        ('<node id="1" lat="48" lon="11">', "not well-formed|mismatched|no element"),
+    ],
+)
+def test_malformed_objects_are_a_clear_error(body: str, what: str, tmp_path: Path) -> None:
+    path = _write(tmp_path / "bad.osm", f'<?xml version="1.0"?>\n<osm version="0.6">\n{body}\n</osm>\n')
+    with pytest.raises(CityMapError, match=f"bad.osm .*({what})"):
+        read_osm(path, center=(48.0, 11.0))
+
+
+def test_only_regular_files_are_read(tmp_path: Path) -> None:
+    with pytest.raises(CityMapError, match="does not exist"):
+        read_osm(tmp_path / "missing.osm")
+    fifo = tmp_path / "pipe.osm"
+    os.mkfifo(fifo)
+    with pytest.raises(CityMapError, match="not a regular file"):
+        read_osm(fifo)
+
+
+def test_window_outside_the_data_names_both(tmp_path: Path) -> None:
+    with pytest.raises(CityMapError, match=r"does not meet the data of t_junction\.osm") as error:
+        read_osm(T_JUNCTION, center=(48.1, 11.0))
+    assert "lat 47.999000..48.001000" in str(error.value)  # the file's bounds
+    assert "lat 48.095386..48.104613" in str(error.value)  # the window's
+
+
+def test_window_outside_data_without_declared_bounds(tmp_path: Path) -> None:
+    pbf = _to_pbf(T_JUNCTION, tmp_path / "t.osm.pbf")  # the writer declares no bounds
+    with pytest.raises(CityMapError, match="declares no data bounds"):
+        read_osm(pbf)
+    with pytest.raises(CityMapError, match="does not meet the data"):
+        read_osm(pbf, center=(48.1, 11.0))
+    assert len(read_osm(pbf, center=(48.0, 11.0), size_m=(200.0, 200.0)).buildings) == 3
+
+
+def test_bad_window_arguments_are_refused() -> None:
+    with pytest.raises(CityMapError, match="not both"):
+        read_osm(T_JUNCTION, center=(48.0, 11.0), bbox=(47.9, 10.9, 48.1, 11.1))
+    with pytest.raises(CityMapError, match="size_m"):
+        read_osm(T_JUNCTION, center=(48.0, 11.0), size_m=(0.0, 100.0))
+    with pytest.raises(CityMapError, match="UTM range"):
+        read_osm(T_JUNCTION, center=(89.0, 11.0))
+    with pytest.raises(CityMapError, match="min < max"):
+        read_osm(T_JUNCTION, bbox=(48.1, 10.9, 47.9, 11.1))
+    with pytest.raises(CityMapError, match="seed"):
+        read_osm(T_JUNCTION, seed=-1)
+    with pytest.raises(CityMapError, match="two numbers"):
+        read_osm(T_JUNCTION, center="48")
+    with pytest.raises(CityMapError, match="four numbers"):
+        read_osm(T_JUNCTION, bbox="1234")
+
+
+def test_no_roads_or_buildings_is_an_error(tmp_path: Path) -> None:
+    park = _osm_xml(
+        {1: (0, 0, {}), 2: (30, 0, {}), 3: (30, 30, {}), 4: (0, 30, {}), 5: (10, 10, {"natural": "tree"})},
+        {10: ([1, 2, 3, 4, 1], {"leisure": "park"})},
+    )
+    with pytest.raises(CityMapError, match="no roads or buildings in the window"):
+        read_osm(_write(tmp_path / "park.osm", park), center=(48.0, 11.0))
+
+
+def test_messy_data_is_repaired_or_dropped_and_counted(tmp_path: Path) -> None:
+    nodes = {i: (x, y, {}) for i, (x, y) in enumerate([(-50, 0), (0, 0), (50, 0), (60, 10)], start=1)}
+    nodes |= {11: (10, 10, {}), 12: (30, 30, {}), 13: (30, 10, {}), 14: (10, 30, {})}  # a bow-tie
+    nodes |= {21: (-40, 10, {}), 22: (-20, 10, {}), 23: (-20, 30, {}), 24: (-40, 30, {})}
+    ways = {
+        100: ([1, 2, 999, 3, 4], {"highway": "residential", "width": "wide", "lanes": "two"}),
+        101: ([1, 888], {"highway": "service"}),  # one node left: nothing to keep
+        102: ([2, 3], {"highway": "primary", "tunnel": "yes"}),
+        110: ([11, 12, 13, 14, 11], {"building": "yes", "height": "tall"}),  # self-intersecting
+        111: ([21, 22, 23, 24, 21], {"building": "yes"}),
+        112: ([21, 22, 23, 24, 21], {"building:part": "yes", "height": "6"}),
+        113: ([21, 22, 23], {"building": "yes"}),  # not closed
+    }
+    text = _osm_xml(nodes, ways)
+    duplicate = '  <way id="111">\n    <nd ref="21"/>\n    <nd ref="22"/>\n    <nd ref="23"/>\n'
+    duplicate += '    <nd ref="21"/>\n    <tag k="building" v="yes"/>\n  </way>\n'
+    text = text.replace("</osm>", duplicate + "</osm>")  # the same way id again
+    city = read_osm(_write(tmp_path / "messy.osm", text), center=(48.0, 11.0), size_m=(200.0, 200.0))
+
+    # the primary is in a tunnel; the service road has one node left; the residential road is split
+    # where its missing node was: 1-2 and 3-4
+    west, east = city.roads
+    assert west.osm == east.osm == "way/100"
+    assert west.width_source == "default" and west.lanes is None
+    assert west.centerline.length == pytest.approx(50.0, abs=0.05)
+    assert east.centerline.length == pytest.approx(math.hypot(10, 10), abs=0.05)
+    bowtie = [b for b in city.buildings if b.osm == "way/110"]
+    assert len(bowtie) == 2 and all(b.height_source == "drawn" for b in bowtie)  # two triangles
+    assert sum(_area(b.footprint) for b in bowtie) == pytest.approx(200.0, rel=0.02)
+    assert [b.osm for b in city.buildings if b.osm != "way/110"] == ["way/111"]
+    assert city.dropped == {
+        "building or area way that is not a closed ring": 1,
+        "building:part (ignored; the building outline carries the building)": 1,
+        "duplicate OSM object (one copy kept)": 1,
+        "invalid polygon (self-intersecting or overlapping rings; repaired)": 1,
+        "road not at ground level (tunnel, covered or layer < 0)": 1,
+        "tag height not read cleanly (a rule or its first value used)": 1,
+        "tag lanes not read cleanly (a rule or its first value used)": 1,
+        "tag width not read cleanly (a rule or its first value used)": 1,
+        "way with missing nodes (kept the parts between them)": 1,
+        "way with missing nodes (too few nodes left; dropped)": 1,
+    }
+
+
+def test_negative_ids_of_editor_files_are_counted_not_fatal(tmp_path: Path) -> None:
+    nodes = {-1: (0, 0, {}), -2: (30, 0, {}), -3: (30, 30, {}), 1: (-50, -5, {}), 2: (50, -5, {})}
+    ways = {-10: ([-1, -2, -3, -1], {"building": "yes"}), 5: ([1, 2], {"highway": "residential"})}
+    relations = {-20: ([("way", -10, "outer")], {"type": "multipolygon", "landuse": "grass"})}
+    path = _write(tmp_path / "josm.osm", _osm_xml(nodes, ways, relations))
+    city = read_osm(path, center=(48.0, 11.0))
+    assert [r.osm for r in city.roads] == ["way/5"]
+    assert city.dropped == {"way whose nodes are all missing (anywhere in the file)": 1}
+
+
+def test_nodes_and_relations_given_twice_keep_one_copy(tmp_path: Path) -> None:
+    nodes = {1: (0, 0, {}), 2: (30, 0, {}), 3: (30, 30, {}), 4: (0, 30, {}), 5: (5, 5, {"shop": "bakery"})}
+    ways = {10: ([1, 2, 3, 4, 1], {})}
+    relations = {20: ([("way", 10, "outer")], {"type": "multipolygon", "building": "yes"})}
+    text = _osm_xml(nodes, ways, relations)
+    node = text[text.index('  <node id="5"') : text.index("</node>", text.index('<node id="5"')) + 8]
+    relation = text[text.index("  <relation") : text.index("</relation>") + 12]
+    text = text.replace(node, node + node).replace(relation, relation + relation)
+    city = read_osm(_write(tmp_path / "twice.osm", text), center=(48.0, 11.0))
+    assert [b.osm for b in city.buildings] == ["relation/20"]
+    assert [(p.osm, p.building) for p in city.pois] == [("node/5", city.buildings[0].id)]
+    assert city.dropped == {"duplicate OSM object (one copy kept)": 2}
+
+
+def test_duplicate_outline_of_a_multipolygon_is_dropped(tmp_path: Path) -> None:
+    nodes = {1: (0, 0, {}), 2: (30, 0, {}), 3: (30, 30, {}), 4: (0, 30, {})}
+    ways = {10: ([1, 2, 3, 4, 1], {"building": "yes"})}
+    relations = {20: ([("way", 10, "outer")], {"type": "multipolygon", "building": "yes", "height": "7"})}
+    city = read_osm(_write(tmp_path / "old.osm", _osm_xml(nodes, ways, relations)), center=(48.0, 11.0))
+    (building,) = city.buildings
+    assert (building.osm, building.height) == ("relation/20", 7.0)
+    assert city.dropped == {"way repeating its multipolygon's outline (the multipolygon is kept)": 1}
+
+
+def test_oneway_against_the_way_is_turned_and_parking_read(tmp_path: Path) -> None:
+    nodes = {1: (-40, 0, {}), 2: (40, 0, {})}
+    tags = {"highway": "residential", "oneway": "-1", "sidewalk": "left", "parking:right": "lane"}
+    city = read_osm(_write(tmp_path / "one.osm", _osm_xml(nodes, {10: ([1, 2], tags)})), center=(48.0, 11.0))
+    (road,) = city.roads
+    assert road.oneway and road.centerline.points[0][0] > road.centerline.points[-1][0]  # east to west
+    assert (road.sidewalk_left, road.sidewalk_right) == (None, 1.5)  # sides turn with the line
+    assert (road.parking_left, road.parking_right) == (2.0, None)
+
+
+def _town(path: Path, blocks: range, *, reverse: bool = False) -> Path:
+    """A row of untagged 10 m × 10 m buildings, one per block, way ids 1000 + block."""
+    nodes, ways = {}, {}
+    for k in blocks:
+        x, base = -90 + 15 * k, 100 * (k + 1)
+        nodes |= {base + 1: (x, 0, {}), base + 2: (x + 10, 0, {}), base + 3: (x + 10, 10, {})}
+        nodes[base + 4] = (x, 10, {})
+        ways[1000 + k] = ([base + 1, base + 2, base + 3, base + 4, base + 1], {"building": "yes"})
+    if reverse:
+        ways = dict(reversed(list(ways.items())))
+    return _write(path, _osm_xml(nodes, ways))
+
+
+def _heights(path: Path, seed: int) -> dict[str, float]:
+    city = read_osm(path, center=(48.0, 11.0), size_m=(200.0, 200.0), seed=seed)
+    assert city.source.seed == seed
+    assert all(b.height_source == "drawn" and b.levels == b.height / 3.0 for b in city.buildings)
+    return {b.osm: b.height for b in city.buildings}
+
+
+def test_untagged_heights_depend_on_seed_and_object_only(tmp_path: Path) -> None:
+    town = _heights(_town(tmp_path / "town.osm", range(12)), 7)
+    assert set(town.values()) == {3.0, 6.0, 9.0}  # 1-3 storeys of 3 m
+    assert _heights(_town(tmp_path / "half.osm", range(0, 12, 2)), 7) == {
+        osm: h for osm, h in town.items() if int(osm.split("/")[1]) % 2 == 0
+    }
+    assert _heights(_town(tmp_path / "town.osm", range(12)), 8) != town
+
+
+def test_unsorted_file_is_sorted_in_memory(tmp_path: Path) -> None:
+    town = _heights(_town(tmp_path / "town.osm", range(12)), 7)
+    assert _heights(_town(tmp_path / "nwot.osm", range(12), reverse=True), 7) == town
+
+
+def test_unsorted_file_too_large_to_sort_says_how(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr("navverse.city.osm_read.MAX_SORT_BYTES", 0)
+    path = _town(tmp_path / "nwot.osm", range(3), reverse=True)
+    with pytest.raises(
+        CityMapError, match=r"too large to sort in memory: sort it first, e\.g\. `osmium sort"
+    ):
+        read_osm(path, center=(48.0, 11.0))
+
+
+def test_large_files_keep_node_locations_on_disk(junction: CityMap, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr("navverse.city.osm_read.IN_MEMORY_INDEX_NODES", 0)
+    on_disk = read_osm(T_JUNCTION, center=(48.0, 11.0), size_m=(200.0, 200.0))
+    assert on_disk == junction
+
+
+# Tag tables and geometry helpers -----------------------------------------------------------------
+
+
+def test_tag_tables() -> None:
+    from collections import Counter
+
+    dropped: Counter[str] = Counter()
+    assert kerb_of(None, dropped, default="lowered") == "lowered"
+    assert kerb_of("no", dropped, default="lowered") == "flush"
+    assert kerb_of("weird", dropped, default="lowered") == "lowered"
+    assert dropped == {"unknown kerb value (default used)": 1}
+    assert land_class({"natural": "water", "leisure": "park"}, relation=False) == "water"
+    assert land_class({"highway": "pedestrian"}, relation=False) is None
+    assert land_class({"highway": "pedestrian", "area": "yes"}, relation=False) == "plaza"
+    assert land_class({"amenity": "parking", "parking": "underground"}, relation=False) is None
+    assert land_class({"leisure": "park", "building": "yes"}, relation=False) is None
+    assert poi_of({"amenity": "cafe", "shop": "bakery"}) == ("cafe", "amenity=cafe")
+    assert poi_of({"amenity": "school", "shop": "bakery"}) == ("bakery", "shop=bakery")
+    assert poi_of({"office": "yes"}) == ("office", "office=yes")
+    assert poi_of({"amenity": "bench"}) is None
+    assert walkway_kind({"highway": "footway", "footway": "sidewalk"}) == "sidewalk"
+    assert walkway_kind({"highway": "steps"}) == "steps"
+    assert walkway_kind({"highway": "residential"}) is None
+    assert parking_sides({"parking:lane:both": "diagonal"}, dropped) == (4.5, 4.5)
+    assert parking_sides({"parking:both": "lane", "parking:left:orientation": "perpendicular"}, dropped) == (
+        5.0,
+        2.0,
+    )
+    assert parking_sides({"parking:both": "no", "parking:lane:both": "parallel"}, dropped) == (None, None)
+    assert parking_sides({"parking:right": "lane", "parking:right:width": "2.5"}, dropped) == (None, 2.5)
+    tags = {"building": "house"}
+    draws = {drawn_storeys(tags, seed=1, osm_type="way", osm_id=i) for i in range(40)}
+    assert draws == {1, 2}
+    assert drawn_storeys(tags, seed=1, osm_type="way", osm_id=-5) in (1, 2)
+    assert utm_epsg(48.0, 11.0) == 32632 and utm_epsg(-33.9, 18.4) == 32734 and utm_epsg(0.0, 180.0) == 32660
+
+
+def test_clip_polyline_keeps_direction_and_closed_loops() -> None:
+    rect = (-10.0, -10.0, 10.0, 10.0)
+    line = np.array([[20.0, 0.0], [0.0, 0.0], [-20.0, 0.0]])
+    (piece,) = clip_polyline(line, rect)
+    assert piece.tolist() == [[10.0, 0.0], [0.0, 0.0], [-10.0, 0.0]]
+    loop = np.array([[0.0, 0.0], [5.0, 0.0], [5.0, 5.0], [0.0, 0.0]])
+    (piece,) = clip_polyline(loop, rect)
+    assert piece.tolist() == loop.tolist()
+    zigzag = np.array([[-5.0, 0.0], [-5.0, 20.0], [5.0, 20.0], [5.0, 0.0]])
+    assert [p.tolist() for p in clip_polyline(zigzag, rect)] == [
+        [[-5.0, 0.0], [-5.0, 10.0]],
+        [[5.0, 10.0], [5.0, 0.0]],
+    ]
+    assert clip_polyline(np.array([[20.0, 20.0], [30.0, 30.0]]), rect) == []
