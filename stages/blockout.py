@@ -6,10 +6,11 @@ import math
 from typing import Annotated
 
 import numpy as np
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, model_validator
 
 from navverse.scene_types import SceneType
 from pipeline import Params, StageContext, stage
+from stages._terrain_names import TerrainName
 
 MAX_SIZE_M = 2000.0
 """Longest side of a solid (m)."""
@@ -88,18 +89,7 @@ class SurfaceSolid(Solid):
     """Static geometry of one terrain class (floor, wall, road, curb...)."""
 
     name: Annotated[str, Field(pattern=r"^[A-Za-z_][A-Za-z0-9_]*$")]
-    terrain: str
-
-    @field_validator("terrain")
-    @classmethod
-    def _known_class(cls, value: str) -> str:
-        from navverse.scene.terrain import DEFAULT_TERRAIN_CLASSES
-
-        if value not in DEFAULT_TERRAIN_CLASSES:
-            raise ValueError(
-                f"unknown terrain class {value!r} (known: {', '.join(sorted(DEFAULT_TERRAIN_CLASSES))})"
-            )
-        return value
+    terrain: TerrainName
 
 
 class ObjectSolid(Solid):

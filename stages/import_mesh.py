@@ -11,23 +11,12 @@ from pydantic import AfterValidator, Field, ValidationInfo, field_validator, mod
 from navverse.scene_types import SceneType
 from pipeline import Params, SourceFile, StageContext, stage
 from pipeline.params import ReadPolicy
+from stages._terrain_names import TerrainName, known_terrain_class
 
 if TYPE_CHECKING:
     from navverse.scene.mesh_import import MeshNode, NodeRole
 
 DROP = "drop"
-
-
-def _known_terrain(name: str) -> str:
-    from navverse.scene.terrain import DEFAULT_TERRAIN_CLASSES
-
-    if name not in DEFAULT_TERRAIN_CLASSES:
-        known = ", ".join(sorted(DEFAULT_TERRAIN_CLASSES))
-        raise ValueError(f"unknown terrain class {name!r} (known: {known})")
-    return name
-
-
-TerrainName = Annotated[str, AfterValidator(_known_terrain)]
 
 
 def _mesh_suffix(path: Path) -> Path:
@@ -182,7 +171,7 @@ class ImportMeshParams(Params):
     @field_validator("default")
     @classmethod
     def _default_class(cls, value: str) -> str:
-        return value if value == DROP else _known_terrain(value)
+        return value if value == DROP else known_terrain_class(value)
 
     @field_validator("friction")
     @classmethod

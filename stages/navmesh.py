@@ -12,20 +12,19 @@ from pydantic import AfterValidator, Field
 
 from navverse.nav.settings import NavMeshOverrides
 from pipeline import Params, StageContext, stage
+from stages._terrain_names import known_terrain_class
 
 
-def _known_class(name: str) -> str:
+def _navigable_class(name: str) -> str:
     from navverse.scene.terrain import DEFAULT_TERRAIN_CLASSES
 
-    if name not in DEFAULT_TERRAIN_CLASSES:
-        known = ", ".join(sorted(DEFAULT_TERRAIN_CLASSES))
-        raise ValueError(f"unknown terrain class {name!r} (known: {known})")
+    known_terrain_class(name)
     if not DEFAULT_TERRAIN_CLASSES[name].navigable:
         raise ValueError(f"terrain class {name!r} is never walkable; name a navigable class")
     return name
 
 
-TerrainName = Annotated[str, AfterValidator(_known_class)]
+TerrainName = Annotated[str, AfterValidator(_navigable_class)]
 
 
 def _known_preset(name: str) -> str:

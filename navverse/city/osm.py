@@ -83,11 +83,11 @@ from pathlib import Path
 from navverse.city.map import CityMap, CityMapError, Frame, Source
 from navverse.city.osm_classes import FEATURE_KEYS
 from navverse.city.osm_features import Features, build_features
-from navverse.city.osm_files import Progress, check_osm_file, file_bounds, file_sha256
+from navverse.city.osm_files import Progress, check_osm_file, file_bounds, file_sha256, peek_osm_file
 from navverse.city.osm_read import read_extract
 from navverse.city.osm_window import Window, box_text, make_window
 
-__all__ = ["OSM_ATTRIBUTION", "read_osm"]
+__all__ = ["OSM_ATTRIBUTION", "check_window", "read_osm"]
 
 OSM_ATTRIBUTION = "© OpenStreetMap contributors, ODbL 1.0"
 """Attribution every map read from OSM carries (``source.attribution``)."""
@@ -153,6 +153,37 @@ def read_osm(
             "move or enlarge the window (center=, size_m= or bbox=)"
         )
     return _city_map(path, sha256, seed, window, features)
+
+
+def check_window(
+    path: str | os.PathLike[str],
+    *,
+    center: tuple[float, float] | None = None,
+    size_m: tuple[float, float] = (1000.0, 1000.0),
+    bbox: tuple[float, float, float, float] | None = None,
+) -> None:
+    """Check, cheaply, that a file looks like OSM data and that a window lies on it.
+
+    Reads the file's first bytes (:func:`~.osm_files.peek_osm_file`) and its header: the centre
+    given (or the bbox's) must lie inside the bounds the file declares, and the window must meet
+    them. A file that declares no bounds is checked when it is read.
+
+    Raises
+    ------
+    CityMapError
+        Saying what to change.
+    """
+    path = Path(path)
+    fmt = peek_osm_file(path)
+    bounds = file_bounds(path, fmt)
+    window = make_window(center=center, size_m=size_m, bbox=bbox, data_bounds=bounds, path=path)
+    if bounds is not None:
+        west, south, east, north = bounds
+        if not (west <= window.origin_lon <= east and south <= window.origin_lat <= north):
+            raise CityMapError(
+                f"the window's centre ({window.origin_lat:.6f}, {window.origin_lon:.6f}) lies outside "
+                f"the data of {path.name} ({box_text(bounds)}): give a center inside it"
+            )
 
 
 def _city_map(path: Path, sha256: str, seed: int, window: Window, features: Features) -> CityMap:

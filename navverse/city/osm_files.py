@@ -340,6 +340,51 @@ def check_osm_file(path: str | os.PathLike[str]) -> OsmFile:
     return OsmFile(path, fmt, size)
 
 
+def peek_osm_file(path: str | os.PathLike[str]) -> str:
+    """What :func:`check_osm_file` checks of a file's beginning, reading only its first bytes.
+
+    The name, the content's kind, and for XML the prolog (no DOCTYPE, an ``<osm>`` root), from at
+    most :data:`PROLOG_LIMIT` bytes (decompressed from the start of a gzip file): cheap enough for
+    validating recipes. Sizes, truncation and bombs are checked when the file is read.
+
+    Returns
+    -------
+    str
+        The format: ``"xml"``, ``"xml.gz"`` or ``"pbf"``.
+
+    Raises
+    ------
+    CityMapError
+        If the name, the content or the XML prolog is wrong.
+    """
+    path = Path(path)
+    problem = regular_file_problem(path, max_bytes=MAX_OSM_BYTES, what="OSM file")
+    if problem:
+        raise CityMapError(problem)
+    fmt = _osm_format(path)
+    with open(path, "rb") as handle:
+        head = handle.read(PROLOG_LIMIT)
+    kind = _content_kind(head)
+    if kind == "empty":
+        raise CityMapError(f"{path} is empty")
+    if kind != _EXPECTED[fmt]:
+        found = _CONTENT_NAMES.get(kind, "something that is neither OSM XML, gzip nor PBF")
+        raise CityMapError(f"{path} is named {_NAMES[fmt]} but holds {found}")
+    if fmt == "pbf":
+        return fmt
+    if fmt == "xml.gz":
+        inflate = zlib.decompressobj(wbits=31)
+        with open(path, "rb") as handle:
+            try:
+                head = inflate.decompress(handle.read(_CHUNK), PROLOG_LIMIT)
+            except zlib.error as exc:
+                raise CityMapError(f"{path} is not readable gzip: {exc}") from None
+        if _content_kind(head) != "xml":
+            raise CityMapError(f"{path} is gzip, but what it holds is not OSM XML")
+    _check_prolog(head, path, complete=len(head) < PROLOG_LIMIT)
+    return fmt
+
+
 def file_sha256(path: str | os.PathLike[str], *, progress: Progress | None = None) -> str:
     """The sha256 of a file, hex, read in 1 MiB chunks (``progress("checksum", bytes)`` per 64 MiB)."""
     digest, done = hashlib.sha256(), 0

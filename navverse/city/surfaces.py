@@ -29,12 +29,23 @@ from shapely.geometry.base import BaseGeometry
 
 from navverse.city.map import CityMap, Polygon2, Road
 
-__all__ = ["CROSSWALK_WIDTH", "CURB_WIDTH", "PRIORITY", "SURFACE_CLASSES", "plan_surfaces"]
+__all__ = [
+    "CROSSWALK_WIDTH",
+    "CURB_WIDTH",
+    "PRIORITY",
+    "QUAD_SEGMENTS",
+    "SURFACE_CLASSES",
+    "carriageways",
+    "crosswalk_polygons",
+    "plan_surfaces",
+]
 
 CURB_WIDTH = 0.15
 """Width of the curb's top strip (m)."""
 CROSSWALK_WIDTH = 4.0
 """Width of a crosswalk along the road (m); crosswalks are 3–5 m wide."""
+QUAD_SEGMENTS = 4
+"""Segments per quarter circle of round joins and ends (a junction corner is 4 segments)."""
 PRIORITY = (
     "building",
     "crosswalk",
@@ -72,7 +83,14 @@ def _union(geometries: Iterable[BaseGeometry]) -> BaseGeometry:
 
 
 def _carriageway(road: Road) -> BaseGeometry:
-    return LineString(road.centerline.points).buffer(road.width / 2.0, join_style="round")
+    return LineString(road.centerline.points).buffer(
+        road.width / 2.0, join_style="round", quad_segs=QUAD_SEGMENTS
+    )
+
+
+def carriageways(city: CityMap) -> dict[str, BaseGeometry]:
+    """Each road's carriageway polygon, by road id."""
+    return {road.id: _carriageway(road) for road in city.roads}
 
 
 def _sidewalk_strips(road: Road) -> list[BaseGeometry]:
@@ -82,7 +100,12 @@ def _sidewalk_strips(road: Road) -> list[BaseGeometry]:
     for width, sign in ((road.sidewalk_left, 1.0), (road.sidewalk_right, -1.0)):
         if width is None:
             continue
-        outer = line.buffer(sign * (road.width / 2.0 + width), single_sided=True, join_style="round")
+        outer = line.buffer(
+            sign * (road.width / 2.0 + width),
+            single_sided=True,
+            join_style="round",
+            quad_segs=QUAD_SEGMENTS,
+        )
         strips.append(outer)
     return strips
 
@@ -108,6 +131,28 @@ def _crosswalk(road: Road, position: tuple[float, float], width: float) -> BaseG
     return Polygon(corners)
 
 
+def crosswalk_polygons(
+    city: CityMap, *, crosswalk_width: float = CROSSWALK_WIDTH
+) -> list[tuple[str, BaseGeometry]]:
+    """Each crosswalk's polygon (spanning the carriageway and its curbs) with its kerb.
+
+    Returns
+    -------
+    list of (kerb, polygon)
+        One per crossing node (its ``kerb``) and per mapped ``footway=crossing`` way (``lowered``).
+    """
+    roads = {road.id: road for road in city.roads}
+    found: list[tuple[str, BaseGeometry]] = [
+        (c.kerb, _crosswalk(roads[c.road], c.position, crosswalk_width)) for c in city.crossings
+    ]
+    found += [
+        ("lowered", LineString(w.centerline.points).buffer(w.width / 2.0, cap_style="flat"))
+        for w in city.walkways
+        if w.kind == "crossing"
+    ]
+    return found
+
+
 def plan_surfaces(
     city: CityMap, *, curb_width: float = CURB_WIDTH, crosswalk_width: float = CROSSWALK_WIDTH
 ) -> dict[str, BaseGeometry]:
@@ -129,21 +174,13 @@ def plan_surfaces(
         included), pairwise disjoint (up to shared edges), covering the window.
     """
     window = box(*city.window)
-    roads = {road.id: road for road in city.roads}
-    road_area = _union(_carriageway(road) for road in city.roads)
+    road_area = _union(carriageways(city).values())
     walkway_area = _union(
-        LineString(w.centerline.points).buffer(w.width / 2.0, join_style="round")
+        LineString(w.centerline.points).buffer(w.width / 2.0, join_style="round", quad_segs=QUAD_SEGMENTS)
         for w in city.walkways
         if w.kind != "crossing"
     )
-    crossing_ways = _union(
-        LineString(w.centerline.points).buffer(w.width / 2.0, cap_style="flat")
-        for w in city.walkways
-        if w.kind == "crossing"
-    )
-    crosswalks = _union(
-        [_crosswalk(roads[c.road], c.position, crosswalk_width) for c in city.crossings] + [crossing_ways]
-    )
+    crosswalks = _union(p for _, p in crosswalk_polygons(city, crosswalk_width=crosswalk_width))
     sidewalk_area = _union([*(s for road in city.roads for s in _sidewalk_strips(road)), walkway_area])
     walked = _union([sidewalk_area, crosswalks])
     edge_strip = road_area.buffer(curb_width, join_style="mitre").difference(road_area)

@@ -31,6 +31,7 @@ __all__ = [
     "DoorAnnotation",
     "ExitAnnotation",
     "FacadeAnnotation",
+    "GeoReference",
     "ObjectAnnotation",
     "RoomAnnotation",
     "SceneAnnotations",
@@ -43,10 +44,12 @@ __all__ = [
     "save_annotations",
 ]
 
-SCENE_FORMAT_VERSION = "2.0"
+SCENE_FORMAT_VERSION = "2.1"
 """Version of the ``scene.json`` layout. 1.1 added ``regions.rooms`` and ``regions.doors``; 2.0 holds
 ``buildings`` (footprint, heights, rooms, doors, exits, facades) in place of ``regions``, and
-storefronts name their building and facade. 1.x files are upgraded when read (see
+storefronts name their building and facade; 2.1 adds the map frame of a city (``geo``), the map
+feature a building was made from (``map_id``, ``osm``) and the road each facade faces
+(``road``, ``road_distance``). 1.x files are upgraded when read (see
 :func:`upgrade_annotations`); a newer 2.x file is read without the fields this version does not know;
 another major version cannot be read."""
 
@@ -60,6 +63,8 @@ PositiveFloat = Annotated[float, Field(gt=0.0)]
 PositiveVec3 = tuple[PositiveFloat, PositiveFloat, PositiveFloat]
 Channel = Annotated[int, Field(ge=0, le=255)]
 Vec2 = tuple[float, float]
+MapId = Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*-[0-9]+$")]
+"""A city map feature id (``road-12``, ``building-3``)."""
 
 
 def _non_blank(value: str, what: str) -> str:
@@ -196,7 +201,9 @@ class DoorAnnotation(BaseModel):
 
 class FacadeAnnotation(BaseModel):
     """One outer wall of a building: its base ``segment`` (xy, at the building's base height), the
-    unit ``normal`` pointing out of the building (xy) and its ``height`` above the base."""
+    unit ``normal`` pointing out of the building (xy) and its ``height`` above the base. ``road`` is
+    the city map id of the road the facade faces (the first thing its normal meets from the
+    segment's middle, within 50 m, is that road's carriageway) and ``road_distance`` how far (m)."""
 
     model_config = _MODEL_CONFIG
 
@@ -204,6 +211,14 @@ class FacadeAnnotation(BaseModel):
     segment: tuple[Vec2, Vec2]
     normal: Vec2
     height: PositiveFloat
+    road: MapId | None = None
+    road_distance: Annotated[float, Field(ge=0.0)] | None = None
+
+    @model_validator(mode="after")
+    def _road(self) -> FacadeAnnotation:
+        if (self.road is None) != (self.road_distance is None):
+            raise ValueError(f"facade {self.id}: give both road and road_distance, or neither")
+        return self
 
     @model_validator(mode="after")
     def _geometry(self) -> FacadeAnnotation:
@@ -228,8 +243,9 @@ class FacadeAnnotation(BaseModel):
 
 class BuildingAnnotation(BaseModel):
     """A building: footprint polygon (xy, counter-clockwise), base height and height, whether its
-    inside is part of the scene (``indoor``: rooms a robot can enter), and its rooms, the doors
-    between them, its exits to the outside and its facades."""
+    inside is part of the scene (``indoor``: rooms a robot can enter), the city map feature it was
+    made from (``map_id``, and its ``osm`` reference), and its rooms, the doors between them, its
+    exits to the outside and its facades."""
 
     model_config = _MODEL_CONFIG
 
@@ -238,6 +254,8 @@ class BuildingAnnotation(BaseModel):
     base_height: float = 0.0
     height: PositiveFloat
     indoor: bool = False
+    map_id: MapId | None = None
+    osm: Annotated[str, Field(pattern=r"^(node|way|relation)/-?[0-9]+$")] | None = None
     rooms: list[RoomAnnotation] = Field(default_factory=list)
     doors: list[DoorAnnotation] = Field(default_factory=list)
     exits: list[ExitAnnotation] = Field(default_factory=list)
@@ -304,6 +322,21 @@ class SceneStatistics(BaseModel):
     objects_per_category: dict[str, Annotated[int, Field(ge=0)]] = Field(default_factory=dict)
 
 
+class GeoReference(BaseModel):
+    """Where a scene made from a map lies on Earth: its local frame (x east, y north, meters) is the
+    projection ``epsg`` with the origin at ``origin_lat``, ``origin_lon``; ``map`` names the source
+    (an OSM file's name, or ``synthetic``), with its sha256 and attribution."""
+
+    model_config = _MODEL_CONFIG
+
+    epsg: Annotated[int, Field(ge=0, le=999_999)]
+    origin_lat: Annotated[float, Field(ge=-90.0, le=90.0)]
+    origin_lon: Annotated[float, Field(ge=-180.0, le=180.0)]
+    map: str
+    sha256: Annotated[str, Field(pattern=r"^[0-9a-f]{64}$")] | None = None
+    attribution: str = ""
+
+
 class SceneSource(BaseModel):
     """Where the scene came from: recipe path, its content hash and the toolkit version."""
 
@@ -327,6 +360,7 @@ class SceneAnnotations(BaseModel):
     storefronts: list[StorefrontAnnotation] = Field(default_factory=list)
     buildings: list[BuildingAnnotation] = Field(default_factory=list)
     indoor_anchor: Vec3 | None = None
+    geo: GeoReference | None = None
     terrain_classes: dict[str, TerrainClass]
     statistics: SceneStatistics = Field(default_factory=SceneStatistics)
     source: SceneSource | None = None

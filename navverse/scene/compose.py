@@ -23,6 +23,7 @@ from navverse.errors import SceneError
 from navverse.scene.annotations import (
     Bounds,
     BuildingAnnotation,
+    GeoReference,
     ObjectAnnotation,
     SceneAnnotations,
     SceneSource,
@@ -129,6 +130,7 @@ def assemble_scene(
     terrain_classes: Mapping[str, TerrainClass] | None = None,
     indoor_anchor: Vec3 | None = None,
     road_length_m: float = 0.0,
+    geo: GeoReference | None = None,
     source: SceneSource | None = None,
 ) -> Scene:
     """Build a scene from its parts, with bounds and statistics derived from them.
@@ -150,6 +152,8 @@ def assemble_scene(
         The indoor anchor point of an indoor-to-outdoor scene.
     road_length_m : float
         Length of the road centre lines (statistics).
+    geo : GeoReference, optional
+        The map frame of a scene made from a map.
     source : SceneSource, optional
         Recipe and toolkit version.
 
@@ -191,6 +195,7 @@ def assemble_scene(
         storefronts=list(storefronts),
         buildings=list(buildings),
         indoor_anchor=indoor_anchor,
+        geo=geo,
         terrain_classes=classes,
         statistics=SceneStatistics(
             faces=sum(s.mesh.num_faces for s in surfaces) + sum(o.mesh.num_faces for o in placed),
@@ -214,12 +219,13 @@ def replace_parts(
     buildings: Sequence[BuildingAnnotation] | None = None,
     storefronts: Sequence[StorefrontAnnotation] | None = None,
     indoor_anchor: Vec3 | object | None = _KEEP,
+    geo: GeoReference | object | None = _KEEP,
     scene_id: str | None = None,
 ) -> Scene:
     """The scene with some of its parts replaced; bounds and statistics are derived again.
 
     Parts not given are kept; objects are renumbered in order. Terrain classes, the scene type, the
-    road length and the source are kept.
+    road length and the source are kept, and so is the map frame (``geo``) unless given.
     """
     ann = scene.annotations
     return assemble_scene(
@@ -232,6 +238,7 @@ def replace_parts(
         terrain_classes=ann.terrain_classes,
         indoor_anchor=ann.indoor_anchor if indoor_anchor is _KEEP else indoor_anchor,
         road_length_m=ann.statistics.road_length_m,
+        geo=ann.geo if geo is _KEEP else geo,
         source=ann.source,
     )
 
@@ -246,6 +253,11 @@ class _Rigid:
         self.offset = np.asarray(translation, dtype=np.float64).reshape(3)
         self.yaw = float(yaw)
         self.rotation = yaw_matrix(self.yaw)
+
+    @property
+    def is_identity(self) -> bool:
+        """Whether it moves nothing."""
+        return self.yaw == 0.0 and not self.offset.any()
 
     def point(self, xyz: Sequence[float]) -> Vec3:
         moved = self.rotation @ np.asarray(xyz, dtype=np.float64) + self.offset
@@ -315,7 +327,8 @@ def transform_scene(
 
     Surfaces, objects (their centres and yaws; local meshes are unchanged), buildings (footprints,
     heights, rooms, doors, exits, facades), storefronts and the indoor anchor all move together;
-    bounds are derived again.
+    bounds are derived again. A scene that moves loses its map frame (``geo``), which no longer
+    describes it.
 
     Parameters
     ----------
@@ -356,6 +369,7 @@ def transform_scene(
         buildings=[rigid.building(b) for b in ann.buildings],
         storefronts=[rigid.storefront(s) for s in ann.storefronts],
         indoor_anchor=rigid.point(ann.indoor_anchor) if ann.indoor_anchor is not None else None,
+        geo=ann.geo if rigid.is_identity else None,
     )
 
 
@@ -388,7 +402,7 @@ def merge_scenes(
     Objects are renumbered 1, 2, ... in scene order (prim paths follow), as are buildings, rooms,
     doors, exits, facades and storefronts (references between them follow); a surface whose name is
     taken gets a suffix ``_2``, ``_3``...; terrain classes are unified in order of first appearance.
-    The first scene's indoor anchor is kept.
+    The first scene's indoor anchor is kept, and the first map frame (``geo``) any scene has.
 
     Parameters
     ----------
@@ -480,6 +494,7 @@ def merge_scenes(
         storefronts=storefronts,
         terrain_classes=classes,
         indoor_anchor=first.indoor_anchor,
+        geo=next((s.annotations.geo for s in scenes if s.annotations.geo is not None), None),
         road_length_m=sum(s.annotations.statistics.road_length_m for s in scenes),
         source=source or first.source,
     )

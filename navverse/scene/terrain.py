@@ -47,6 +47,8 @@ DEFAULT_TERRAIN_CLASSES: Mapping[str, TerrainClass] = MappingProxyType(
             _tc("water", 0.05, (72, 132, 204), navigable=False),  # blue
             _tc("building", 0.8, (150, 128, 116), navigable=False),  # brownish grey
             _tc("ground", 0.8, (176, 154, 112), navigable=True),  # bare earth
+            _tc("parking", 0.85, (104, 108, 118), navigable=True),  # lighter asphalt
+            _tc("plaza", 0.9, (200, 168, 150), navigable=True, preferred=True),  # warm paving
             _tc("obstacle", 0.6, (128, 62, 62), navigable=False),  # dark red-brown
         )
     }

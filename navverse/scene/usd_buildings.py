@@ -3,12 +3,14 @@
 Layout under the default prim (one ``Scope`` per record, typed ``navverse:`` attributes named after
 the fields of :mod:`navverse.scene.annotations`, so the file says what ``scene.json`` says)::
 
-    /World/Buildings/building_0001                Scope: id, footprint, baseHeight, height, indoor
+    /World/Buildings/building_0001                Scope: id, footprint, baseHeight, height, indoor,
+                                                  mapId, osm (when set)
     /World/Buildings/building_0001/outline        BasisCurves (purpose guide): the footprint at the base
     /World/Buildings/building_0001/Rooms/room_0003    id, roomType, polygon, floorHeight
     /World/Buildings/building_0001/Doors/door_0002    id, center, width, facing, rooms
     /World/Buildings/building_0001/Exits/exit_0001    id, center, width, facing, facade (0: none)
-    /World/Buildings/building_0001/Facades/facade_0004  id, segment, normal, height
+    /World/Buildings/building_0001/Facades/facade_0004  id, segment, normal, height, road and
+                                                  roadDistance (when it faces a road)
 
 Values are stored in double precision, so they read back exactly.
 """
@@ -53,10 +55,16 @@ class _Field:
     type: Sdf.ValueTypeName
     to_usd: Callable[[Any], Any]
     from_usd: Callable[[Any], Any]
+    optional: bool = False
+    """Written only when set, and left to the model's default when absent (fields added in 2.1)."""
 
 
 def _plain(field: str, attr: str, type_: Sdf.ValueTypeName, cast: Callable[[Any], Any]) -> _Field:
     return _Field(field, attr, type_, cast, cast)
+
+
+def _optional(field: str, attr: str, type_: Sdf.ValueTypeName, cast: Callable[[Any], Any]) -> _Field:
+    return _Field(field, attr, type_, cast, cast, optional=True)
 
 
 _ID = _plain("id", "id", Sdf.ValueTypeNames.Int, int)
@@ -114,6 +122,8 @@ _LAYOUT: dict[type[BaseModel], tuple[str, str, tuple[_Field, ...]]] = {
                 "normal", "normal", Sdf.ValueTypeNames.Double2, lambda v: Gf.Vec2d(*v), lambda v: tuple(v)
             ),
             _plain("height", "height", Sdf.ValueTypeNames.Double, float),
+            _optional("road", "road", Sdf.ValueTypeNames.String, str),
+            _optional("road_distance", "roadDistance", Sdf.ValueTypeNames.Double, float),
         ),
     ),
 }
@@ -123,6 +133,8 @@ _BUILDING_FIELDS = (
     _plain("base_height", "baseHeight", Sdf.ValueTypeNames.Double, float),
     _plain("height", "height", Sdf.ValueTypeNames.Double, float),
     _plain("indoor", "indoor", Sdf.ValueTypeNames.Bool, bool),
+    _optional("map_id", "mapId", Sdf.ValueTypeNames.String, str),
+    _optional("osm", "osm", Sdf.ValueTypeNames.String, str),
 )
 _PARTS = {
     RoomAnnotation: "rooms",
@@ -134,7 +146,10 @@ _PARTS = {
 
 def _write_fields(prim: Usd.Prim, record: BaseModel, fields: tuple[_Field, ...]) -> None:
     for f in fields:
-        prim.CreateAttribute(_NS + f.attr, f.type, custom=True).Set(f.to_usd(getattr(record, f.field)))
+        value = getattr(record, f.field)
+        if f.optional and value is None:
+            continue
+        prim.CreateAttribute(_NS + f.attr, f.type, custom=True).Set(f.to_usd(value))
 
 
 def _read_fields(prim: Usd.Prim, fields: tuple[_Field, ...]) -> dict[str, Any] | None:
@@ -143,6 +158,8 @@ def _read_fields(prim: Usd.Prim, fields: tuple[_Field, ...]) -> dict[str, Any] |
         attr = prim.GetAttribute(_NS + f.attr)
         value = attr.Get() if attr else None
         if value is None:
+            if f.optional:
+                continue
             return None
         values[f.field] = f.from_usd(value)
     return values

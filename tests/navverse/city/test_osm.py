@@ -127,7 +127,7 @@ def test_junction_crossing_names_its_road(junction: CityMap) -> None:
     (crossing,) = junction.crossings
     assert crossing.osm == "node/4"
     assert crossing.road == junction.roads[0].id
-    assert crossing.kerb == "raised"
+    assert crossing.kerb == "lowered"
     assert crossing.position == pytest.approx((-20.0, 0.0), abs=0.02)
     (walkway,) = junction.walkways
     assert (walkway.kind, walkway.width) == ("crossing", 2.0)

@@ -1,0 +1,196 @@
+"""The ground of a city in 3-D: every surface class of the ground plan at its height, as terrain surfaces.
+
+Heights, relative to the terrain (flat, or the elevation function given):
+
+==============  ===========================================================================================
+surface         top
+==============  ===========================================================================================
+road            ``-road_depression`` (default 0.2 m below the sidewalks)
+crosswalk       road level; within ``ramp_length`` of the road's edge a crosswalk whose kerb is not
+                ``raised`` rises to ``-lip`` at the edge (``lowered``/``rolled``: ``lowered_curb_height``,
+                ``flush``: 0), so the step onto the curb is the lip and the slope stays gentle
+lowered curb    0 (the curb strip where a crosswalk meets it: terrain class ``crosswalk``; at a ``raised``
+                crossing it stays ``curb``)
+curb            0: the curb's top strip; its vertical face down to the road is the curb face
+sidewalk, plaza 0
+green, ground,  0 (land under buildings is ``ground``)
+parking
+water           ``-water_depth`` (not navigable)
+==============  ===========================================================================================
+
+Each region is a prism (:func:`~navverse.city.prisms.polygon_prism`, open at the bottom) whose walls
+reach below every neighbour, so wherever two regions of different heights meet there is a vertical
+face and no gap: the curb face between road and curb, the ramp's sides, the bank of a pond.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon, box
+from shapely.geometry.base import BaseGeometry
+
+from navverse.city.map import CityMap
+from navverse.city.prisms import HeightFn, polygon_prism, polygons_of
+from navverse.city.surfaces import crosswalk_polygons
+from navverse.scene.geometry import MeshData, Surface
+
+__all__ = ["TERRAIN_OF_SURFACE", "GroundSettings", "flat", "ground_surfaces"]
+
+TERRAIN_OF_SURFACE = {
+    "road": "road",
+    "crosswalk": "crosswalk",
+    "lowered_curb": "crosswalk",
+    "curb": "curb",
+    "sidewalk": "sidewalk",
+    "water": "water",
+    "parking": "parking",
+    "plaza": "plaza",
+    "pedestrian": "plaza",
+    "green": "green",
+    "ground": "ground",
+    "building": "ground",
+}
+"""Terrain class (:data:`navverse.scene.terrain.DEFAULT_TERRAIN_CLASSES`) of each ground-plan class."""
+LIPS = {"lowered": None, "rolled": None, "flush": 0.0}
+"""Lip of a crosswalk ramp by kerb (``None``: ``lowered_curb_height``); ``raised`` has no ramp."""
+
+
+@dataclass(frozen=True)
+class GroundSettings:
+    """Heights of the ground (m).
+
+    Attributes
+    ----------
+    road_depression : float
+        How far roads lie below the sidewalks: the curb height.
+    lowered_curb_height : float
+        The step left at a lowered curb (a crosswalk's edge).
+    ramp_length : float
+        How far into the road a crosswalk ramp reaches from the curb.
+    water_depth : float
+        How far water lies below the ground.
+    """
+
+    road_depression: float = 0.2
+    lowered_curb_height: float = 0.02
+    ramp_length: float = 1.5
+    water_depth: float = 0.5
+
+
+def flat(points: np.ndarray) -> np.ndarray:
+    """The flat terrain: height 0 everywhere."""
+    return np.zeros(len(points))
+
+
+def _offset(terrain: HeightFn, level: float) -> HeightFn:
+    return lambda points: terrain(points) + level
+
+
+def _ramp(terrain: HeightFn, edge: BaseGeometry, settings: GroundSettings, lip: float) -> HeightFn:
+    """Heights of a crosswalk ramp: ``-lip`` at the road's ``edge``, road level ``ramp_length`` away."""
+    depth = settings.road_depression
+
+    def heights(points: np.ndarray) -> np.ndarray:
+        distance = shapely.distance(shapely.points(points), edge)
+        rise = np.clip(1.0 - distance / settings.ramp_length, 0.0, 1.0) * (depth - lip)
+        return terrain(points) - depth + rise
+
+    return heights
+
+
+def _prisms(geometry: BaseGeometry, top: HeightFn, *, margin: float, terrain: HeightFn) -> list[MeshData]:
+    meshes = []
+    for polygon in polygons_of(geometry):
+        lowest = float(terrain(np.asarray(polygon.exterior.coords)).min())
+        mesh = polygon_prism(polygon, top=top, bottom=lowest - margin, closed=False)
+        if mesh.num_faces:
+            meshes.append(mesh)
+    return meshes
+
+
+def _crosswalk_parts(
+    plan: dict[str, BaseGeometry], city: CityMap, *, crosswalk_width: float, settings: GroundSettings
+) -> tuple[list[tuple[BaseGeometry, float]], BaseGeometry, BaseGeometry, BaseGeometry]:
+    """Crosswalk ramps with their lips, the road's edge, the flat rest of the crosswalks, and the curb
+    strip of raised crossings."""
+    carriageway = shapely.union_all([plan["road"], plan["crosswalk"]])
+    window = box(*city.window)
+    edge = carriageway.boundary.difference(window.exterior.buffer(1e-6))
+    band = edge.buffer(settings.ramp_length, quad_segs=2)
+    ramps: list[tuple[BaseGeometry, float]] = []
+    raised: list[BaseGeometry] = []
+    for kerb, polygon in crosswalk_polygons(city, crosswalk_width=crosswalk_width):
+        if kerb == "raised":
+            raised.append(polygon)
+            continue
+        lip = LIPS[kerb]
+        piece = polygon.intersection(plan["crosswalk"]).intersection(band)
+        for taken, _ in ramps:
+            piece = piece.difference(taken)
+        if not piece.is_empty:
+            ramps.append((piece, settings.lowered_curb_height if lip is None else lip))
+    flat_rest = plan["crosswalk"]
+    if ramps:
+        flat_rest = flat_rest.difference(shapely.union_all([p for p, _ in ramps]))
+    raised_curb = plan["lowered_curb"].intersection(shapely.union_all(raised)) if raised else Polygon()
+    return ramps, edge, flat_rest, raised_curb
+
+
+def ground_surfaces(
+    plan: dict[str, BaseGeometry],
+    city: CityMap,
+    *,
+    settings: GroundSettings,
+    crosswalk_width: float,
+    terrain: HeightFn = flat,
+) -> list[Surface]:
+    """Terrain surfaces of the ground plan, one per terrain class, at their heights.
+
+    Parameters
+    ----------
+    plan : dict
+        :func:`~navverse.city.surfaces.plan_surfaces` of ``city``.
+    city : CityMap
+        The map (its crossings' kerbs shape the ramps).
+    settings : GroundSettings
+        Heights.
+    crosswalk_width : float
+        The width the plan was made with.
+    terrain : callable
+        Height of the terrain (sidewalk level) at xy points; flat by default.
+
+    Returns
+    -------
+    list of Surface
+        Named by terrain class, in the order of :data:`TERRAIN_OF_SURFACE`'s classes.
+    """
+    depth = settings.road_depression
+    margin = depth + settings.water_depth + 0.3
+    ramps, edge, flat_crosswalk, raised_curb = _crosswalk_parts(
+        plan, city, crosswalk_width=crosswalk_width, settings=settings
+    )
+    pieces: dict[str, list[MeshData]] = {}
+
+    def add(terrain_class: str, geometry: BaseGeometry, top: HeightFn) -> None:
+        pieces.setdefault(terrain_class, []).extend(_prisms(geometry, top, margin=margin, terrain=terrain))
+
+    for surface_class, terrain_class in TERRAIN_OF_SURFACE.items():
+        geometry = plan[surface_class]
+        if surface_class == "crosswalk":
+            add(terrain_class, flat_crosswalk, _offset(terrain, -depth))
+            for piece, lip in ramps:
+                add(terrain_class, piece, _ramp(terrain, edge, settings, lip))
+            continue
+        if surface_class == "lowered_curb" and not raised_curb.is_empty:
+            add("curb", raised_curb, terrain)
+            geometry = geometry.difference(raised_curb)
+        level = {"road": -depth, "water": -settings.water_depth}.get(surface_class, 0.0)
+        add(terrain_class, geometry, _offset(terrain, level) if level else terrain)
+    return [
+        Surface(name=name, terrain_class=name, mesh=MeshData.concatenate(meshes))
+        for name, meshes in pieces.items()
+        if meshes
+    ]

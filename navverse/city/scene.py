@@ -1,0 +1,120 @@
+"""A city map as a scene: the ground plan in 3-D (roads depressed below curbs), buildings, annotations.
+
+:func:`city_scene` is what the city geometry stage runs: :func:`~navverse.city.surfaces.plan_surfaces`
+tiles the window with surface classes, :func:`~navverse.city.ground.ground_surfaces` gives them
+heights and vertical faces, :func:`~navverse.city.buildings.building_parts` extrudes the buildings,
+and :func:`~navverse.scene.compose.assemble_scene` derives bounds and statistics. The scene records
+the map's frame (``geo``: EPSG code, latitude/longitude of the origin, source and attribution).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from shapely.geometry import LineString, box
+
+from navverse.city.buildings import building_parts
+from navverse.city.crossings import junction_crossings
+from navverse.city.ground import GroundSettings, flat, ground_surfaces
+from navverse.city.map import CityMap
+from navverse.city.prisms import HeightFn
+from navverse.city.surfaces import CROSSWALK_WIDTH, CURB_WIDTH, carriageways, plan_surfaces
+from navverse.scene.annotations import GeoReference, SceneSource
+from navverse.scene.compose import assemble_scene
+from navverse.scene.geometry import Scene
+from navverse.scene.terrain import terrain_classes
+
+__all__ = ["CityGeometry", "city_scene", "road_length"]
+
+
+@dataclass(frozen=True)
+class CityGeometry:
+    """How a map becomes geometry.
+
+    Attributes
+    ----------
+    ground : GroundSettings
+        Road depression, lowered curbs, ramps, water depth.
+    curb_width : float
+        Width of the curb's top strip (m).
+    crosswalk_width : float
+        Width of a crosswalk along its road (m).
+    junction_crosswalks : bool
+        Whether to add crosswalks across every arm of every junction of roads with sidewalks
+        (:func:`~navverse.city.crossings.junction_crossings`), besides the mapped ones.
+    friction : dict
+        Friction per terrain class, replacing the default table's.
+    """
+
+    ground: GroundSettings = field(default_factory=GroundSettings)
+    curb_width: float = CURB_WIDTH
+    crosswalk_width: float = CROSSWALK_WIDTH
+    junction_crosswalks: bool = False
+    friction: dict[str, float] = field(default_factory=dict)
+
+
+def road_length(city: CityMap) -> float:
+    """Total length of the road centre lines inside the window (m)."""
+    window = box(*city.window)
+    return float(sum(LineString(r.centerline.points).intersection(window).length for r in city.roads))
+
+
+def city_scene(
+    city: CityMap,
+    *,
+    scene_id: str,
+    geometry: CityGeometry,
+    terrain: HeightFn = flat,
+    source: SceneSource | None = None,
+) -> Scene:
+    """The outdoor scene of a city map.
+
+    Parameters
+    ----------
+    city : CityMap
+        The map.
+    scene_id : str
+        The scene's id.
+    geometry : CityGeometry
+        Heights and widths.
+    terrain : callable
+        Height of the terrain at xy points (sidewalk level); flat by default.
+    source : SceneSource, optional
+        Recipe and toolkit version.
+
+    Returns
+    -------
+    Scene
+        Terrain surfaces named by class, ``building_NNNN`` solids, buildings with facades in the
+        annotations, the map's frame in ``geo``.
+    """
+    if geometry.junction_crosswalks:
+        added = junction_crossings(city, crosswalk_width=geometry.crosswalk_width)
+        city = city.model_copy(update={"crossings": [*city.crossings, *added]})
+    plan = plan_surfaces(city, curb_width=geometry.curb_width, crosswalk_width=geometry.crosswalk_width)
+    ground = ground_surfaces(
+        plan, city, settings=geometry.ground, crosswalk_width=geometry.crosswalk_width, terrain=terrain
+    )
+    buildings, annotations = building_parts(city, carriageways(city), terrain=terrain)
+    surfaces = [*ground, *buildings]
+    names = sorted({s.terrain_class for s in surfaces})
+    geo = GeoReference(
+        epsg=city.frame.epsg,
+        origin_lat=city.frame.origin_lat,
+        origin_lon=city.frame.origin_lon,
+        map=city.source.name,
+        sha256=city.source.sha256,
+        attribution=city.source.attribution,
+    )
+    return assemble_scene(
+        scene_id=scene_id,
+        scene_type="outdoor",
+        surfaces=surfaces,
+        buildings=annotations,
+        terrain_classes=terrain_classes(
+            names, overrides={k: v for k, v in geometry.friction.items() if k in names}
+        ),
+        road_length_m=round(road_length(city), 3),
+        geo=geo,
+        source=source,
+    )
