@@ -137,7 +137,7 @@ class CityGeometryParams(Params):
     """
 
     road_depression: Annotated[float, Field(ge=0.0, le=0.5)] = 0.2
-    lowered_curb_height: Annotated[float, Field(ge=0.0, le=0.05)] = 0.02
+    lowered_curb_height: Annotated[float, Field(ge=0.0, le=0.05)] = 0.005
     ramp_length: Annotated[float, Field(ge=0.3, le=5.0)] = 1.5
     curb_width: Annotated[float, Field(ge=0.05, le=1.0)] = 0.15
     crosswalk_width: Annotated[float, Field(ge=2.0, le=10.0)] = 4.0

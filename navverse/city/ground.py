@@ -67,7 +67,10 @@ class GroundSettings:
     road_depression : float
         How far roads lie below the sidewalks: the curb height.
     lowered_curb_height : float
-        The step left at a lowered curb (a crosswalk's edge).
+        The step left at a lowered curb (a crosswalk's edge). 5 mm by default: accessibility rules
+        allow at most 6 mm of vertical change at a curb ramp, and a wheel of 3.5 cm radius needs a
+        friction above tan(acos((r - h) / r)) to climb a step h on traction alone (0.97 for 1 cm,
+        0.59 for 5 mm), so a TurtleBot crosses at 5 mm and not at 1 cm on asphalt (0.85).
     ramp_length : float
         How far into the road a crosswalk ramp reaches from the curb.
     water_depth : float
@@ -75,7 +78,7 @@ class GroundSettings:
     """
 
     road_depression: float = 0.2
-    lowered_curb_height: float = 0.02
+    lowered_curb_height: float = 0.005
     ramp_length: float = 1.5
     water_depth: float = 0.5
 

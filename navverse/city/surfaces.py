@@ -139,17 +139,19 @@ def crosswalk_polygons(
     Returns
     -------
     list of (kerb, polygon)
-        One per crossing node (its ``kerb``) and per mapped ``footway=crossing`` way (``lowered``).
+        One per crossing node (its ``kerb``) and per mapped ``footway=crossing`` way (the kerb of a
+        crossing node on it, else ``lowered``).
     """
     roads = {road.id: road for road in city.roads}
     found: list[tuple[str, BaseGeometry]] = [
         (c.kerb, _crosswalk(roads[c.road], c.position, crosswalk_width)) for c in city.crossings
     ]
-    found += [
-        ("lowered", LineString(w.centerline.points).buffer(w.width / 2.0, cap_style="flat"))
-        for w in city.walkways
-        if w.kind == "crossing"
-    ]
+    for walkway in city.walkways:
+        if walkway.kind != "crossing":
+            continue
+        polygon = LineString(walkway.centerline.points).buffer(walkway.width / 2.0, cap_style="flat")
+        kerbs = [c.kerb for c in city.crossings if polygon.distance(shapely.Point(c.position)) < 0.5]
+        found.append((kerbs[0] if kerbs else "lowered", polygon))
     return found
 
 
