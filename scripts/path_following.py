@@ -5,7 +5,7 @@ Usage::
     python scripts/path_following.py [--scene office-s1] [--paths 100] [--seed 0]
                                      [--embodiments spot turtlebot] [--picture docs/img/path_following.png]
 
-For a built indoor scene (``data/built/targets/<scene>/scene``) it draws seeded start and end points on
+For a built scene (``data/built/targets/<scene>/scene``) it draws seeded start and end points on
 the navmesh's largest island whose shortest path is 5-50 m long, spawns each robot at the start facing
 the first corner, and has it follow the path's corners through the shared waypoint follower
 (:func:`navverse.sim.rollout.follow_path`; fall, stuck and a 300 s timeout end a rollout). It prints,
