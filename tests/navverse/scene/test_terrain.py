@@ -15,7 +15,17 @@ def test_defaults_are_read_only() -> None:
 
 def test_default_roles() -> None:
     navigable = {name for name, tc in DEFAULT_TERRAIN_CLASSES.items() if tc.navigable}
-    assert navigable == {"floor", "sidewalk", "road", "curb", "crosswalk", "green", "ground", "parking", "plaza"}
+    assert navigable == {
+        "floor",
+        "sidewalk",
+        "road",
+        "curb",
+        "crosswalk",
+        "green",
+        "ground",
+        "parking",
+        "plaza",
+    }
     preferred = {name for name, tc in DEFAULT_TERRAIN_CLASSES.items() if tc.preferred}
     assert preferred == {"floor", "sidewalk", "crosswalk", "plaza"}
     assert not DEFAULT_TERRAIN_CLASSES["ceiling"].show_in_bev
