@@ -633,6 +633,52 @@ def _concurrent_builds(scratch: Scratch, folder: Path) -> list[Step]:
     ]
 
 
+def _osm_recipe(name: str) -> str:
+    return (
+        "extends: outdoor-city\nstages:\n  osm_city:\n"
+        f"    source: ../data/raw/{name}\n    center: [48.0, 11.0]\n    size_m: [200, 200]\n"
+    )
+
+
+def _osm_case(name: str, what: str, content: Callable[[], bytes], file: str, expect: str) -> Case:
+    """A case that builds a city from one hostile OSM file: exit 1, its message, nothing built."""
+
+    def prepare(scratch: Scratch, folder: Path) -> list[Step]:
+        workspace = scratch.workspace(folder, {"city.yaml": _osm_recipe(file)})
+        data = workspace / "data" / "raw"
+        data.mkdir(parents=True, exist_ok=True)
+        (data / file).write_bytes(content())
+        return [
+            Step(["validate", "recipe", "recipes/city.yaml"], (0, 1), "", timeout=120, cwd=workspace),
+            Step(["build", "city", "--jobs", "1"], (1,), expect, timeout=300, cwd=workspace),
+        ]
+
+    return Case(name, "osm", what, prepare)
+
+
+def _billion_laughs() -> bytes:
+    entities = ['<!ENTITY l0 "lol">'] + [f'<!ENTITY l{i} "{f"&l{i - 1};" * 10}">' for i in range(1, 10)]
+    return (
+        '<?xml version="1.0"?>\n<!DOCTYPE osm [' + "".join(entities) + "]>\n"
+        '<osm version="0.6"><node id="1" lat="48" lon="11"><tag k="name" v="&l9;"/></node></osm>\n'
+    ).encode()
+
+
+def _osm_gzip_bomb() -> bytes:
+    head = b'<?xml version="1.0"?>\n<osm version="0.6">\n<!-- '
+    body = gzip.compress(head + b" " * (2 * 1024**3 // 4), compresslevel=9, mtime=0)
+    return body
+
+
+def _t_junction() -> bytes:
+    return (PROJECT / "tests" / "navverse" / "city" / "data" / "t_junction.osm").read_bytes()
+
+
+def _truncated_osm() -> bytes:
+    data = _t_junction()
+    return data[: len(data) // 2]
+
+
 CASES: list[Case] = [
     _submission_case(
         "far-record-1e7",
@@ -739,6 +785,18 @@ CASES: list[Case] = [
     Case("parent-killed", "10", "the build's parent SIGKILLed: nothing left running", _parent_killed),
     Case("concurrent-builds", "10", "two builds at once in one workspace", _concurrent_builds),
     Case("nan-vertex", "10", "an .obj with a NaN vertex", _nan_obj),
+    _osm_case(
+        "osm-billion-laughs",
+        "an OSM file declaring nested entities",
+        _billion_laughs,
+        "laughs.osm",
+        r"DOCTYPE",
+    ),
+    _osm_case(
+        "osm-gzip-bomb", "2 GiB of XML in a small .osm.gz", _osm_gzip_bomb, "bomb.osm.gz", r"bomb|ratio|large"
+    ),
+    _osm_case("osm-truncated", "an .osm file cut in half", _truncated_osm, "cut.osm", r"truncated"),
+    _osm_case("osm-pbf-holding-xml", "OSM XML named .osm.pbf", _t_junction, "x.osm.pbf", r"named \.osm\.pbf"),
 ]
 """Every case, in the order of the breaks they reproduce."""
 

@@ -25,7 +25,14 @@ def test_every_break_of_the_issue_has_a_case():
     listing = _run("--list")
     assert listing.returncode == 0, listing.stderr
     breaks = {line.split("break")[1].split()[0] for line in listing.stdout.splitlines() if "break" in line}
-    assert breaks == {str(n) for n in range(1, 11)}
+    assert breaks == {str(n) for n in range(1, 11)} | {"osm"}
+
+
+def test_hostile_osm_files_are_refused_under_the_cap():
+    result = _run("--only", "osm-billion-laughs", "osm-gzip-bomb", "--cap-mb", "1024")
+    assert result.returncode == 0, result.stdout[-3000:]
+    assert "every case passed" in result.stdout
+    assert result.stdout.count(" ok ") >= 4  # validate and build of each
 
 
 def test_hostile_recipes_pass_under_the_cap():

@@ -83,7 +83,14 @@ from pathlib import Path
 from navverse.city.map import CityMap, CityMapError, Frame, Source
 from navverse.city.osm_classes import FEATURE_KEYS
 from navverse.city.osm_features import Features, build_features
-from navverse.city.osm_files import Progress, check_osm_file, file_bounds, file_sha256, peek_osm_file
+from navverse.city.osm_files import (
+    Progress,
+    check_osm_file,
+    file_bounds,
+    file_sha256,
+    head_bounds,
+    peek_osm_file,
+)
 from navverse.city.osm_read import read_extract
 from navverse.city.osm_window import Window, box_text, make_window
 
@@ -174,8 +181,8 @@ def check_window(
         Saying what to change.
     """
     path = Path(path)
-    fmt = peek_osm_file(path)
-    bounds = file_bounds(path, fmt)
+    fmt, head = peek_osm_file(path)
+    bounds = file_bounds(path, fmt) if fmt == "pbf" else head_bounds(head)
     window = make_window(center=center, size_m=size_m, bbox=bbox, data_bounds=bounds, path=path)
     if bounds is not None:
         west, south, east, north = bounds

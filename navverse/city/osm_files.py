@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import hashlib
 import io
+import math
 import os
 import re
 import zlib
@@ -340,7 +341,7 @@ def check_osm_file(path: str | os.PathLike[str]) -> OsmFile:
     return OsmFile(path, fmt, size)
 
 
-def peek_osm_file(path: str | os.PathLike[str]) -> str:
+def peek_osm_file(path: str | os.PathLike[str]) -> tuple[str, bytes]:
     """What :func:`check_osm_file` checks of a file's beginning, reading only its first bytes.
 
     The name, the content's kind, and for XML the prolog (no DOCTYPE, an ``<osm>`` root), from at
@@ -349,8 +350,10 @@ def peek_osm_file(path: str | os.PathLike[str]) -> str:
 
     Returns
     -------
-    str
-        The format: ``"xml"``, ``"xml.gz"`` or ``"pbf"``.
+    format : str
+        ``"xml"``, ``"xml.gz"`` or ``"pbf"``.
+    head : bytes
+        The first bytes of the (decompressed) XML; empty for PBF.
 
     Raises
     ------
@@ -371,7 +374,7 @@ def peek_osm_file(path: str | os.PathLike[str]) -> str:
         found = _CONTENT_NAMES.get(kind, "something that is neither OSM XML, gzip nor PBF")
         raise CityMapError(f"{path} is named {_NAMES[fmt]} but holds {found}")
     if fmt == "pbf":
-        return fmt
+        return fmt, b""
     if fmt == "xml.gz":
         inflate = zlib.decompressobj(wbits=31)
         with open(path, "rb") as handle:
@@ -382,7 +385,36 @@ def peek_osm_file(path: str | os.PathLike[str]) -> str:
         if _content_kind(head) != "xml":
             raise CityMapError(f"{path} is gzip, but what it holds is not OSM XML")
     _check_prolog(head, path, complete=len(head) < PROLOG_LIMIT)
-    return fmt
+    return fmt, head
+
+
+_BOUNDS = re.compile(rb"<bounds\b([^<>]*)>")
+_ATTRIBUTE = re.compile(rb"""\b(minlat|minlon|maxlat|maxlon)\s*=\s*["']([^"']{1,40})["']""")
+
+
+def head_bounds(head: bytes) -> LonLatBox | None:
+    """The ``<bounds>`` an OSM XML file declares within its first bytes, or None.
+
+    Reading them from the head keeps validation bounded: a parser asked for the header of an XML file
+    reads on until its first object.
+    """
+    match = _BOUNDS.search(head)
+    if match is None:
+        return None
+    values: dict[str, float] = {}
+    for key, value in _ATTRIBUTE.findall(match.group(1)):
+        try:
+            values[key.decode()] = float(value)
+        except ValueError:
+            return None
+    if set(values) != {"minlat", "minlon", "maxlat", "maxlon"} or not all(
+        map(math.isfinite, values.values())
+    ):
+        return None
+    box = (values["minlon"], values["minlat"], values["maxlon"], values["maxlat"])
+    if not (-180 <= box[0] <= box[2] <= 180 and -90 <= box[1] <= box[3] <= 90):
+        return None
+    return box
 
 
 def file_sha256(path: str | os.PathLike[str], *, progress: Progress | None = None) -> str:
