@@ -293,6 +293,23 @@ class OsmFile:
     data_bytes: int
 
 
+def _raw_head(path: Path) -> tuple[str, bytes]:
+    """The format a file's name gives and its first raw bytes, once both are checked to agree."""
+    problem = regular_file_problem(path, max_bytes=MAX_OSM_BYTES, what="OSM file")
+    if problem:
+        raise CityMapError(problem)
+    fmt = _osm_format(path)
+    with open(path, "rb") as handle:
+        head = handle.read(PROLOG_LIMIT)
+    kind = _content_kind(head)
+    if kind == "empty":
+        raise CityMapError(f"{path} is empty")
+    if kind != _EXPECTED[fmt]:
+        found = _CONTENT_NAMES.get(kind, "something that is neither OSM XML, gzip nor PBF")
+        raise CityMapError(f"{path} is named {_NAMES[fmt]} but holds {found}")
+    return fmt, head
+
+
 def check_osm_file(path: str | os.PathLike[str]) -> OsmFile:
     """Check an OSM file before any parser opens it: what it is and how much data it holds.
 
@@ -313,18 +330,7 @@ def check_osm_file(path: str | os.PathLike[str]) -> OsmFile:
         another, truncated, a decompression bomb, or XML with a DOCTYPE or a root other than ``<osm>``.
     """
     path = Path(path)
-    problem = regular_file_problem(path, max_bytes=MAX_OSM_BYTES, what="OSM file")
-    if problem:
-        raise CityMapError(problem)
-    fmt = _osm_format(path)
-    with open(path, "rb") as handle:
-        head = handle.read(PROLOG_LIMIT)
-    kind = _content_kind(head)
-    if kind == "empty":
-        raise CityMapError(f"{path} is empty")
-    if kind != _EXPECTED[fmt]:
-        found = _CONTENT_NAMES.get(kind, "something that is neither OSM XML, gzip nor PBF")
-        raise CityMapError(f"{path} is named {_NAMES[fmt]} but holds {found}")
+    fmt, head = _raw_head(path)
     if fmt == "pbf":
         return OsmFile(path, fmt, _pbf_scan(path))
     if fmt == "xml":
@@ -361,18 +367,7 @@ def peek_osm_file(path: str | os.PathLike[str]) -> tuple[str, bytes]:
         If the name, the content or the XML prolog is wrong.
     """
     path = Path(path)
-    problem = regular_file_problem(path, max_bytes=MAX_OSM_BYTES, what="OSM file")
-    if problem:
-        raise CityMapError(problem)
-    fmt = _osm_format(path)
-    with open(path, "rb") as handle:
-        head = handle.read(PROLOG_LIMIT)
-    kind = _content_kind(head)
-    if kind == "empty":
-        raise CityMapError(f"{path} is empty")
-    if kind != _EXPECTED[fmt]:
-        found = _CONTENT_NAMES.get(kind, "something that is neither OSM XML, gzip nor PBF")
-        raise CityMapError(f"{path} is named {_NAMES[fmt]} but holds {found}")
+    fmt, head = _raw_head(path)
     if fmt == "pbf":
         return fmt, b""
     if fmt == "xml.gz":
