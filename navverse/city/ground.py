@@ -6,6 +6,7 @@ Heights, relative to the terrain (flat, or the elevation function given):
 surface         top
 ==============  ===========================================================================================
 road            ``-road_depression`` (default 0.2 m below the sidewalks)
+shared          0: living streets, service roads and tracks have no curbs (terrain class ``road``)
 crosswalk       road level; within ``ramp_length`` of the road's edge a crosswalk whose kerb is not
                 ``raised`` rises to ``-lip`` at the edge (``lowered``/``rolled``: ``lowered_curb_height``,
                 ``flush``: 0), so the step onto the curb is the lip and the slope stays gentle
@@ -41,6 +42,7 @@ __all__ = ["TERRAIN_OF_SURFACE", "GroundSettings", "flat", "ground_surfaces"]
 
 TERRAIN_OF_SURFACE = {
     "road": "road",
+    "shared": "road",
     "crosswalk": "crosswalk",
     "lowered_curb": "crosswalk",
     "curb": "curb",

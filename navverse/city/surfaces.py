@@ -5,6 +5,8 @@
 
 - ``road``: carriageways, each centre line buffered by half its width (round joins and ends, so
   junctions are filled without slivers), all unioned;
+- ``shared``: the carriageways of :data:`SHARED_SURFACE_HIGHWAYS` (living streets, service roads,
+  tracks), which have no curbs: the geometry keeps them level with the ground;
 - ``crosswalk``: where a crossing is, a strip ``crosswalk_width`` wide across the road it names
   (perpendicular to the road at that point), and mapped ``footway=crossing`` ways over a road;
 - ``curb``: the ``curb_width`` top strip along every road edge that borders a walked surface;
@@ -34,6 +36,7 @@ __all__ = [
     "CURB_WIDTH",
     "PRIORITY",
     "QUAD_SEGMENTS",
+    "SHARED_SURFACE_HIGHWAYS",
     "SURFACE_CLASSES",
     "carriageways",
     "crosswalk_polygons",
@@ -46,10 +49,13 @@ CROSSWALK_WIDTH = 4.0
 """Width of a crosswalk along the road (m); crosswalks are 3–5 m wide."""
 QUAD_SEGMENTS = 4
 """Segments per quarter circle of round joins and ends (a junction corner is 4 segments)."""
+SHARED_SURFACE_HIGHWAYS = frozenset({"living_street", "service", "track"})
+"""Road classes without curbs (shared surfaces, driveways, farm tracks): level with the ground."""
 PRIORITY = (
     "building",
     "crosswalk",
     "road",
+    "shared",
     "lowered_curb",
     "curb",
     "sidewalk",
@@ -176,7 +182,10 @@ def plan_surfaces(
         included), pairwise disjoint (up to shared edges), covering the window.
     """
     window = box(*city.window)
-    road_area = _union(carriageways(city).values())
+    lanes = carriageways(city)
+    kinds = {road.id: road.highway in SHARED_SURFACE_HIGHWAYS for road in city.roads}
+    road_area = _union(p for road_id, p in lanes.items() if not kinds[road_id])
+    shared_area = _union(p for road_id, p in lanes.items() if kinds[road_id])
     walkway_area = _union(
         LineString(w.centerline.points).buffer(w.width / 2.0, join_style="round", quad_segs=QUAD_SEGMENTS)
         for w in city.walkways
@@ -192,6 +201,7 @@ def plan_surfaces(
         "building": _union(_polygon(b.footprint) for b in city.buildings),
         "crosswalk": crosswalks.intersection(road_area),
         "road": road_area,
+        "shared": shared_area,
         "lowered_curb": lowered,
         "curb": curb,
         "sidewalk": sidewalk_area,

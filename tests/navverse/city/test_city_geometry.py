@@ -182,3 +182,15 @@ def test_the_turtlebot_crosses_only_at_the_crosswalk(junction: Scene, tmp_path: 
     assert outcome.termination is None and miss < 0.3
     outcome, miss = _drive(junction, "turtlebot", MID_BLOCK, tmp_path)
     assert miss > 5.0  # the 20 cm curb stops it: it never reaches the far sidewalk
+
+
+def test_service_roads_are_shared_surfaces_without_curbs(tmp_path: Path) -> None:
+    text = T_JUNCTION.read_text(encoding="utf-8")
+    side = text.index('<way id="101">')
+    text = text[:side] + text[side:].replace('v="residential"', 'v="service"', 1)
+    service = tmp_path / "service.osm"
+    service.write_text(text, encoding="utf-8")
+    city = read_osm(service, center=(48.0, 11.0), size_m=(200.0, 200.0))
+    heights, classes = Caster(city_scene(city, scene_id="s", geometry=GEOMETRY))([(0.0, 50.0), (2.5, 50.0)])
+    assert classes.tolist() == ["road", "ground"]  # no sidewalk (the service rule), no curb
+    assert heights == pytest.approx([0.0, 0.0], abs=1e-4)
