@@ -28,7 +28,7 @@ import numpy as np
 import shapely
 
 from navverse.city.map import Building, CityMap, Frame, LandArea, Polygon2, Source
-from navverse.city.synthetic_blocks import block_polygons, frontage_lots, polygon2, street_area
+from navverse.city.synthetic_blocks import FRONT_REACH, block_polygons, frontage_lots, polygon2, street_area
 from navverse.city.synthetic_furniture import street_furniture
 from navverse.city.synthetic_land import banks, block_uses, embankments, keepout, pond, river
 from navverse.city.synthetic_params import Layout, SyntheticCityParams
@@ -69,6 +69,25 @@ def _network(rng: np.random.Generator, window: Window, params: SyntheticCityPara
     return grid_network(rng, window, params.block, params.jitter, params.arterial_every)
 
 
+def _river(
+    rng: np.random.Generator, network: Network, window: Window, params: SyntheticCityParams
+) -> tuple[shapely.Polygon, Network] | None:
+    """The river and the network cut at it, drawing the river again (up to 6 times) while its
+    bridges leave more than a tenth of the street length cut off from the main network; None
+    without a river (``river_width`` 0, or no such river found)."""
+    clearance = params.river_width / 2.0 + params.meander + 2.5 * max(params.block)
+    halves = {rank: style.half for rank, style in rank_styles(params).items()}
+    for _ in range(6):
+        water = river(rng, window, params, avoid=network.squares, clearance=clearance)
+        if water is None:
+            return None
+        cut, bridges = cut_at_water(network, rng, water, banks(water, halves, params), params.bridges, window)
+        total = sum(piece.length for piece in cut.pieces)
+        if bridges and sum(piece.length for piece in main_component(cut).pieces) >= 0.9 * total:
+            return water, cut
+    return None
+
+
 def _storeys(rng: np.random.Generator, arterial: bool, params: SyntheticCityParams) -> int:
     """Storeys drawn from the range, skewed up on arterials and down on other streets."""
     low, high = sorted(params.storeys)
@@ -103,11 +122,11 @@ def synthetic_city(params: SyntheticCityParams, *, seed: int) -> CityMap:
     width, height = params.size
     window = (-width / 2.0, -height / 2.0, width / 2.0, height / 2.0)
     network = clip(_network(streets_rng, window, params), window)
-    water = river(water_rng, window, params)
     styles = street_styles(style_rng, network, params)
-    if water is not None:
-        halves = {rank: style.half for rank, style in rank_styles(params).items()}
-        network = cut_at_water(network, water_rng, water, banks(water, halves, params), params.bridges)
+    river_and_network = _river(water_rng, network, window, params)
+    water = None
+    if river_and_network is not None:
+        water, network = river_and_network
     network = merge_chains(main_component(network))
     roads = road_records(name_rng, network, styles)
     arms = junction_arms(roads, network, params.crossing_offset)
@@ -140,9 +159,10 @@ def synthetic_city(params: SyntheticCityParams, *, seed: int) -> CityMap:
     tree = shapely.STRtree([shapely.linestrings(road.centerline.points) for road in roads])
     facing = tree.query_nearest(fronts, all_matches=False)[1] if lots else np.zeros(0, dtype=int)
     arterial = [roads[int(k)].highway in ARTERIALS for k in facing]
+    on_street = shapely.distance(streets, fronts) <= params.setback + FRONT_REACH
     drafts = [
-        PoiDraft(f"building-{n}", lot.front, on_arterial)
-        for n, (lot, on_arterial) in enumerate(zip(lots, arterial, strict=True), start=1)
+        PoiDraft(f"building-{n}", lot.front, bool(street), on_arterial)
+        for n, (lot, street, on_arterial) in enumerate(zip(lots, on_street, arterial, strict=True), start=1)
     ]
     pois, entrances = ground_floor_pois(
         poi_rng, drafts, share=params.poi_share, arterial_share=params.arterial_poi_share

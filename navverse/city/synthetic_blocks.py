@@ -5,8 +5,9 @@ round-capped) and minus the water with its embankments (:func:`block_polygons`).
 shrunk by the setback; its outline (counter-clockwise) is cut into *sides* where it turns by more
 than 30°, and each side is walked from a random start: a parcel of a drawn frontage, its building a
 rectangle whose front is the chord across the parcel (moved inward where the side bulges in, such as
-along a ring road) and whose depth is drawn, shrunk or narrowed when it would leave the block or
-touch a building already placed, then a drawn gap (:func:`frontage_lots`). Buildings therefore face
+along a ring road; narrower where it would bulge in more than 1 m) and whose depth is drawn, shrunk
+or narrowed when it would leave the block or touch a building already placed, then a drawn gap
+(:func:`frontage_lots`). Buildings therefore face
 the street they stand on, never overlap each other (1 cm apart at least) and stay the setback away
 from every sidewalk. A block's inside (its courtyard) is left open.
 """
@@ -28,12 +29,18 @@ from navverse.city.map import Polygon2, Road
 from navverse.city.synthetic_params import SyntheticCityParams
 from navverse.city.synthetic_streets import XY, Window
 
-__all__ = ["Lot", "block_polygons", "frontage_lots", "polygon2", "polygons_of", "street_area"]
+__all__ = ["FRONT_REACH", "Lot", "block_polygons", "frontage_lots", "polygon2", "polygons_of", "street_area"]
 
 CORNER_TURN = math.radians(30.0)
 """A block outline turning by more than this at a vertex starts a new side there."""
 MIN_SIDE = 4.0
 """Smallest building width and depth (m)."""
+MAX_BULGE = 1.0
+"""Farthest a block outline may bulge in behind a building's front (m), along a curved street."""
+SIMPLIFY = 0.1
+"""Tolerance of the simplified block outline that is walked (m)."""
+FRONT_REACH = MAX_BULGE + 2.0 * SIMPLIFY + 0.05
+"""A building's front is at most the setback and this far from the block's edge (m)."""
 BUILDING_GAP = 0.01
 """Least distance between two buildings (m), so rounding to the millimetre cannot make them overlap."""
 
@@ -151,7 +158,9 @@ def _rectangle(side: _Side, start: float, width: float, depth: float) -> tuple[X
     bulge = max(
         [0.0] + [(q[0] - p0[0]) * nx + (q[1] - p0[1]) * ny for q in side.between(start, start + width)]
     )
-    shift = bulge + 0.02
+    if bulge > MAX_BULGE:
+        return None  # too wide for the curve: a narrower front follows it better
+    shift = bulge + SIMPLIFY + 0.02
     front0 = (p0[0] + nx * shift, p0[1] + ny * shift)
     front1 = (p1[0] + nx * shift, p1[1] + ny * shift)
     return (
@@ -194,11 +203,14 @@ def frontage_lots(rng: np.random.Generator, block: Polygon, params: SyntheticCit
     low_f, high_f = sorted(params.frontage)
     low_d, high_d = sorted(params.depth)
     for part in polygons_of(buildable):
-        part = orient(part.simplify(0.2), sign=1.0)
-        if not isinstance(part, Polygon) or part.is_empty or part.area < MIN_SIDE * MIN_SIDE:
+        if part.area < MIN_SIDE * MIN_SIDE:
             continue
         shapely.prepare(part)
-        ring = _ring(part.exterior.coords)
+        # The outline is walked simplified (fewer, longer sides); fronts step SIMPLIFY further in.
+        walked = orient(part.simplify(SIMPLIFY), sign=1.0)
+        if not isinstance(walked, Polygon) or walked.is_empty:
+            continue
+        ring = _ring(walked.exterior.coords)
         if len(ring) < 3:
             continue
         for points in _sides(ring):
@@ -214,6 +226,7 @@ def frontage_lots(rng: np.random.Generator, block: Polygon, params: SyntheticCit
                     (width, 0.7 * depth),
                     (0.6 * width, depth),
                     (0.6 * width, 0.6 * depth),
+                    (0.4 * width, depth),
                 ):
                     if w < MIN_SIDE or d < MIN_SIDE:
                         continue

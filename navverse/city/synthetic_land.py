@@ -8,7 +8,8 @@ embankments are green strips ``embankment`` wide along both banks, cut by the br
 
 Each block is a park (``park_share``; a ``pond_share`` of parks hold an oval pond of at most
 ``pond_size`` of the park's area, a hole in the park), a paved square (``plaza_share``; in the
-radial layout, the block at the centre always is), a parking lot (``parking_share``) or built up.
+radial layout, the block at the centre is, unless the river took its ring road), a parking lot
+(``parking_share``) or built up.
 """
 
 from __future__ import annotations
@@ -27,8 +28,20 @@ from navverse.city.synthetic_streets import XY, Window
 __all__ = ["banks", "block_uses", "embankments", "keepout", "pond", "river"]
 
 
-def river(rng: np.random.Generator, window: Window, params: SyntheticCityParams) -> Polygon | None:
-    """The river's water polygon in the window (the largest piece), or None without a river."""
+def river(
+    rng: np.random.Generator,
+    window: Window,
+    params: SyntheticCityParams,
+    *,
+    avoid: list[XY],
+    clearance: float,
+) -> Polygon | None:
+    """The river's water polygon in the window (the largest piece), or None without a river.
+
+    Its shift off the window's centre is drawn again (up to 8 times) while its straight centre
+    line passes closer than ``clearance`` to a point of ``avoid`` (the radial layout's centre);
+    failing that, the draw passing farthest from them is used.
+    """
     if params.river_width <= 0.0:
         return None
     min_x, min_y, max_x, max_y = window
@@ -38,12 +51,20 @@ def river(rng: np.random.Generator, window: Window, params: SyntheticCityParams)
     dx, dy = math.cos(turn), math.sin(turn)
     nx, ny = -dy, dx
     across = width if along_y else height
-    shift = float(rng.uniform(-0.25, 0.25)) * across
-    cx, cy = (min_x + max_x) / 2.0 + nx * shift, (min_y + max_y) / 2.0 + ny * shift
+    mid_x, mid_y = (min_x + max_x) / 2.0, (min_y + max_y) / 2.0
+    best, best_gap = 0.0, -math.inf
+    for _ in range(8):
+        shift = float(rng.uniform(-0.25, 0.25)) * across
+        gap = min((abs((px - mid_x) * nx + (py - mid_y) * ny - shift) for px, py in avoid), default=math.inf)
+        if gap > best_gap:
+            best, best_gap = shift, gap
+        if gap >= clearance:
+            break
+    cx, cy = mid_x + nx * best, mid_y + ny * best
     half = math.hypot(width, height) / 2.0 + params.river_width + params.meander
     s = np.arange(-half, half + 8.0, 8.0)
-    amplitudes = params.meander * rng.uniform([0.5, 0.2], [1.0, 0.5])
-    wavelengths = rng.uniform([500.0, 180.0], [900.0, 320.0])
+    amplitudes = params.meander * rng.uniform([0.6, 0.1], [1.0, 0.25])
+    wavelengths = rng.uniform([700.0, 250.0], [1200.0, 400.0])
     phases = rng.uniform(0.0, 2.0 * math.pi, size=2)
     offset = sum(
         a * np.sin(2.0 * math.pi * s / w + p) for a, w, p in zip(amplitudes, wavelengths, phases, strict=True)
@@ -61,7 +82,9 @@ def block_uses(
     uses = []
     for block in blocks:
         draw = float(rng.uniform())
-        if any(block.contains(Point(p)) for p in squares):
+        if block.area <= 4.0 * params.block[0] * params.block[1] and any(
+            block.contains(Point(p)) for p in squares
+        ):
             uses.append("plaza")
         elif draw < params.park_share:
             uses.append("park")

@@ -30,7 +30,7 @@ class SyntheticCityParams(BaseModel):
     """Street network: ``grid``, ``radial`` (rings and spokes) or ``organic`` (bent, thinned lattice)."""
     size: tuple[_Side, _Side] = (1000.0, 1000.0)
     """Width (x) and height (y) of the window, centred on the origin."""
-    block: tuple[_Block, _Block] = (70.0, 48.0)
+    block: tuple[_Block, _Block] = (60.0, 44.0)
     """Street spacing: along x and y (grid, organic lattice), or along the rings and between rings
     (radial)."""
     jitter: Annotated[float, Field(ge=0.0, le=0.3)] = 0.1
@@ -55,9 +55,9 @@ class SyntheticCityParams(BaseModel):
     node_jitter: Annotated[float, Field(ge=0.0, le=0.24)] = 0.18
     """Organic layout: junction displacement, as a share of ``block`` each way (under a quarter, so
     streets cannot cross)."""
-    street_removal: Annotated[float, Field(ge=0.0, le=0.6)] = 0.15
+    street_removal: Annotated[float, Field(ge=0.0, le=0.6)] = 0.1
     """Organic layout: share of residential lattice edges outside a spanning tree that are removed."""
-    dead_end_share: _Share = 0.5
+    dead_end_share: _Share = 0.6
     """Organic layout: share of removed edges that keep a dead-end stub."""
     curviness: Annotated[float, Field(ge=0.0, le=60.0)] = 25.0
     """Organic layout: amplitude of the smooth displacement that bends the streets."""
@@ -81,7 +81,7 @@ class SyntheticCityParams(BaseModel):
     """Share of blocks that are parking lots."""
     setback: Annotated[float, Field(ge=0.0, le=20.0)] = 1.0
     """Distance from the sidewalk's outer edge to the building fronts."""
-    frontage: tuple[_Span, _Span] = (14.0, 34.0)
+    frontage: tuple[_Span, _Span] = (18.0, 45.0)
     """Range of building widths along the street."""
     depth: tuple[_Span, _Span] = (10.0, 18.0)
     """Range of building depths away from the street."""

@@ -1,11 +1,11 @@
 """Places of interest of synthetic cities: shops, cafes, banks... on the ground floors of buildings.
 
-A building facing an arterial holds a ground-floor place with probability ``arterial_poi_share``,
-one on a residential street ``poi_share``; a building over 24 m wide holds a second one with
-probability 0.4. A place's category is drawn from :data:`POI_TABLE`, the ``amenity=*`` and
-``shop=*`` values common in city centres with rough relative weights (rounded orders of magnitude
-of how often each value is mapped in OpenStreetMap, not measured from any one city); every
-``amenity`` value is one the OSM reader keeps as a place
+A building whose front faces a street (not the river or the window's edge) holds a ground-floor
+place with probability ``arterial_poi_share`` on an arterial, ``poi_share`` on another street; a
+building over 24 m wide holds a second one with probability 0.4. A place's category is drawn from
+:data:`POI_TABLE`, the ``amenity=*`` and ``shop=*`` values common in city centres with rough
+relative weights (rounded orders of magnitude of how often each value is mapped in OpenStreetMap,
+not measured from any one city); every ``amenity`` value is one the OSM reader keeps as a place
 (:data:`~navverse.city.osm_classes.POI_AMENITIES`). It stands just inside the street facade, 0.5 m
 behind a point drawn along its middle 60 %, and that facade point is the building's entrance. Its
 name comes from a word or family name and a label of its category (``Linden Pharmacy``,
@@ -71,11 +71,13 @@ _WEIGHTS = np.array([row[2] for row in POI_TABLE], dtype=float) / sum(row[2] for
 
 @dataclass(frozen=True)
 class PoiDraft:
-    """A building that may hold places: its id, street facade end points (the inside on the
-    facade's left) and whether it faces an arterial."""
+    """A building that may hold places: its id, front facade end points (the inside on the
+    facade's left), whether that facade faces a street (not the river or the window's edge) and
+    whether the street is an arterial."""
 
     building: str
     front: tuple[XY, XY]
+    street: bool
     arterial: bool
 
 
@@ -99,7 +101,7 @@ def ground_floor_pois(
         (x0, y0), (x1, y1) = draft.front
         width = math.dist(draft.front[0], draft.front[1])
         draws = rng.uniform(size=2)
-        count = int(draws[0] < (arterial_share if draft.arterial else share))
+        count = int(draft.street and draws[0] < (arterial_share if draft.arterial else share))
         count += int(count == 1 and width > 24.0 and draws[1] < 0.4)
         ux, uy = (x1 - x0) / width, (y1 - y0) / width
         nx, ny = -uy, ux

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
-from shapely.geometry import LineString, MultiLineString, Point, Polygon
+from shapely.geometry import LineString, MultiLineString, Point, Polygon, box
 from shapely.geometry.base import BaseGeometry
 
 __all__ = [
@@ -382,34 +382,54 @@ def _line_parts(geometry: object) -> list[LineString]:
     return [part for part in parts if isinstance(part, LineString) and not part.is_empty]
 
 
+def polygons_of_box_minus(window: Window, cut: BaseGeometry) -> list[Polygon]:
+    """The polygons of the window minus ``cut``."""
+    rest = box(*window).difference(cut)
+    return [g for g in getattr(rest, "geoms", [rest]) if isinstance(g, Polygon) and not g.is_empty]
+
+
+def _side(shores: list[Polygon], point: XY) -> int | None:
+    """Index of the shore polygon ``point`` is on (its boundary included), or None."""
+    where = Point(point)
+    return next((k for k, shore in enumerate(shores) if shore.distance(where) <= 1e-6), None)
+
+
 def cut_at_water(
     network: Network,
     rng: np.random.Generator,
     water: Polygon,
     banks: dict[int, Polygon],
     bridges: int,
+    window: Window,
     *,
     shortest: float = 8.0,
-) -> Network:
+) -> tuple[Network, int]:
     """Streets stop at the water's ``banks`` (one polygon per rank: the water grown by the
     embankment and that rank's half street width), except up to ``bridges`` streets that cross the
-    water once, from bank to bank, kept whole: arterials first, then the most square to the water,
-    120 m apart at least. Stubs shorter than ``shortest`` meters are dropped."""
+    water once, from one shore to the other (the two largest pieces of land beyond the banks, in
+    the window), kept whole:
+    arterials first, then the most square to the water, 120 m apart at least. Stubs shorter than
+    ``shortest`` meters are dropped. Returns the network and the number of bridges."""
     lines = [LineString(piece.points) for piece in network.pieces]
     wet: dict[int, list[int]] = {}  # street -> its pieces reaching its bank
     for index, (piece, line) in enumerate(zip(network.pieces, lines, strict=True)):
         if line.intersects(banks[network.streets[piece.street].rank]):
             wet.setdefault(piece.street, []).append(index)
+    # The two largest pieces of land beyond each rank's banks: the shores a bridge must join.
+    land = {
+        rank: sorted(polygons_of_box_minus(window, bank), key=lambda p: -p.area)[:2]
+        for rank, bank in banks.items()
+    }
+    shores = {street: land[network.streets[street].rank] for street in wet}
     candidates: list[tuple[float, int, BaseGeometry]] = []
     for street, indices in wet.items():
-        bank = banks[network.streets[street].rank]
         ends: dict[XY, int] = {}
         for i in indices:
             for end in (network.pieces[i].points[0], network.pieces[i].points[-1]):
                 ends[end] = ends.get(end, 0) + 1
         loose = [end for end, count in ends.items() if count == 1]
-        if len(loose) != 2 or any(bank.contains(Point(end)) for end in loose):
-            continue  # not one run from bank to bank
+        if len(loose) != 2 or len({_side(shores[street], end) for end in loose} - {None}) != 2:
+            continue  # not one run from one shore to another
         over = _line_parts(
             shapely.line_merge(MultiLineString([lines[i] for i in indices]).intersection(water))
         )
@@ -434,7 +454,7 @@ def cut_at_water(
             kept = _piece(part.coords, piece.street)
             if kept is not None and kept.length >= shortest:
                 pieces.append(kept)
-    return Network(network.streets, pieces, network.squares)
+    return Network(network.streets, pieces, network.squares), len(chosen)
 
 
 def node_pieces(network: Network) -> dict[XY, list[tuple[int, bool]]]:
