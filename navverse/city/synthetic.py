@@ -54,19 +54,23 @@ ARTERIALS = frozenset({"secondary", "tertiary"})
 
 def _network(rng: np.random.Generator, window: Window, params: SyntheticCityParams) -> Network:
     if params.layout == "radial":
-        return radial_network(rng, window, params.block, params.jitter, params.arterial_every)
+        return radial_network(
+            rng, window, block=params.block, jitter=params.jitter, arterial_every=params.arterial_every
+        )
     if params.layout == "organic":
         return organic_network(
             rng,
             window,
-            params.block,
+            block=params.block,
             node_jitter=params.node_jitter,
             removal=params.street_removal,
             dead_ends=params.dead_end_share,
             curviness=params.curviness,
             arterial_every=params.arterial_every,
         )
-    return grid_network(rng, window, params.block, params.jitter, params.arterial_every)
+    return grid_network(
+        rng, window, block=params.block, jitter=params.jitter, arterial_every=params.arterial_every
+    )
 
 
 def _river(
@@ -81,14 +85,16 @@ def _river(
         water = river(rng, window, params, avoid=network.squares, clearance=clearance)
         if water is None:
             return None
-        cut, bridges = cut_at_water(network, rng, water, banks(water, halves, params), params.bridges, window)
+        cut, bridges = cut_at_water(
+            network, rng, water, banks(water, halves, params), bridges=params.bridges, window=window
+        )
         total = sum(piece.length for piece in cut.pieces)
         if bridges and sum(piece.length for piece in main_component(cut).pieces) >= 0.9 * total:
             return water, cut
     return None
 
 
-def _storeys(rng: np.random.Generator, arterial: bool, params: SyntheticCityParams) -> int:
+def _storeys(rng: np.random.Generator, params: SyntheticCityParams, *, arterial: bool) -> int:
     """Storeys drawn from the range, skewed up on arterials and down on other streets."""
     low, high = sorted(params.storeys)
     draw = float(rng.uniform())
@@ -119,8 +125,8 @@ def synthetic_city(params: SyntheticCityParams, *, seed: int) -> CityMap:
     """
     root = np.random.default_rng([seed, 0x5C17])
     streets_rng, water_rng, style_rng, name_rng, land_rng, lots_rng, poi_rng, furniture_rng = root.spawn(8)
-    width, height = params.size
-    window = (-width / 2.0, -height / 2.0, width / 2.0, height / 2.0)
+    half_x, half_y = round(params.size[0] / 2.0, 3), round(params.size[1] / 2.0, 3)
+    window = (-half_x, -half_y, half_x, half_y)
     network = clip(_network(streets_rng, window, params), window)
     styles = street_styles(style_rng, network, params)
     river_and_network = _river(water_rng, network, window, params)
@@ -129,7 +135,7 @@ def synthetic_city(params: SyntheticCityParams, *, seed: int) -> CityMap:
         water, network = river_and_network
     network = merge_chains(main_component(network))
     roads = road_records(name_rng, network, styles)
-    arms = junction_arms(roads, network, params.crossing_offset)
+    arms = junction_arms(roads, network, offset=params.crossing_offset)
     streets = street_area(roads)
 
     areas: list[LandArea] = []
@@ -153,13 +159,16 @@ def synthetic_city(params: SyntheticCityParams, *, seed: int) -> CityMap:
             lots += frontage_lots(lots_rng, block, params)
 
     # Buildings: storeys by the street each one faces.
-    fronts = shapely.points(
-        [((a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0) for a, b in (lot.front for lot in lots)]
-    )
-    tree = shapely.STRtree([shapely.linestrings(road.centerline.points) for road in roads])
-    facing = tree.query_nearest(fronts, all_matches=False)[1] if lots else np.zeros(0, dtype=int)
-    arterial = [roads[int(k)].highway in ARTERIALS for k in facing]
-    on_street = shapely.distance(streets, fronts) <= params.setback + FRONT_REACH
+    arterial, on_street = [False] * len(lots), [False] * len(lots)
+    if lots and roads:
+        fronts = shapely.points(
+            [((a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0) for a, b in (lot.front for lot in lots)]
+        )
+        tree = shapely.STRtree([shapely.linestrings(road.centerline.points) for road in roads])
+        arterial = [
+            roads[int(k)].highway in ARTERIALS for k in tree.query_nearest(fronts, all_matches=False)[1]
+        ]
+        on_street = list(shapely.distance(streets, fronts) <= params.setback + FRONT_REACH)
     drafts = [
         PoiDraft(f"building-{n}", lot.front, bool(street), on_arterial)
         for n, (lot, street, on_arterial) in enumerate(zip(lots, on_street, arterial, strict=True), start=1)
@@ -169,7 +178,7 @@ def synthetic_city(params: SyntheticCityParams, *, seed: int) -> CityMap:
     )
     buildings = []
     for draft, lot, on_arterial in zip(drafts, lots, arterial, strict=True):
-        storeys = _storeys(lots_rng, on_arterial, params)
+        storeys = _storeys(lots_rng, params, arterial=on_arterial)
         buildings.append(
             Building(
                 id=draft.building,

@@ -196,7 +196,22 @@ def _blocker(shape: Polygon, bounds: Bounds, shapes: list[tuple[Polygon, Bounds]
 
 
 def frontage_lots(rng: np.random.Generator, block: Polygon, params: SyntheticCityParams) -> list[Lot]:
-    """Buildings along the edges of a built ``block`` (see the module docstring)."""
+    """Buildings along the edges of a built block (see the module docstring).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Draws each parcel's start, frontage, depth and the gaps.
+    block : shapely.Polygon
+        The block: land between the streets (sidewalks excluded).
+    params : SyntheticCityParams
+        ``setback``, ``frontage``, ``depth`` and ``gap``.
+
+    Returns
+    -------
+    list of Lot
+        Rectangular footprints, fronts on the block's edge, in walking order.
+    """
     lots: list[Lot] = []
     shapes: list[tuple[Polygon, Bounds]] = []
     buildable = block.buffer(-params.setback, join_style="mitre") if params.setback > 0 else block

@@ -107,7 +107,28 @@ def street_furniture(
     window: Window,
     params: SyntheticCityParams,
 ) -> list[StreetFurniture]:
-    """Street furniture along ``roads`` (see the module docstring)."""
+    """Street furniture along the roads' sidewalks (see the module docstring).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Draws phases, counts, stations and sides.
+    roads : list of Road
+        The city's roads.
+    arms : list of Arm
+        Their ends at nodes (:func:`~.synthetic_roads.junction_arms`): clearances and crossings.
+    water : shapely.Polygon or None
+        The river, if any.
+    window : tuple of float
+        ``(min_x, min_y, max_x, max_y)``.
+    params : SyntheticCityParams
+        Spacings and shares.
+
+    Returns
+    -------
+    list of StreetFurniture
+        Numbered ``furniture-1``, ``furniture-2``... in the order placed.
+    """
     clear = _clearances(roads, arms)
     stretches = [
         _Road(road, clear.get((i, True), 1.0), clear.get((i, False), 1.0)) for i, road in enumerate(roads)

@@ -94,7 +94,22 @@ def _name(rng: np.random.Generator, labels: tuple[str, ...]) -> str:
 def ground_floor_pois(
     rng: np.random.Generator, drafts: list[PoiDraft], *, share: float, arterial_share: float
 ) -> tuple[list[Poi], dict[str, list[XY]]]:
-    """Places on ground floors (see the module docstring) and each building's entrances."""
+    """Places on ground floors (see the module docstring) and each building's entrances.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Draws counts, positions, categories and names.
+    drafts : list of PoiDraft
+        The buildings, in map order.
+    share, arterial_share : float
+        Chance of a place in a building on another street, on an arterial.
+
+    Returns
+    -------
+    tuple of (list of Poi, dict)
+        The places (``poi-1``...) and, by building id, the facade points they are entered from.
+    """
     pois: list[Poi] = []
     entrances: dict[str, list[XY]] = {}
     for draft in drafts:

@@ -135,7 +135,7 @@ class Arm:
     crossing: float | None
 
 
-def _direction(road: Road, start: bool) -> XY:
+def _direction(road: Road, *, start: bool) -> XY:
     points = road.centerline.points if start else road.centerline.points[::-1]
     length = road.centerline.length
     (x, y), _ = along(points, min(5.0, length / 2.0))
@@ -144,14 +144,30 @@ def _direction(road: Road, start: bool) -> XY:
     return dx / norm, dy / norm
 
 
-def junction_arms(roads: list[Road], network: Network, offset: float) -> list[Arm]:
-    """The road ends at every node where two or more roads meet, with clearances; crossings only
-    where three or more meet."""
+def junction_arms(roads: list[Road], network: Network, *, offset: float) -> list[Arm]:
+    """The road ends at every node where two or more roads meet, with clearances and crossings.
+
+    Parameters
+    ----------
+    roads : list of Road
+        One road per piece of ``network``, in the same order.
+    network : Network
+        The pieces (their end points are the nodes).
+    offset : float
+        Distance from an arm's clearance to its crossing's centre (m).
+
+    Returns
+    -------
+    list of Arm
+        Every road end at such a node, with its clearance; a crossing station on the arms of nodes
+        where three or more roads meet, if the road has sidewalks on both sides and room for
+        crossings at both ends (see the module docstring).
+    """
     arms: list[Arm] = []
     for node, ends in node_pieces(network).items():
         if len(ends) < 2:
             continue
-        directions = [_direction(roads[i], start) for i, start in ends]
+        directions = [_direction(roads[i], start=start) for i, start in ends]
         for k, (index, start) in enumerate(ends):
             road = roads[index]
             a = road.width / 2.0 + 2.0 * CURB_WIDTH

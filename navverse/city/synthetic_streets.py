@@ -122,9 +122,33 @@ def _rank(index: int, every: int) -> int:
 
 
 def grid_network(
-    rng: np.random.Generator, window: Window, block: tuple[float, float], jitter: float, arterial_every: int
+    rng: np.random.Generator,
+    window: Window,
+    *,
+    block: tuple[float, float],
+    jitter: float,
+    arterial_every: int,
 ) -> Network:
-    """Streets along x and y across the whole window, ``block`` meters apart (jittered)."""
+    """Streets along x and y across the whole window.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Draws the spacing.
+    window : tuple of float
+        ``(min_x, min_y, max_x, max_y)``.
+    block : tuple of float
+        Mean spacing of the streets along x and along y (m); the first is half a block in.
+    jitter : float
+        Each spacing is ``block`` × (1 ± up to ``jitter``).
+    arterial_every : int
+        Every n-th street each way is an arterial (see :func:`_rank`).
+
+    Returns
+    -------
+    Network
+        One street per grid line, one piece per stretch between crossing lines.
+    """
     min_x, min_y, max_x, max_y = window
     xs = _lines(rng, min_x + block[0] / 2.0, max_x, block[0], jitter)
     ys = _lines(rng, min_y + block[1] / 2.0, max_y, block[1], jitter)
@@ -155,9 +179,37 @@ def _arc(centre: XY, radius: float, start: float, end: float, first: XY, last: X
 
 
 def radial_network(
-    rng: np.random.Generator, window: Window, block: tuple[float, float], jitter: float, arterial_every: int
+    rng: np.random.Generator,
+    window: Window,
+    *,
+    block: tuple[float, float],
+    jitter: float,
+    arterial_every: int,
 ) -> Network:
-    """Rings ``block[1]`` apart around a centre, spokes about ``block[0]`` apart along the rings."""
+    """Rings around a centre and spokes outward from the innermost ring.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Draws the centre (within 10 % of the window's size of its middle), the spacing of the rings
+        and the angles of the spokes.
+    window : tuple of float
+        ``(min_x, min_y, max_x, max_y)``.
+    block : tuple of float
+        Spoke spacing along the rings and ring spacing (m). The innermost ring has four spokes or
+        more, about ``block[0]`` apart; spokes double at the ring where they would grow more than
+        1.3 blocks apart.
+    jitter : float
+        Ring spacing is ``block[1]`` × (1 ± up to ``jitter``); spoke angles vary as much.
+    arterial_every : int
+        Every n-th ring is a ``tertiary`` arterial; the innermost ring's spokes are ``secondary``.
+
+    Returns
+    -------
+    Network
+        Streets for spokes and rings, pieces between their crossings; ``squares`` holds the centre
+        (the block inside the innermost ring is a square).
+    """
     min_x, min_y, max_x, max_y = window
     width, height = max_x - min_x, max_y - min_y
     centre = (
@@ -169,7 +221,8 @@ def radial_network(
     radii = [max(0.6 * ring_gap, arc_gap * 4.0 / (2.0 * math.pi))]
     while radii[-1] < reach:
         radii.append(radii[-1] + ring_gap * (1.0 + jitter * float(rng.uniform(-1.0, 1.0))))
-    radii.pop()  # beyond every corner: wholly outside the window
+    if len(radii) > 1:
+        radii.pop()  # beyond every corner: wholly outside the window
     outer = reach + ring_gap
     # Spokes: (angle, first ring); the first ones split the innermost ring in about one block arcs.
     count = max(4, round(2.0 * math.pi * radii[0] / arc_gap))
@@ -253,15 +306,42 @@ def _warped(points: np.ndarray, warp: tuple[np.ndarray, np.ndarray, np.ndarray, 
 def organic_network(
     rng: np.random.Generator,
     window: Window,
-    block: tuple[float, float],
     *,
+    block: tuple[float, float],
     node_jitter: float,
     removal: float,
     dead_ends: float,
     curviness: float,
     arterial_every: int,
 ) -> Network:
-    """An irregular network: a turned, jittered, thinned and bent lattice (see the module docstring)."""
+    """An irregular network: a turned, jittered, thinned and bent lattice (see the module docstring).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Draws the lattice's turn, the junction displacements, the spanning tree, the removals and
+        the bending waves.
+    window : tuple of float
+        ``(min_x, min_y, max_x, max_y)``.
+    block : tuple of float
+        Lattice spacing along its rows and columns (m).
+    node_jitter : float
+        Junction displacement, as a share of ``block`` each way (under 0.25; zero across arterials).
+    removal : float
+        Share of residential edges outside the spanning tree that are removed.
+    dead_ends : float
+        Share of removed edges that keep 35–60 % of their length from one end as a dead end.
+    curviness : float
+        Amplitude of each of the three displacement waves (m); their wavelengths are 3–6 blocks, and
+        longer when needed to keep the displacement one-to-one.
+    arterial_every : int
+        Every n-th lattice row and column is an arterial.
+
+    Returns
+    -------
+    Network
+        A street per lattice row and column and per dead end.
+    """
     min_x, min_y, max_x, max_y = window
     centre = np.array([(min_x + max_x) / 2.0, (min_y + max_y) / 2.0])
     radius = math.hypot(max_x - min_x, max_y - min_y) / 2.0 + 2.0 * max(block) + curviness
@@ -382,7 +462,7 @@ def _line_parts(geometry: object) -> list[LineString]:
     return [part for part in parts if isinstance(part, LineString) and not part.is_empty]
 
 
-def polygons_of_box_minus(window: Window, cut: BaseGeometry) -> list[Polygon]:
+def _land(window: Window, cut: BaseGeometry) -> list[Polygon]:
     """The polygons of the window minus ``cut``."""
     rest = box(*window).difference(cut)
     return [g for g in getattr(rest, "geoms", [rest]) if isinstance(g, Polygon) and not g.is_empty]
@@ -399,27 +479,45 @@ def cut_at_water(
     rng: np.random.Generator,
     water: Polygon,
     banks: dict[int, Polygon],
+    *,
     bridges: int,
     window: Window,
-    *,
     shortest: float = 8.0,
 ) -> tuple[Network, int]:
-    """Streets stop at the water's ``banks`` (one polygon per rank: the water grown by the
-    embankment and that rank's half street width), except up to ``bridges`` streets that cross the
-    water once, from one shore to the other (the two largest pieces of land beyond the banks, in
-    the window), kept whole:
-    arterials first, then the most square to the water, 120 m apart at least. Stubs shorter than
-    ``shortest`` meters are dropped. Returns the network and the number of bridges."""
+    """Streets stopped at the water's banks, but for a few bridges.
+
+    Parameters
+    ----------
+    network : Network
+        The streets, clipped to the window.
+    rng : numpy.random.Generator
+        Breaks ties between equally good bridges.
+    water : shapely.Polygon
+        The river.
+    banks : dict
+        Per street rank, where its centre lines stop: the water grown by the embankment and that
+        rank's half street width.
+    bridges : int
+        Most streets kept whole across the water. A bridge crosses the water once, from one shore
+        to the other (the two largest pieces of land beyond the banks, in the window); arterials
+        first, then the most square to the water, 120 m apart at least.
+    window : tuple of float
+        ``(min_x, min_y, max_x, max_y)``.
+    shortest : float
+        Stubs left shorter than this (m) are dropped.
+
+    Returns
+    -------
+    tuple of (Network, int)
+        The cut network and the number of bridges kept.
+    """
     lines = [LineString(piece.points) for piece in network.pieces]
     wet: dict[int, list[int]] = {}  # street -> its pieces reaching its bank
     for index, (piece, line) in enumerate(zip(network.pieces, lines, strict=True)):
         if line.intersects(banks[network.streets[piece.street].rank]):
             wet.setdefault(piece.street, []).append(index)
     # The two largest pieces of land beyond each rank's banks: the shores a bridge must join.
-    land = {
-        rank: sorted(polygons_of_box_minus(window, bank), key=lambda p: -p.area)[:2]
-        for rank, bank in banks.items()
-    }
+    land = {rank: sorted(_land(window, bank), key=lambda p: -p.area)[:2] for rank, bank in banks.items()}
     shores = {street: land[network.streets[street].rank] for street in wet}
     candidates: list[tuple[float, int, BaseGeometry]] = []
     for street, indices in wet.items():
