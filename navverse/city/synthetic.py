@@ -28,7 +28,7 @@ import numpy as np
 import shapely
 
 from navverse.city.map import Building, CityMap, Frame, LandArea, Polygon2, Source
-from navverse.city.synthetic_blocks import FRONT_REACH, block_polygons, frontage_lots, polygon2, street_area
+from navverse.city.synthetic_blocks import FRONT_REACH, block_polygons, frontage_lots, polygon2, street_shapes
 from navverse.city.synthetic_furniture import street_furniture
 from navverse.city.synthetic_land import banks, block_uses, embankments, keepout, pond, river
 from navverse.city.synthetic_params import Layout, SyntheticCityParams
@@ -136,7 +136,8 @@ def synthetic_city(params: SyntheticCityParams, *, seed: int) -> CityMap:
     network = merge_chains(main_component(network))
     roads = road_records(name_rng, network, styles)
     arms = junction_arms(roads, network, offset=params.crossing_offset)
-    streets = street_area(roads)
+    shapes = street_shapes(roads)
+    streets = shapely.union_all(shapes)
 
     areas: list[LandArea] = []
     if water is not None:
@@ -168,7 +169,12 @@ def synthetic_city(params: SyntheticCityParams, *, seed: int) -> CityMap:
         arterial = [
             roads[int(k)].highway in ARTERIALS for k in tree.query_nearest(fronts, all_matches=False)[1]
         ]
-        on_street = list(shapely.distance(streets, fronts) <= params.setback + FRONT_REACH)
+        on_street = [False] * len(lots)
+        near = shapely.STRtree(shapes).query(
+            fronts, predicate="dwithin", distance=params.setback + FRONT_REACH
+        )
+        for k in near[0]:
+            on_street[int(k)] = True
     drafts = [
         PoiDraft(f"building-{n}", lot.front, bool(street), on_arterial)
         for n, (lot, street, on_arterial) in enumerate(zip(lots, on_street, arterial, strict=True), start=1)

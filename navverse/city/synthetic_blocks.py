@@ -29,7 +29,15 @@ from navverse.city.map import Polygon2, Road
 from navverse.city.synthetic_params import SyntheticCityParams
 from navverse.city.synthetic_streets import XY, Window
 
-__all__ = ["FRONT_REACH", "Lot", "block_polygons", "frontage_lots", "polygon2", "polygons_of", "street_area"]
+__all__ = [
+    "FRONT_REACH",
+    "Lot",
+    "block_polygons",
+    "frontage_lots",
+    "polygon2",
+    "polygons_of",
+    "street_shapes",
+]
 
 CORNER_TURN = math.radians(30.0)
 """A block outline turning by more than this at a vertex starts a new side there."""
@@ -72,17 +80,16 @@ def polygon2(polygon: Polygon) -> Polygon2 | None:
     return Polygon2(exterior=exterior, holes=holes)
 
 
-def street_area(roads: list[Road]) -> BaseGeometry:
-    """Every road's carriageway and sidewalks: its centre line buffered by half the carriageway plus
+def street_shapes(roads: list[Road]) -> list[Polygon]:
+    """Each road's carriageway and sidewalks: its centre line buffered by half the carriageway plus
     its wider sidewalk, round caps and joins."""
-    shapes = [
+    return [
         shapely.buffer(
             shapely.linestrings(road.centerline.points),
             road.width / 2.0 + max(road.sidewalk_left or 0.0, road.sidewalk_right or 0.0),
         )
         for road in roads
     ]
-    return shapely.union_all(shapes)
 
 
 def block_polygons(
@@ -248,6 +255,9 @@ def frontage_lots(rng: np.random.Generator, block: Polygon, params: SyntheticCit
                     corners = _rectangle(side, station, w, d)
                     if corners is None:
                         continue
+                    xs, ys = [c[0] for c in corners], [c[1] for c in corners]
+                    if not shapely.intersects_xy(part, xs, ys).all():
+                        continue  # a corner outside: cheaper to tell than the whole rectangle
                     shape = shapely.polygons(corners)
                     if not part.contains(shape):
                         continue
