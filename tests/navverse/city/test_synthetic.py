@@ -9,6 +9,7 @@ import math
 import time
 from collections import Counter
 from pathlib import Path
+from typing import get_args
 
 import pytest
 import shapely
@@ -260,7 +261,16 @@ def test_parameters_are_bounded_and_unknown_ones_refused():
         SyntheticCityParams(size=(10_000.0, 100.0))
     with pytest.raises(ValidationError):
         SyntheticCityParams(park_share=1.5)
+    numbers = 0
     for name, field in SyntheticCityParams.model_fields.items():
-        if field.annotation in (float, int):
-            bounds = {type(m).__name__ for m in field.metadata}
+        if name == "layout":
+            continue
+        # A number carries its bounds; a pair carries them on each element.
+        parts = [field.metadata] if field.annotation in (float, int) else []
+        parts += [get_args(a)[1].metadata for a in get_args(field.annotation) if get_args(a)]
+        assert parts, name
+        for metadata in parts:
+            bounds = {type(m).__name__ for m in metadata}
             assert bounds & {"Ge", "Gt"} and bounds & {"Le", "Lt"}, name
+            numbers += 1
+    assert numbers >= 40

@@ -17,7 +17,7 @@ from shapely.geometry import LineString, Point, box
 
 from navverse.city.map import CityMap
 from navverse.city.osm_xml import write_osm
-from navverse.city.surfaces import plan_surfaces
+from navverse.city.surfaces import CROSSWALK_WIDTH, _crosswalk, plan_surfaces
 from navverse.city.synthetic import SyntheticCityParams, synthetic_city
 
 LAYOUTS = ("grid", "radial", "organic")
@@ -72,6 +72,24 @@ def test_crossings_sit_on_junction_arms_of_their_roads(layout: str):
         assert 2.0 < where.distance(nearest) < 40.0
     # Every crosswalk lies on the carriageway, clear of the crossing roads' junction area.
     assert plan(layout)["crosswalk"].area > 0.9 * len(city.crossings) * 4.0 * 5.5
+
+
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_crosswalks_stay_off_the_other_streets_of_their_junction(layout: str):
+    city = small(layout)
+    roads = {road.id: road for road in city.roads}
+    strips = [
+        LineString(r.centerline.points).buffer(
+            r.width / 2.0 + max(r.sidewalk_left or 0.0, r.sidewalk_right or 0.0)
+        )
+        for r in city.roads
+    ]
+    tree = shapely.STRtree(strips)
+    for crossing in city.crossings:
+        crosswalk = _crosswalk(roads[crossing.road], crossing.position, CROSSWALK_WIDTH)
+        for k in tree.query(crosswalk, predicate="intersects"):
+            if city.roads[k].id != crossing.road:
+                assert crosswalk.intersection(strips[k]).area < 1e-3, (crossing.id, city.roads[k].id)
 
 
 @pytest.mark.parametrize("layout", LAYOUTS)
