@@ -7,13 +7,13 @@ surface, no sidewalks); a ``service_share`` of dead-end streets become ``service
 sidewalks. Lane widths are those of :data:`~navverse.city.tags.ROAD_CLASSES`.
 
 Every end of a road at a node where two or more roads meet is an arm (a junction arm where three
-or more meet). An arm's
-*clearance* is how far along it, from the node, its crosswalk (``CROSSWALK_WIDTH`` wide, across the
-carriageway and its curbs) stays off the other roads' carriageways and sidewalks: for another arm at
-angle θ and half street width h (carriageway and sidewalk), 2 + h when θ ≥ 90°, else
-2 + (h + a·cos θ)/sin θ with a the arm's half carriageway. The crossing sits ``crossing_offset``
-beyond the clearance, on junction arms with sidewalks, when the road is long enough for crossings at both
-ends.
+or more meet). An arm's *clearance* is how far along it, from the node, its crosswalk
+(``CROSSWALK_WIDTH`` wide, across the carriageway and its curbs) stays off the other roads'
+carriageways and sidewalks: for another arm at angle θ and half street width h (carriageway and
+sidewalk), 2 + h when θ ≥ 90°, else 2 + (h + a·cos θ)/sin θ with a the arm's half carriageway and
+curbs (no crosswalk when θ < 11.5°). The crossing sits ``crossing_offset`` beyond the clearance, on
+junction arms of roads with sidewalks on both sides, when the road is long enough for crossings at
+both ends. Street furniture keeps clear of the clearance (and of the crosswalk) too.
 """
 
 from __future__ import annotations
