@@ -1,211 +1,208 @@
 """Synthetic cities: a seed and a few parameters give a city map, the same records as a real one.
 
-The street network is a grid over the window: lines every ``block`` meters (jittered by the seed),
-every ``arterial_every``-th one an arterial (``secondary``, more lanes, wider sidewalks), the others
-residential streets. Each block is a park, a plaza, or built up: buildings stand along its edges,
-set back from the sidewalk, with frontages, depths and storeys drawn from the seed. Crossings sit on
-every arm of every junction, a little way from it. Everything is drawn from one
-``numpy.random.Generator`` seeded by ``seed`` in a fixed order, so the same parameters and seed give
-the same map.
+:func:`synthetic_city` draws, in this order:
+
+1. a street network of the chosen ``layout`` (:mod:`.synthetic_streets`: ``grid``, ``radial`` rings
+   and spokes, or ``organic``, an irregular bent lattice with dead ends), clipped to the window;
+2. a river crossing the window (:mod:`.synthetic_land`): streets stop at its embankments but for up to
+   ``bridges`` crossings; the network then keeps its largest connected part, so the streets form one
+   network;
+3. roads with classes, lanes, sidewalks and names, and crossings on every junction arm
+   (:mod:`.synthetic_roads`);
+4. blocks, the faces between the streets and the river, each a park (maybe with a pond), a plaza, a
+   parking lot or built up with buildings along its edges (:mod:`.synthetic_blocks`), of storeys
+   drawn higher on arterials;
+5. places (shops, cafes, banks...) on ground floors (:mod:`.synthetic_pois`);
+6. street furniture on the sidewalks (:mod:`.synthetic_furniture`).
+
+Every draw comes from child generators spawned, one per step, from a single
+``numpy.random.default_rng([seed, 0x5C17])``, and coordinates are rounded to the millimetre: the
+same parameters and seed give the same map, byte for byte.
 """
 
 from __future__ import annotations
 
-import itertools
-from typing import Annotated
+import math
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
-from shapely.geometry import Polygon, box
+import shapely
 
-from navverse.city.map import Building, CityMap, Crossing, Frame, LandArea, Path2, Polygon2, Road, Source
-from navverse.city.tags import ROAD_CLASSES, STOREY_HEIGHT
+from navverse.city.map import Building, CityMap, Frame, LandArea, Polygon2, Source
+from navverse.city.synthetic_blocks import FRONT_REACH, block_polygons, frontage_lots, polygon2, street_shapes
+from navverse.city.synthetic_furniture import street_furniture
+from navverse.city.synthetic_land import banks, block_uses, embankments, keepout, pond, river
+from navverse.city.synthetic_params import Layout, SyntheticCityParams
+from navverse.city.synthetic_pois import PoiDraft, ground_floor_pois
+from navverse.city.synthetic_roads import crossings, junction_arms, rank_styles, road_records, street_styles
+from navverse.city.synthetic_streets import (
+    Network,
+    Window,
+    clip,
+    cut_at_water,
+    grid_network,
+    main_component,
+    merge_chains,
+    organic_network,
+    radial_network,
+)
+from navverse.city.tags import STOREY_HEIGHT
 
-__all__ = ["SyntheticCityParams", "synthetic_city"]
+__all__ = ["Layout", "SyntheticCityParams", "synthetic_city"]
 
-
-class SyntheticCityParams(BaseModel):
-    """Knobs of a synthetic grid city (lengths in m)."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-    size: tuple[Annotated[float, Field(ge=50.0, le=5000.0)], Annotated[float, Field(ge=50.0, le=5000.0)]] = (
-        1000.0,
-        1000.0,
-    )
-    block: tuple[Annotated[float, Field(ge=30.0, le=500.0)], Annotated[float, Field(ge=30.0, le=500.0)]] = (
-        90.0,
-        70.0,
-    )
-    jitter: Annotated[float, Field(ge=0.0, le=0.3)] = 0.1
-    """Spread of the street spacing, as a share of the block size."""
-    arterial_every: Annotated[int, Field(ge=2, le=50)] = 4
-    arterial_lanes: Annotated[int, Field(ge=2, le=8)] = 4
-    sidewalk: Annotated[float, Field(gt=0.0, le=6.0)] = 1.8
-    arterial_sidewalk: Annotated[float, Field(gt=0.0, le=8.0)] = 3.0
-    park_share: Annotated[float, Field(ge=0.0, le=1.0)] = 0.08
-    plaza_share: Annotated[float, Field(ge=0.0, le=1.0)] = 0.03
-    setback: Annotated[float, Field(ge=0.0, le=20.0)] = 1.0
-    frontage: tuple[Annotated[float, Field(ge=4.0, le=200.0)], Annotated[float, Field(ge=4.0, le=200.0)]] = (
-        14.0,
-        32.0,
-    )
-    depth: tuple[Annotated[float, Field(ge=4.0, le=200.0)], Annotated[float, Field(ge=4.0, le=200.0)]] = (
-        10.0,
-        18.0,
-    )
-    storeys: tuple[Annotated[int, Field(ge=1, le=100)], Annotated[int, Field(ge=1, le=100)]] = (2, 8)
-    gap: Annotated[float, Field(ge=0.0, le=50.0)] = 3.0
-    """Mean gap between neighbouring buildings along a block edge."""
-    crossing_offset: Annotated[float, Field(ge=0.0, le=30.0)] = 3.0
-    """Distance of a crossing's centre from the edge of the junction it serves."""
+ARTERIALS = frozenset({"secondary", "tertiary"})
 
 
-def _lines(rng: np.random.Generator, start: float, end: float, spacing: float, jitter: float) -> list[float]:
-    """Street positions from ``start`` to ``end``, ``spacing`` apart on average."""
-    positions = [start]
-    while positions[-1] + spacing * (1.0 + jitter) < end:
-        positions.append(positions[-1] + spacing * (1.0 + jitter * float(rng.uniform(-1.0, 1.0))))
-    return positions
-
-
-def _road(index: int, points: list[tuple[float, float]], arterial: bool, params: SyntheticCityParams) -> Road:
-    highway = "secondary" if arterial else "residential"
-    kind = ROAD_CLASSES[highway]
-    lanes = params.arterial_lanes if arterial else 2
-    side = params.arterial_sidewalk if arterial else params.sidewalk
-    return Road(
-        id=f"road-{index}",
-        highway=highway,
-        centerline=Path2(points=points),
-        width=lanes * kind.lane_width,
-        width_source="synthetic",
-        lanes=lanes,
-        sidewalk_left=side,
-        sidewalk_right=side,
-        sidewalk_source="synthetic",
-        kerb="raised",
+def _network(rng: np.random.Generator, window: Window, params: SyntheticCityParams) -> Network:
+    if params.layout == "radial":
+        return radial_network(
+            rng, window, block=params.block, jitter=params.jitter, arterial_every=params.arterial_every
+        )
+    if params.layout == "organic":
+        return organic_network(
+            rng,
+            window,
+            block=params.block,
+            node_jitter=params.node_jitter,
+            removal=params.street_removal,
+            dead_ends=params.dead_end_share,
+            curviness=params.curviness,
+            arterial_every=params.arterial_every,
+        )
+    return grid_network(
+        rng, window, block=params.block, jitter=params.jitter, arterial_every=params.arterial_every
     )
 
 
-def _edge_buildings(
-    rng: np.random.Generator, lot: Polygon, params: SyntheticCityParams, first_id: int
-) -> list[Building]:
-    """Buildings along the four edges of a block's buildable ``lot``, never overlapping."""
-    min_x, min_y, max_x, max_y = lot.bounds
-    placed: list[Polygon] = []
-    buildings: list[Building] = []
-    # Each edge: its start, direction along it, and the inward direction (counter-clockwise walk).
-    edges = [
-        ((min_x, min_y), (1.0, 0.0), (0.0, 1.0), max_x - min_x),
-        ((max_x, min_y), (0.0, 1.0), (-1.0, 0.0), max_y - min_y),
-        ((max_x, max_y), (-1.0, 0.0), (0.0, -1.0), max_x - min_x),
-        ((min_x, max_y), (0.0, -1.0), (1.0, 0.0), max_y - min_y),
-    ]
-    half_span = min(max_x - min_x, max_y - min_y) / 2.0
-    for (x0, y0), (ax, ay), (nx, ny), length in edges:
-        at = float(rng.uniform(0.0, params.gap))
-        while True:
-            frontage = float(rng.uniform(*sorted(params.frontage)))
-            depth = min(float(rng.uniform(*sorted(params.depth))), half_span)
-            if at + frontage > length or depth < 4.0:
-                break
-            corners = [
-                (x0 + ax * (at + da) + nx * dn, y0 + ay * (at + da) + ny * dn)
-                for da, dn in ((0.0, 0.0), (frontage, 0.0), (frontage, depth), (0.0, depth))
-            ]
-            footprint = Polygon(corners)
-            if not any(footprint.intersects(other) for other in placed):
-                placed.append(footprint)
-                storeys = int(rng.integers(params.storeys[0], max(params.storeys) + 1))
-                buildings.append(
-                    Building(
-                        id=f"building-{first_id + len(buildings)}",
-                        footprint=Polygon2(exterior=[(round(x, 3), round(y, 3)) for x, y in corners]),
-                        height=storeys * STOREY_HEIGHT,
-                        height_source="synthetic",
-                        levels=storeys,
-                    )
-                )
-            at += frontage + float(rng.exponential(params.gap)) if params.gap > 0 else frontage
-    return buildings
+def _river(
+    rng: np.random.Generator, network: Network, window: Window, params: SyntheticCityParams
+) -> tuple[shapely.Polygon, Network] | None:
+    """The river and the network cut at it, drawing the river again (up to 6 times) while its
+    bridges leave more than a tenth of the street length cut off from the main network; None
+    without a river (``river_width`` 0, or no such river found)."""
+    clearance = params.river_width / 2.0 + params.meander + 2.5 * max(params.block)
+    halves = {rank: style.half for rank, style in rank_styles(params).items()}
+    for _ in range(6):
+        water = river(rng, window, params, avoid=network.squares, clearance=clearance)
+        if water is None:
+            return None
+        cut, bridges = cut_at_water(
+            network, rng, water, banks(water, halves, params), bridges=params.bridges, window=window
+        )
+        total = sum(piece.length for piece in cut.pieces)
+        if bridges and sum(piece.length for piece in main_component(cut).pieces) >= 0.9 * total:
+            return water, cut
+    return None
+
+
+def _storeys(rng: np.random.Generator, params: SyntheticCityParams, *, arterial: bool) -> int:
+    """Storeys drawn from the range, skewed up on arterials and down on other streets."""
+    low, high = sorted(params.storeys)
+    draw = float(rng.uniform())
+    draw = math.sqrt(draw) if arterial else draw**1.5
+    return min(high, low + int(draw * (high - low + 1)))
+
+
+def _area(areas: list[LandArea], cls: str, polygon: shapely.Polygon) -> None:
+    shape = polygon2(polygon.simplify(0.05))
+    if shape is not None:
+        areas.append(LandArea(id=f"area-{len(areas) + 1}", cls=cls, polygon=shape))
 
 
 def synthetic_city(params: SyntheticCityParams, *, seed: int) -> CityMap:
-    """A grid city drawn from ``seed`` (see the module docstring)."""
-    rng = np.random.default_rng([seed, 0x5C17])
-    width, height = params.size
-    window = (-width / 2.0, -height / 2.0, width / 2.0, height / 2.0)
-    xs = _lines(rng, window[0] + params.block[0] / 2.0, window[2], params.block[0], params.jitter)
-    ys = _lines(rng, window[1] + params.block[1] / 2.0, window[3], params.block[1], params.jitter)
-    roads: list[Road] = []
-    for i, x in enumerate(xs):
-        roads.append(
-            _road(len(roads) + 1, [(x, window[1]), (x, window[3])], i % params.arterial_every == 0, params)
-        )
-    vertical = list(roads)
-    for j, y in enumerate(ys):
-        roads.append(
-            _road(len(roads) + 1, [(window[0], y), (window[2], y)], j % params.arterial_every == 0, params)
-        )
-    horizontal = roads[len(vertical) :]
-    crossings: list[Crossing] = []
-    for v in vertical:
-        for h in horizontal:
-            x, y = v.centerline.points[0][0], h.centerline.points[0][1]
-            reach_v = h.width / 2.0 + (h.sidewalk_left or 0.0) + params.crossing_offset + 2.0
-            reach_h = v.width / 2.0 + (v.sidewalk_left or 0.0) + params.crossing_offset + 2.0
-            for road, (px, py) in (
-                (v, (x, y - reach_v)),
-                (v, (x, y + reach_v)),
-                (h, (x - reach_h, y)),
-                (h, (x + reach_h, y)),
-            ):
-                if window[0] < px < window[2] and window[1] < py < window[3]:
-                    crossings.append(
-                        Crossing(id=f"crossing-{len(crossings) + 1}", position=(px, py), road=road.id)
-                    )
+    """A city map drawn from ``seed`` (see the module docstring).
+
+    Parameters
+    ----------
+    params : SyntheticCityParams
+        The layout, sizes and shares.
+    seed : int
+        Seed of the random generator (``>= 0``).
+
+    Returns
+    -------
+    CityMap
+        The map, in a local frame centred on the window (EPSG 0, origin 0°, 0°).
+    """
+    root = np.random.default_rng([seed, 0x5C17])
+    streets_rng, water_rng, style_rng, name_rng, land_rng, lots_rng, poi_rng, furniture_rng = root.spawn(8)
+    half_x, half_y = round(params.size[0] / 2.0, 3), round(params.size[1] / 2.0, 3)
+    window = (-half_x, -half_y, half_x, half_y)
+    network = clip(_network(streets_rng, window, params), window)
+    styles = street_styles(style_rng, network, params)
+    river_and_network = _river(water_rng, network, window, params)
+    water = None
+    if river_and_network is not None:
+        water, network = river_and_network
+    network = merge_chains(main_component(network))
+    roads = road_records(name_rng, network, styles)
+    arms = junction_arms(roads, network, offset=params.crossing_offset)
+    shapes = street_shapes(roads)
+    streets = shapely.union_all(shapes)
+
     areas: list[LandArea] = []
-    buildings: list[Building] = []
-    for left, right in itertools.pairwise(vertical):
-        for bottom, top in itertools.pairwise(horizontal):
-            margin_l = left.width / 2.0 + (left.sidewalk_right or 0.0)
-            margin_r = right.width / 2.0 + (right.sidewalk_left or 0.0)
-            margin_b = bottom.width / 2.0 + (bottom.sidewalk_left or 0.0)
-            margin_t = top.width / 2.0 + (top.sidewalk_right or 0.0)
-            x0 = left.centerline.points[0][0] + margin_l
-            x1 = right.centerline.points[0][0] - margin_r
-            y0 = bottom.centerline.points[0][1] + margin_b
-            y1 = top.centerline.points[0][1] - margin_t
-            if x1 - x0 < 8.0 or y1 - y0 < 8.0:
-                continue
-            draw = float(rng.uniform())
-            block_ring = [
-                (round(x0, 3), round(y0, 3)),
-                (round(x1, 3), round(y0, 3)),
-                (round(x1, 3), round(y1, 3)),
-            ]
-            block_ring.append((round(x0, 3), round(y1, 3)))
-            if draw < params.park_share:
-                areas.append(
-                    LandArea(id=f"area-{len(areas) + 1}", cls="green", polygon=Polygon2(exterior=block_ring))
-                )
-                continue
-            if draw < params.park_share + params.plaza_share:
-                areas.append(
-                    LandArea(id=f"area-{len(areas) + 1}", cls="plaza", polygon=Polygon2(exterior=block_ring))
-                )
-                continue
-            lot = box(x0, y0, x1, y1).buffer(-params.setback, join_style="mitre")
-            if lot.is_empty:
-                continue
-            buildings += _edge_buildings(rng, lot, params, len(buildings) + 1)
+    if water is not None:
+        _area(areas, "water", water)
+        for strip in embankments(water, params, streets, window):
+            _area(areas, "green", strip)
+    blocks = block_polygons(window, streets, keepout(water, params), smallest=30.0)
+    lots = []
+    for block, use in zip(blocks, block_uses(land_rng, blocks, params, network.squares), strict=True):
+        if use == "park":
+            lake = pond(land_rng, block, params)
+            if lake is not None:
+                _area(areas, "green", shapely.Polygon(block.exterior, [lake.exterior]))
+                _area(areas, "water", lake)
+            else:
+                _area(areas, "green", block)
+        elif use in ("plaza", "parking"):
+            _area(areas, use, block)
+        else:
+            lots += frontage_lots(lots_rng, block, params)
+
+    # Buildings: storeys by the street each one faces.
+    arterial, on_street = [False] * len(lots), [False] * len(lots)
+    if lots and roads:
+        fronts = shapely.points(
+            [((a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0) for a, b in (lot.front for lot in lots)]
+        )
+        tree = shapely.STRtree([shapely.linestrings(road.centerline.points) for road in roads])
+        arterial = [
+            roads[int(k)].highway in ARTERIALS for k in tree.query_nearest(fronts, all_matches=False)[1]
+        ]
+        on_street = [False] * len(lots)
+        near = shapely.STRtree(shapes).query(
+            fronts, predicate="dwithin", distance=params.setback + FRONT_REACH
+        )
+        for k in near[0]:
+            on_street[int(k)] = True
+    drafts = [
+        PoiDraft(f"building-{n}", lot.front, bool(street), on_arterial)
+        for n, (lot, street, on_arterial) in enumerate(zip(lots, on_street, arterial, strict=True), start=1)
+    ]
+    pois, entrances = ground_floor_pois(
+        poi_rng, drafts, share=params.poi_share, arterial_share=params.arterial_poi_share
+    )
+    buildings = []
+    for draft, lot, on_arterial in zip(drafts, lots, arterial, strict=True):
+        storeys = _storeys(lots_rng, params, arterial=on_arterial)
+        buildings.append(
+            Building(
+                id=draft.building,
+                footprint=Polygon2(exterior=[(round(x, 3) + 0.0, round(y, 3) + 0.0) for x, y in lot.corners]),
+                height=storeys * STOREY_HEIGHT,
+                height_source="synthetic",
+                levels=storeys,
+                entrances=entrances.get(draft.building, []),
+            )
+        )
     return CityMap(
-        source=Source(kind="synthetic", name="grid", seed=seed),
+        source=Source(kind="synthetic", name=params.layout, seed=seed),
         frame=Frame(epsg=0, origin_lat=0.0, origin_lon=0.0),
         window=window,
         roads=roads,
-        crossings=crossings,
+        crossings=crossings(roads, arms, window),
         areas=areas,
         buildings=buildings,
+        pois=pois,
+        furniture=street_furniture(furniture_rng, roads, arms, water, window, params),
     )
