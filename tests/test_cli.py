@@ -26,6 +26,7 @@ def run(root: Path, *args: str, timeout: float = 600) -> subprocess.CompletedPro
 
 def copy_recipes(root: Path, *, only: str | None = None) -> Path:
     shutil.copytree(REPO / "recipes", root / "recipes")
+    shutil.copytree(REPO / "data" / "raw", root / "data" / "raw")  # the files recipes read
     if only is not None:  # these scene recipes, and no dataset (its scenes are gone)
         for path in (root / "recipes" / "scenes").rglob("*.yaml"):
             if not path.match(only):
