@@ -100,6 +100,13 @@ def _xml(city: CityMap) -> Iterator[str]:
     )
     yield "<?xml version='1.0' encoding='UTF-8'?>\n"
     yield '<osm version="0.6" generator="navverse">\n'
+    min_x, min_y, max_x, max_y = city.window
+    corners = [to_geographic.transform(x, y) for x in (min_x, max_x) for y in (min_y, max_y)]
+    lons, lats = [lon for lon, _ in corners], [lat for _, lat in corners]
+    yield (
+        f'  <bounds minlat="{min(lats):.8f}" minlon="{min(lons):.8f}" '
+        f'maxlat="{max(lats):.8f}" maxlon="{max(lons):.8f}"/>\n'
+    )
     for (x, y), node in sorted(nodes.ids.items(), key=lambda item: item[1]):
         lon, lat = to_geographic.transform(x, y)
         tags = nodes.tags.get(node)

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import osmnx
 
+from navverse.city.osm import read_osm
 from navverse.city.osm_xml import write_osm
 from navverse.city.synthetic import SyntheticCityParams, synthetic_city
 
@@ -39,3 +40,17 @@ def test_buildings_and_areas_carry_their_tags_and_the_bytes_are_stable(tmp_path:
     assert {float(w["height"]) for w in buildings} == {b.height for b in CITY.buildings}
     roads = [w for w in ways if "highway" in w and w.get("area") != "yes"]
     assert all(w["sidewalk"] == "both" and "sidewalk:left:width" in w for w in roads)
+
+
+def test_the_file_declares_its_window_and_reads_back_without_a_centre(tmp_path: Path):
+    path = write_osm(CITY, tmp_path / "city.osm")
+    bounds = ET.fromstring(path.read_bytes()).find("bounds")
+    assert bounds is not None
+    lats = [float(bounds.get(k)) for k in ("minlat", "maxlat")]
+    lons = [float(bounds.get(k)) for k in ("minlon", "maxlon")]
+    # 300 m x 250 m around (0, 0): one degree is ~111.3 km of latitude, of longitude at the equator.
+    assert abs((lons[1] - lons[0]) * 111_320 - 300.0) < 1.0
+    assert abs((lats[1] - lats[0]) * 110_574 - 250.0) < 1.0
+    again = read_osm(path, size_m=(300.0, 250.0))  # the window: the file's declared bounds
+    assert len(again.buildings) == len(CITY.buildings)
+    assert {r.highway for r in again.roads} == {r.highway for r in CITY.roads}
