@@ -194,3 +194,27 @@ def test_service_roads_are_shared_surfaces_without_curbs(tmp_path: Path) -> None
     heights, classes = Caster(city_scene(city, scene_id="s", geometry=GEOMETRY))([(0.0, 50.0), (2.5, 50.0)])
     assert classes.tolist() == ["road", "ground"]  # no sidewalk (the service rule), no curb
     assert heights == pytest.approx([0.0, 0.0], abs=1e-4)
+
+
+def test_on_a_slope_every_surface_follows_the_terrain_and_curbs_keep_their_height() -> None:
+    city = read_osm(T_JUNCTION, center=(48.0, 11.0), size_m=(200.0, 200.0))
+    grade = np.array([0.04, -0.03])  # rise per meter east, north
+    scene = city_scene(
+        city, scene_id="t-slope", geometry=GEOMETRY, terrain=lambda points: points[:, :2] @ grade
+    )
+    cast = Caster(scene)
+    for x in (-70.0, -45.0, 50.0):
+        for sign in (1.0, -1.0):
+            points = np.array([(x, sign * 3.49), (x, sign * 3.51), (x, sign * 4.5), (x, 0.0)])
+            heights, classes = cast(points)
+            assert classes.tolist() == ["road", "curb", "sidewalk", "road"]
+            level = points @ grade
+            assert heights[1] - heights[0] == pytest.approx(0.20 + level[1] - level[0], abs=0.01)
+            assert heights[2] == pytest.approx(level[2], abs=1e-3)  # sidewalk: on the terrain
+            assert heights[3] == pytest.approx(level[3] - 0.2, abs=1e-3)  # road: 0.2 m below it
+    heights, classes = cast([(25.0, -20.0), (-40.0, 30.0)])
+    assert classes.tolist() == ["building", "ground"]
+    assert heights[1] == pytest.approx(np.array([-40.0, 30.0]) @ grade, abs=1e-3)
+    for surface in scene.surfaces:
+        if surface.terrain_class == "building":
+            assert trimesh.Trimesh(surface.mesh.vertices, surface.mesh.faces).is_watertight
