@@ -21,6 +21,8 @@ from navverse.scene.geometry import MeshData
 
 __all__ = [
     "CONTEXTS",
+    "INDOOR_CONTEXTS",
+    "OUTDOOR_CONTEXTS",
     "PLACEMENTS",
     "Asset",
     "Builder",
@@ -38,8 +40,19 @@ Size = tuple[float, float, float]
 Placement = Literal["floor", "wall", "surface", "wall_mounted"]
 PLACEMENTS: tuple[str, ...] = ("floor", "wall", "surface", "wall_mounted")
 
-CONTEXTS: frozenset[str] = frozenset({"home", "office", "school", "retail", "hospital", "cafe"})
-"""Kinds of places an asset typically appears in (a hint for furnishing rules)."""
+INDOOR_CONTEXTS: frozenset[str] = frozenset({"home", "office", "school", "retail", "hospital", "cafe"})
+"""Kinds of rooms and buildings an indoor asset typically appears in."""
+
+OUTDOOR_CONTEXTS: frozenset[str] = frozenset(
+    {"street", "park", "plaza", "parking", "construction", "transit", "sports", "frontage"}
+)
+"""Kinds of outdoor places: ``street`` (sidewalks and their furniture zone, the road), ``park``,
+``plaza``, ``parking`` (lots and parking lanes), ``construction``, ``transit`` (bus stops),
+``sports`` (pitches, courts, playgrounds), ``frontage`` (in front of shops and cafes, by the facades)."""
+
+CONTEXTS: frozenset[str] = INDOOR_CONTEXTS | OUTDOOR_CONTEXTS
+"""Kinds of places an asset typically appears in (a hint for furnishing and population rules); an
+asset with an outdoor context is an outdoor asset."""
 
 Builder = Callable[[np.random.Generator, Size], Assembly]
 """Builds an object of a size in the floor frame (bottom at z = 0, centred in x and y)."""
@@ -172,6 +185,11 @@ class Asset:
             raise ValueError(f"{self.category}: unknown material {self.material!r}")
         if not set(self.contexts) <= CONTEXTS:
             raise ValueError(f"{self.category}: unknown contexts {set(self.contexts) - CONTEXTS}")
+
+    @property
+    def outdoor(self) -> bool:
+        """Whether the asset belongs outdoors (one of its contexts is in :data:`OUTDOOR_CONTEXTS`)."""
+        return bool(set(self.contexts) & OUTDOOR_CONTEXTS)
 
     def sample_size(self, rng: np.random.Generator) -> Size:
         """Draw a size within ``[size_min, size_max]``, rounded to millimetres.
