@@ -161,13 +161,14 @@ class CityGeometryParams(Params):
 
 @stage(name="city_geometry", inputs=["city_map"], outputs=["geometry"])
 def city_geometry(ctx: StageContext, params: CityGeometryParams) -> None:
-    """A scene directory: roads depressed below curbs, crosswalk ramps, sidewalks, land classes, buildings."""
+    """A scene (roads below curbs, crosswalks, sidewalks, land, buildings) and its street plan."""
     import numpy as np
 
     import navverse
     from navverse.city.ground import GroundSettings
     from navverse.city.map import read_city_map
-    from navverse.city.scene import CityGeometry, city_scene
+    from navverse.city.scene import CityGeometry, city_scene, geometry_plan
+    from navverse.city.street_plan import STREET_PLAN_FILE, save_street_plan
     from navverse.scene import SceneSource, write_scene_dir
 
     city = read_city_map(ctx.input("city_map") / CITY_MAP_FILE)
@@ -188,19 +189,23 @@ def city_geometry(ctx: StageContext, params: CityGeometryParams) -> None:
     def terrain(points: np.ndarray) -> np.ndarray:
         return points[:, 0] * grade_x + points[:, 1] * grade_y
 
-    ctx.progress(0, 2, "geometry")
+    ctx.progress(0, 3, "plan")
+    plan = geometry_plan(city, geometry)
+    ctx.progress(1, 3, "geometry")
     scene = city_scene(
         city,
         scene_id=ctx.target,
         geometry=geometry,
         terrain=terrain,
+        plan=plan,
         source=SceneSource(
             recipe=ctx.recipe, recipe_hash=ctx.recipe_hash, toolkit_version=navverse.__version__
         ),
     )
-    ctx.progress(1, 2, "writing")
+    ctx.progress(2, 3, "writing")
     write_scene_dir(scene, ctx.output)
-    ctx.progress(2, 2, "done")
+    save_street_plan(plan, ctx.output / STREET_PLAN_FILE)
+    ctx.progress(3, 3, "done")
     stats = scene.annotations.statistics
     areas = {s.name: round(_top_area(s.mesh), 1) for s in scene.surfaces if s.terrain_class != "building"}
     ctx.record(

@@ -14,17 +14,17 @@ from dataclasses import dataclass, field
 from shapely.geometry import LineString, box
 
 from navverse.city.buildings import building_parts
-from navverse.city.crossings import junction_crossings
 from navverse.city.ground import GroundSettings, flat, ground_surfaces
 from navverse.city.map import CityMap
 from navverse.city.prisms import HeightFn
-from navverse.city.surfaces import CROSSWALK_WIDTH, CURB_WIDTH, carriageways, plan_surfaces
+from navverse.city.street_plan import StreetPlan, street_plan
+from navverse.city.surfaces import CROSSWALK_WIDTH, CURB_WIDTH, carriageways
 from navverse.scene.annotations import GeoReference, SceneSource
 from navverse.scene.compose import assemble_scene
 from navverse.scene.geometry import Scene
 from navverse.scene.terrain import terrain_classes
 
-__all__ = ["CityGeometry", "city_scene", "road_length"]
+__all__ = ["CityGeometry", "city_scene", "geometry_plan", "road_length"]
 
 
 @dataclass(frozen=True)
@@ -59,6 +59,16 @@ def road_length(city: CityMap) -> float:
     return float(sum(LineString(r.centerline.points).intersection(window).length for r in city.roads))
 
 
+def geometry_plan(city: CityMap, geometry: CityGeometry) -> StreetPlan:
+    """The ground plan of ``city`` with the widths and crosswalk rule of ``geometry``."""
+    return street_plan(
+        city,
+        curb_width=geometry.curb_width,
+        crosswalk_width=geometry.crosswalk_width,
+        junction_crosswalks=geometry.junction_crosswalks,
+    )
+
+
 def city_scene(
     city: CityMap,
     *,
@@ -66,6 +76,7 @@ def city_scene(
     geometry: CityGeometry,
     terrain: HeightFn = flat,
     source: SceneSource | None = None,
+    plan: StreetPlan | None = None,
 ) -> Scene:
     """The outdoor scene of a city map.
 
@@ -81,6 +92,8 @@ def city_scene(
         Height of the terrain at xy points (sidewalk level); flat by default.
     source : SceneSource, optional
         Recipe and toolkit version.
+    plan : StreetPlan, optional
+        The plan :func:`geometry_plan` gives for ``city`` and ``geometry`` (made here if omitted).
 
     Returns
     -------
@@ -88,13 +101,10 @@ def city_scene(
         Terrain surfaces named by class, ``building_NNNN`` solids, buildings with facades in the
         annotations, the map's frame in ``geo``.
     """
-    if geometry.junction_crosswalks:
-        added = junction_crossings(city, crosswalk_width=geometry.crosswalk_width)
-        city = city.model_copy(update={"crossings": [*city.crossings, *added]})
-    plan = plan_surfaces(city, curb_width=geometry.curb_width, crosswalk_width=geometry.crosswalk_width)
-    ground = ground_surfaces(
-        plan, city, settings=geometry.ground, crosswalk_width=geometry.crosswalk_width, terrain=terrain
-    )
+    plan = geometry_plan(city, geometry) if plan is None else plan
+    city = city.model_copy(update={"crossings": list(plan.crossings)})
+    settings, width = geometry.ground, geometry.crosswalk_width
+    ground = ground_surfaces(plan.classes, city, settings=settings, crosswalk_width=width, terrain=terrain)
     buildings, annotations = building_parts(city, carriageways(city), terrain=terrain)
     surfaces = [*ground, *buildings]
     names = sorted({s.terrain_class for s in surfaces})

@@ -129,12 +129,23 @@ def test_the_same_recipe_builds_the_same_bytes_and_seeds_differ(tmp_path: Path) 
         )
         built = build_all(workspace)
         assert not built.report.failed
+        targets = ("city", "synthetic-s1", "synthetic-s2")
         scenes.append(
-            {t: _digest(built.output(t, "scene")) for t in ("city", "synthetic-s1", "synthetic-s2")}
+            {(t, out): _digest(built.output(t, out)) for t in targets for out in ("geometry", "scene")}
         )
     assert scenes[0] == scenes[1]
-    assert set(scenes[0]["city"]) >= {"scene.usdc", "scene.json", "navmesh.bin", "navmesh.json", "bev.png"}
-    assert scenes[0]["synthetic-s1"]["scene.json"] != scenes[0]["synthetic-s2"]["scene.json"]
+    assert "street_plan.json" in scenes[0][("city", "geometry")]
+    assert set(scenes[0][("city", "scene")]) >= {
+        "scene.usdc",
+        "scene.json",
+        "navmesh.bin",
+        "navmesh.json",
+        "bev.png",
+    }
+    assert (
+        scenes[0][("synthetic-s1", "scene")]["scene.json"]
+        != scenes[0][("synthetic-s2", "scene")]["scene.json"]
+    )
     osm = built.output("synthetic-s1", "city_map") / "city.osm"
     graph = osmnx.graph_from_xml(osm, simplify=False, retain_all=True)
     assert graph.number_of_edges() > 10
