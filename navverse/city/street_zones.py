@@ -1,0 +1,216 @@
+"""Where things may stand in a street: sidewalk zones, parking bands on the road, junctions.
+
+A sidewalk is read across, from the road to the buildings, as three zones (the street-design
+grammar of the NACTO *Urban Street Design Guide* and of MetaUrban's sidewalk layouts):
+
+- the **furniture zone** beside the curb: lamps, trees, hydrants, signs, bins, bollards, meters;
+- the **walkway**, which stays clear: ``clear_width`` (1.5 m, the ADA/NACTO minimum pedestrian
+  through zone) where the sidewalk allows it, else ``min_clear`` (2 r_robot + 0.1 m for Spot),
+  else the whole sidewalk (no furniture at all on a sidewalk narrower than that);
+- the **frontage zone** by the property line or facade: benches, planters, A-frame signs, cafe seating.
+
+Zones are laid per road side from the road's own sidewalk width (:class:`~navverse.city.map.Road`),
+cut to the plan's sidewalk class (so crosswalks, other roads and buildings are never in them),
+and kept ``crosswalk_margin`` away from crosswalks and out of junction corners, where people wait
+and cross. Mapped separate sidewalks and footways are all walkway.
+
+On the road, **parking bands** run along the curb: the mapped ``parking:*`` strips, and on
+residential streets a band on the right curb where the carriageway is ``curbside_min_width`` wide
+(one lane is left), on both curbs from ``curbside_both_width``. Both end ``corner_clearance`` (5 m)
+before a junction, ``crosswalk_margin`` before a crosswalk and ``driveway_margin`` beside a
+driveway (a service road joining the street).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import shapely
+from shapely.geometry import LineString, Polygon
+from shapely.geometry.base import BaseGeometry
+from shapely.strtree import STRtree
+
+from navverse.city.map import CityMap, Road
+from navverse.city.street_plan import StreetPlan
+from navverse.city.surfaces import CURB_WIDTH, QUAD_SEGMENTS, SHARED_SURFACE_HIGHWAYS, carriageways
+
+__all__ = ["CURBSIDE_HIGHWAYS", "StreetZones", "ZoneSettings", "street_zones"]
+
+CURBSIDE_HIGHWAYS = frozenset({"residential", "unclassified", "tertiary"})
+"""Streets along whose curbs cars plausibly park when nothing is mapped."""
+
+
+@dataclass(frozen=True)
+class ZoneSettings:
+    """Widths of the sidewalk zones and the clearances around crossings and junctions (m)."""
+
+    clear_width: float = 1.5
+    min_clear: float = 1.3
+    furniture_width: float = 0.9
+    frontage_width: float = 0.9
+    min_zone_width: float = 0.3
+    crosswalk_margin: float = 1.0
+    corner_clearance: float = 5.0
+    driveway_margin: float = 1.5
+    curbside_band: float = 2.2
+    curbside_min_width: float = 6.0
+    curbside_both_width: float = 9.0
+    curb_width: float = CURB_WIDTH
+
+
+@dataclass(frozen=True)
+class StreetZones:
+    """The zones of a city's streets (all in the scene frame, m).
+
+    Attributes
+    ----------
+    furniture, walkway, frontage : BaseGeometry
+        The three sidewalk zones; they tile the plan's sidewalk class.
+    parking : BaseGeometry
+        Mapped parking strips on the road.
+    curbside : BaseGeometry
+        Residential curb bands where parking is plausible (none where a strip is mapped).
+    junctions : BaseGeometry
+        Where carriageways of different roads meet, grown by ``corner_clearance``.
+    """
+
+    furniture: BaseGeometry
+    walkway: BaseGeometry
+    frontage: BaseGeometry
+    parking: BaseGeometry
+    curbside: BaseGeometry
+    junctions: BaseGeometry
+
+
+def _union(geometries: list[BaseGeometry]) -> BaseGeometry:
+    items = [g for g in geometries if not g.is_empty]
+    return shapely.union_all(items) if items else Polygon()
+
+
+def _areal(geometry: BaseGeometry) -> BaseGeometry:
+    parts = [g for g in getattr(geometry, "geoms", [geometry]) if g.geom_type in ("Polygon", "MultiPolygon")]
+    return _union(parts)
+
+
+def _grow(geometry: BaseGeometry, distance: float) -> BaseGeometry:
+    """``geometry`` grown by at least ``distance`` everywhere (its polygonal arcs circumscribe the circle)."""
+    return geometry.buffer(distance / math.cos(math.pi / (4 * QUAD_SEGMENTS)), quad_segs=QUAD_SEGMENTS)
+
+
+def _band(line: LineString, sign: float, inner: float, outer: float) -> BaseGeometry:
+    """The strip between offsets ``inner`` and ``outer`` (m) on one side of ``line`` (+1 left, -1 right)."""
+    if outer <= inner:
+        return Polygon()
+
+    def side(distance: float) -> BaseGeometry:
+        if distance <= 0:
+            return Polygon()
+        return line.buffer(sign * distance, single_sided=True, join_style="round", quad_segs=QUAD_SEGMENTS)
+
+    return side(outer).difference(side(inner))
+
+
+def _sidewalk_split(road: Road, width: float, settings: ZoneSettings) -> tuple[float, float]:
+    """Furniture and frontage widths on a sidewalk ``width`` wide (the curb strip included)."""
+    usable = width - settings.curb_width
+    walk = (
+        settings.clear_width
+        if usable - settings.clear_width >= settings.min_zone_width
+        else settings.min_clear
+    )
+    spare = usable - walk
+    if spare < settings.min_zone_width:
+        return 0.0, 0.0
+    furniture = min(settings.furniture_width, spare)
+    frontage = min(settings.frontage_width, spare - furniture)
+    return furniture, (frontage if frontage >= settings.min_zone_width else 0.0)
+
+
+def _junctions(city: CityMap, lanes: dict[str, BaseGeometry], grow: float) -> BaseGeometry:
+    """Where carriageways of two roads meet (roads sharing an end joint included), grown by ``grow``."""
+    ids = list(lanes)
+    tree = STRtree([lanes[i] for i in ids])
+    meets = []
+    for a, road_id in enumerate(ids):
+        for b in tree.query(lanes[road_id], predicate="intersects"):
+            if b <= a:
+                continue
+            meets.append(lanes[road_id].intersection(lanes[ids[b]]))
+    return _grow(_union(meets), grow) if meets else Polygon()
+
+
+def _curbside(road: Road, sign: float, walk_width: float | None, settings: ZoneSettings) -> bool:
+    """Whether cars plausibly park along this curb of an untagged residential street."""
+    if road.highway not in CURBSIDE_HIGHWAYS or walk_width is None:
+        return False
+    if road.parking_left is not None or road.parking_right is not None:
+        return False
+    if road.width >= settings.curbside_both_width:
+        return True
+    return road.width >= settings.curbside_min_width and sign < 0
+
+
+def street_zones(city: CityMap, plan: StreetPlan, settings: ZoneSettings | None = None) -> StreetZones:
+    """Lay the sidewalk zones and parking bands of a city.
+
+    Parameters
+    ----------
+    city : CityMap
+        The map the plan was made from.
+    plan : StreetPlan
+        Its ground plan (:func:`~navverse.city.street_plan.street_plan`).
+    settings : ZoneSettings, optional
+        Zone widths and clearances.
+    """
+    settings = settings or ZoneSettings()
+    classes = plan.classes
+    sidewalk = classes["sidewalk"]
+    road = classes["road"]
+    crosswalks = classes["crosswalk"].union(classes["lowered_curb"])
+    lanes = carriageways(city)
+    junctions = _junctions(city, lanes, settings.corner_clearance)
+    near_crossing = _grow(crosswalks, settings.crosswalk_margin)
+    driveways = _grow(
+        _union([lanes[r.id] for r in city.roads if r.highway == "service"]), settings.driveway_margin
+    )
+
+    furniture, frontage, parking, curbside = [], [], [], []
+    for r in city.roads:
+        line = LineString(r.centerline.points)
+        half = r.width / 2.0
+        shared = r.highway in SHARED_SURFACE_HIGHWAYS
+        for sign, walk_width, park_width in (
+            (1.0, r.sidewalk_left, r.parking_left),
+            (-1.0, r.sidewalk_right, r.parking_right),
+        ):
+            if walk_width is not None and not shared:
+                f_width, fr_width = _sidewalk_split(r, walk_width, settings)
+                start = half + settings.curb_width
+                furniture.append(_band(line, sign, start, start + f_width))
+                frontage.append(_band(line, sign, half + walk_width - fr_width, half + walk_width))
+            if shared:
+                continue
+            if park_width is not None:
+                parking.append(_band(line, sign, half - park_width, half))
+            elif _curbside(r, sign, walk_width, settings):
+                curbside.append(_band(line, sign, half - settings.curbside_band, half))
+    keep_clear = _union([near_crossing, junctions])
+    furniture_zone = _areal(_union(furniture).intersection(sidewalk).difference(keep_clear))
+    frontage_zone = _areal(
+        _union(frontage).intersection(sidewalk).difference(keep_clear).difference(furniture_zone)
+    )
+    walkway = _areal(sidewalk.difference(furniture_zone).difference(frontage_zone))
+    on_road_clear = _union([near_crossing, junctions, driveways])
+    parking_zone = _areal(_union(parking).intersection(road).difference(on_road_clear))
+    curbside_zone = _areal(
+        _union(curbside).intersection(road).difference(on_road_clear).difference(parking_zone)
+    )
+    return StreetZones(
+        furniture=furniture_zone,
+        walkway=walkway,
+        frontage=frontage_zone,
+        parking=parking_zone,
+        curbside=curbside_zone,
+        junctions=junctions,
+    )
