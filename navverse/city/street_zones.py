@@ -9,6 +9,9 @@ grammar of the NACTO *Urban Street Design Guide* and of MetaUrban's sidewalk lay
   else the whole sidewalk (no furniture at all on a sidewalk narrower than that);
 - the **frontage zone** by the property line or facade: benches, planters, A-frame signs, cafe seating.
 
+Beyond a sidewalk's outer edge, open land (ground, green, plaza) ``verge_width`` deep is the
+**verge**, where a street whose sidewalk is too narrow for a furniture zone has its lamps and trees.
+
 Zones are laid per road side from the road's own sidewalk width (:class:`~navverse.city.map.Road`),
 cut to the plan's sidewalk class (so crosswalks, other roads and buildings are never in them),
 and kept ``crosswalk_margin`` away from crosswalks and out of junction corners, where people wait
@@ -35,7 +38,7 @@ from navverse.city.map import CityMap, Road
 from navverse.city.street_plan import StreetPlan
 from navverse.city.surfaces import CURB_WIDTH, QUAD_SEGMENTS, SHARED_SURFACE_HIGHWAYS, carriageways
 
-__all__ = ["CURBSIDE_HIGHWAYS", "StreetZones", "ZoneSettings", "street_zones"]
+__all__ = ["CURBSIDE_HIGHWAYS", "StreetZones", "ZoneSettings", "sidewalk_split", "street_zones"]
 
 CURBSIDE_HIGHWAYS = frozenset({"residential", "unclassified", "tertiary"})
 """Streets along whose curbs cars plausibly park when nothing is mapped."""
@@ -56,6 +59,7 @@ class ZoneSettings:
     curbside_band: float = 2.2
     curbside_min_width: float = 6.0
     curbside_both_width: float = 9.0
+    verge_width: float = 1.2
     curb_width: float = CURB_WIDTH
 
 
@@ -73,6 +77,9 @@ class StreetZones:
         Residential curb bands where parking is plausible (none where a strip is mapped).
     junctions : BaseGeometry
         Where carriageways of different roads meet, grown by ``corner_clearance``.
+    verge : BaseGeometry
+        Open land (ground, green, plaza) along the sidewalks' outer edges, ``verge_width`` deep:
+        where furniture stands on streets whose sidewalks are too narrow for a furniture zone.
     """
 
     furniture: BaseGeometry
@@ -81,6 +88,7 @@ class StreetZones:
     parking: BaseGeometry
     curbside: BaseGeometry
     junctions: BaseGeometry
+    verge: BaseGeometry
 
 
 def _union(geometries: list[BaseGeometry]) -> BaseGeometry:
@@ -111,7 +119,7 @@ def _band(line: LineString, sign: float, inner: float, outer: float) -> BaseGeom
     return side(outer).difference(side(inner))
 
 
-def _sidewalk_split(road: Road, width: float, settings: ZoneSettings) -> tuple[float, float]:
+def sidewalk_split(width: float, settings: ZoneSettings) -> tuple[float, float]:
     """Furniture and frontage widths on a sidewalk ``width`` wide (the curb strip included)."""
     usable = width - settings.curb_width
     walk = (
@@ -175,7 +183,7 @@ def street_zones(city: CityMap, plan: StreetPlan, settings: ZoneSettings | None 
         _union([lanes[r.id] for r in city.roads if r.highway == "service"]), settings.driveway_margin
     )
 
-    furniture, frontage, parking, curbside = [], [], [], []
+    furniture, frontage, parking, curbside, verge = [], [], [], [], []
     for r in city.roads:
         line = LineString(r.centerline.points)
         half = r.width / 2.0
@@ -185,10 +193,11 @@ def street_zones(city: CityMap, plan: StreetPlan, settings: ZoneSettings | None 
             (-1.0, r.sidewalk_right, r.parking_right),
         ):
             if walk_width is not None and not shared:
-                f_width, fr_width = _sidewalk_split(r, walk_width, settings)
+                f_width, fr_width = sidewalk_split(walk_width, settings)
                 start = half + settings.curb_width
                 furniture.append(_band(line, sign, start, start + f_width))
                 frontage.append(_band(line, sign, half + walk_width - fr_width, half + walk_width))
+                verge.append(_band(line, sign, half + walk_width, half + walk_width + settings.verge_width))
             if shared:
                 continue
             if park_width is not None:
@@ -201,6 +210,8 @@ def street_zones(city: CityMap, plan: StreetPlan, settings: ZoneSettings | None 
         _union(frontage).intersection(sidewalk).difference(keep_clear).difference(furniture_zone)
     )
     walkway = _areal(sidewalk.difference(furniture_zone).difference(frontage_zone))
+    open_land = _union([classes["ground"], classes["green"], classes["plaza"]])
+    verge_zone = _areal(_union(verge).intersection(open_land).difference(keep_clear))
     on_road_clear = _union([near_crossing, junctions, driveways])
     parking_zone = _areal(_union(parking).intersection(road).difference(on_road_clear))
     curbside_zone = _areal(
@@ -213,4 +224,5 @@ def street_zones(city: CityMap, plan: StreetPlan, settings: ZoneSettings | None 
         parking=parking_zone,
         curbside=curbside_zone,
         junctions=junctions,
+        verge=verge_zone,
     )

@@ -1,0 +1,457 @@
+"""What stands on a city's sidewalks: mapped street furniture where it is tagged, then a zone grammar.
+
+:func:`plan_street_objects` returns :class:`Placement` records (category, position, heading, zone,
+source), never geometry; :mod:`navverse.city.populate` turns them into objects.
+
+1. **Mapped furniture** (``CityMap.furniture``: OSM nodes, or a synthetic city's own) is placed at
+   its node, or up to ``snap`` (0.5 m) from it, where its footprint stands clear: off the road,
+   the clear walkway, buildings and water, and off what is already placed. The category follows the
+   tag (:data:`MAPPED_CATEGORIES`); a traffic signal node lies on the road, so its light goes to
+   the nearest furniture-zone point within ``signal_reach``. What cannot be placed is skipped and
+   counted by reason.
+2. **The zone grammar** then walks every sidewalk's furniture zone and frontage zone
+   (:mod:`navverse.city.street_zones`) and proposes objects at the spacings of :data:`GRAMMAR`
+   (lamps every ~30 m, street trees every ~10 m on residential streets, a hydrant every ~90 m,
+   parking meters along parking strips, bins and signs near junctions; benches and planters by the
+   facades, A-frame signs and cafe seating in front of shops and cafes). A proposal is kept if its
+   footprint lies wholly inside its zone, clears what is placed, and no object of its category
+   (mapped ones included) stands within ``spacing`` / 2 of it.
+
+Footprints are rectangles of the object's width and depth turned to its heading, except for objects
+whose base is smaller than their top (:data:`BASE_FOOTPRINT`: a tree's trunk, a lamp's pole), which
+stand on their base. Headings: the object's front (+y) faces the walkway from the furniture zone and
+the street from the frontage zone.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from shapely.geometry import LineString, Point, Polygon
+from shapely.geometry.base import BaseGeometry
+from shapely.ops import nearest_points
+from shapely.prepared import prep
+from shapely.strtree import STRtree
+
+from navverse.city.map import CityMap
+from navverse.city.street_plan import StreetPlan
+from navverse.city.street_zones import StreetZones, ZoneSettings, sidewalk_split
+from navverse.city.surfaces import SHARED_SURFACE_HIGHWAYS
+
+__all__ = [
+    "BASE_FOOTPRINT",
+    "GRAMMAR",
+    "MAPPED_CATEGORIES",
+    "GrammarRule",
+    "Placement",
+    "StreetObjects",
+    "plan_street_objects",
+]
+
+SizeOf = Callable[[str], tuple[float, float, float]]
+"""``size_of(category) -> (width, depth, height)`` of the object to place (m)."""
+
+MAPPED_CATEGORIES: dict[str, str] = {
+    "tree": "deciduous_tree",
+    "street_lamp": "street_lamp",
+    "bus_stop": "bus_stop_sign",
+    "traffic_signals": "traffic_light",
+    "bench": "park_bench",
+    "waste_basket": "waste_bin",
+    "bicycle_parking": "bike_rack",
+    "post_box": "post_box",
+    "vending_machine": "vending_machine",
+    "fire_hydrant": "fire_hydrant",
+}
+"""Object category of each mapped furniture ``kind`` (the OSM tag value)."""
+
+BASE_FOOTPRINT: dict[str, tuple[float, float]] = {
+    "deciduous_tree": (0.3, 0.3),
+    "conifer_tree": (0.4, 0.4),
+    "birch_tree": (0.25, 0.25),
+    "palm_tree": (0.4, 0.4),
+    "street_lamp": (0.3, 0.3),
+    "traffic_light": (0.3, 0.3),
+    "bus_stop_sign": (0.3, 0.3),
+    "street_sign": (0.3, 0.3),
+    "stop_sign": (0.3, 0.3),
+    "patio_umbrella": (0.6, 0.6),
+}
+"""Width and depth of what stands on the ground, for objects whose top is wider than their base (m)."""
+
+
+@dataclass(frozen=True)
+class GrammarRule:
+    """One kind of object the grammar proposes along a zone.
+
+    Attributes
+    ----------
+    category : str
+        Object category.
+    zone : {"furniture", "frontage"}
+        The sidewalk zone it stands in; ``furniture`` rules use the verge on a road side whose
+        sidewalk has no furniture zone.
+    spacing : float
+        Distance between two of them along the zone (m).
+    roads : frozenset of str
+        Road classes (``highway``) it lines; empty: every class.
+    where : {"along", "ends", "parking", "places"}
+        ``along`` the whole zone; at the zone's ``ends`` (by junctions); along ``parking`` strips;
+        in front of ``places`` (POIs of ``place_categories``).
+    place_categories : frozenset of str
+        POI categories whose fronts it stands at (``where="places"``).
+    """
+
+    category: str
+    zone: str
+    spacing: float
+    roads: frozenset[str] = frozenset()
+    where: str = "along"
+    place_categories: frozenset[str] = frozenset()
+
+
+_BIG = frozenset({"primary", "secondary", "tertiary", "trunk"})
+_HOMES = frozenset({"residential", "unclassified", "living_street"})
+_SHOPS = frozenset(
+    {"bakery", "clothes", "convenience", "supermarket", "books", "florist", "hardware", "shop"}
+)
+_EATING = frozenset({"cafe", "restaurant", "fast_food", "bar", "pub", "ice_cream"})
+
+GRAMMAR: tuple[GrammarRule, ...] = (
+    GrammarRule("street_lamp", "furniture", 30.0),
+    GrammarRule("deciduous_tree", "furniture", 10.0, roads=_HOMES),
+    GrammarRule("birch_tree", "furniture", 14.0, roads=_BIG),
+    GrammarRule("fire_hydrant", "furniture", 90.0),
+    GrammarRule("parking_meter", "furniture", 15.0, where="parking"),
+    GrammarRule("waste_bin", "furniture", 60.0, where="ends"),
+    GrammarRule("street_sign", "furniture", 80.0, where="ends"),
+    GrammarRule("utility_box", "furniture", 150.0, roads=_BIG),
+    GrammarRule("park_bench", "frontage", 45.0, roads=_BIG),
+    GrammarRule("street_planter", "frontage", 35.0, roads=_BIG),
+    GrammarRule("a_frame_sign", "frontage", 8.0, where="places", place_categories=_SHOPS | _EATING),
+    GrammarRule("bistro_table", "frontage", 3.0, where="places", place_categories=_EATING),
+    GrammarRule("newspaper_box", "frontage", 120.0, roads=_BIG),
+)
+"""The zone grammar, in the order its rules are applied (earlier rules take the space first)."""
+
+
+@dataclass(frozen=True)
+class Placement:
+    """An object to place: category, ground position (m), heading of its front (radians from +x),
+    the zone or area it stands in, and where it came from (``osm:node/123``, ``map:furniture-4``,
+    ``grammar``)."""
+
+    category: str
+    x: float
+    y: float
+    heading: float
+    zone: str
+    source: str
+
+
+@dataclass(frozen=True)
+class StreetObjects:
+    """The placements, and the mapped furniture that could not be placed, counted by reason."""
+
+    placements: tuple[Placement, ...]
+    skipped: dict[str, int]
+
+
+def footprint(category: str, size: tuple[float, float, float], x: float, y: float, heading: float) -> Polygon:
+    """The ground footprint of an object whose front faces ``heading`` (see :data:`BASE_FOOTPRINT`)."""
+    width, depth = BASE_FOOTPRINT.get(category, (size[0], size[1]))
+    # Local +y (front) along the heading, local +x to its right.
+    fx, fy = math.cos(heading), math.sin(heading)
+    rx, ry = fy, -fx
+    corners = [(a * width / 2.0, b * depth / 2.0) for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+    return Polygon([(x + u * rx + v * fx, y + u * ry + v * fy) for u, v in corners])
+
+
+class _Occupancy:
+    """Footprints placed so far, with a grid index for overlap tests."""
+
+    def __init__(self, cell: float = 4.0) -> None:
+        self.cell = cell
+        self.grid: dict[tuple[int, int], list[tuple[Polygon, str]]] = {}
+        self.points: dict[str, list[tuple[float, float]]] = {}
+
+    def _cells(self, polygon: Polygon) -> list[tuple[int, int]]:
+        x0, y0, x1, y1 = polygon.bounds
+        c = self.cell
+        return [
+            (i, j)
+            for i in range(math.floor(x0 / c), math.floor(x1 / c) + 1)
+            for j in range(math.floor(y0 / c), math.floor(y1 / c) + 1)
+        ]
+
+    def clear(self, polygon: Polygon, gap: float) -> bool:
+        grown = polygon.buffer(gap) if gap > 0 else polygon
+        for key in self._cells(grown):
+            for other, _ in self.grid.get(key, ()):
+                if grown.intersects(other):
+                    return False
+        return True
+
+    def near(self, category: str, x: float, y: float, distance: float) -> bool:
+        return any(math.hypot(x - px, y - py) < distance for px, py in self.points.get(category, ()))
+
+    def add(self, polygon: Polygon, category: str, x: float, y: float) -> None:
+        for key in self._cells(polygon):
+            self.grid.setdefault(key, []).append((polygon, category))
+        self.points.setdefault(category, []).append((x, y))
+
+
+def _tangent(line: LineString, along: float) -> float:
+    a = line.interpolate(max(0.0, along - 0.5))
+    b = line.interpolate(min(line.length, along + 0.5))
+    return math.atan2(b.y - a.y, b.x - a.x)
+
+
+def plan_street_objects(
+    city: CityMap,
+    plan: StreetPlan,
+    zones: StreetZones,
+    size_of: SizeOf,
+    rng: np.random.Generator,
+    *,
+    settings: ZoneSettings | None = None,
+    grammar: tuple[GrammarRule, ...] = GRAMMAR,
+    excluded: frozenset[str] = frozenset(),
+    snap: float = 0.5,
+    signal_reach: float = 12.0,
+    gap: float = 0.3,
+    budget: int | None = None,
+) -> StreetObjects:
+    """Place mapped street furniture, then the zone grammar (see the module docstring).
+
+    Parameters
+    ----------
+    city, plan, zones : CityMap, StreetPlan, StreetZones
+        The map, its ground plan and its zones.
+    size_of : callable
+        ``size_of(category) -> (width, depth, height)``: the size of the object that will stand
+        there (drawn by the caller, in placement order).
+    rng : numpy.random.Generator
+        Draws where each grammar rule starts along a zone.
+    settings : ZoneSettings, optional
+        The settings the zones were laid with.
+    grammar : tuple of GrammarRule
+        The rules to apply.
+    excluded : frozenset of str
+        Categories never placed (mapped furniture of these kinds is skipped as ``excluded``).
+    snap : float
+        How far a mapped object may move from its node to stand clear (m).
+    signal_reach : float
+        How far from its node a traffic light may stand (m).
+    gap : float
+        Free space kept between two objects' footprints (m).
+    budget : int, optional
+        The most objects placed: mapped furniture first (a drawn subset if there is more of it),
+        then the grammar until the budget is spent. None: no limit.
+    """
+    settings = settings or ZoneSettings()
+    classes = plan.classes
+    blocked = prep(
+        classes["road"]
+        .union(classes["crosswalk"])
+        .union(classes["lowered_curb"])
+        .union(classes["building"])
+        .union(classes["water"])
+        .union(classes["shared"])
+        .union(zones.walkway)
+        .buffer(-1e-6)
+    )
+    window = prep(Polygon.from_bounds(*city.window).buffer(-0.5))
+    occupied = _Occupancy()
+    placements: list[Placement] = []
+    skipped: Counter[str] = Counter()
+
+    def put(category: str, x: float, y: float, heading: float, zone: str, source: str) -> Polygon:
+        shape = footprint(category, size_of(category), x, y, heading)
+        occupied.add(shape, category, x, y)
+        placements.append(Placement(category, float(x), float(y), float(heading), zone, source))
+        return shape
+
+    # 1. Mapped furniture, nearest road heading.
+    lines = [LineString(r.centerline.points) for r in city.roads if r.highway not in SHARED_SURFACE_HIGHWAYS]
+    tree = STRtree(lines) if lines else None
+    signal_zone = zones.furniture.union(zones.verge)
+    offsets = [(0.0, 0.0)] + [
+        (r * math.cos(a), r * math.sin(a))
+        for r in (snap / 2.0, snap)
+        for a in np.linspace(0, math.tau, 8, endpoint=False)
+    ]
+    mapped = list(city.furniture)
+    if budget is not None and len(mapped) > budget:
+        keep = set(rng.choice(len(mapped), size=budget, replace=False).tolist())
+        skipped["mapped furniture: over the density cap"] += len(mapped) - budget
+        mapped = [item for k, item in enumerate(mapped) if k in keep]
+    for item in mapped:
+        category = MAPPED_CATEGORIES.get(item.kind)
+        source = f"osm:{item.osm}" if item.osm else f"map:{item.id}"
+        if category is None:
+            skipped[f"{item.kind}: no object category"] += 1
+            continue
+        if category in excluded:
+            skipped[f"{category}: excluded by the recipe"] += 1
+            continue
+        x0, y0 = item.position
+        if not window.contains(Point(x0, y0)):
+            skipped[f"{category}: outside the window"] += 1
+            continue
+        heading = 0.0
+        if tree is not None:
+            line = lines[int(tree.nearest(Point(x0, y0)))]
+            along = line.project(Point(x0, y0))
+            near = line.interpolate(along)
+            heading = math.atan2(y0 - near.y, x0 - near.x) + math.pi  # the front faces the street
+        candidates = offsets
+        if category == "traffic_light":
+            target = _nearest_on(signal_zone, x0, y0, signal_reach)
+            if target is None:
+                skipped[f"{category}: no furniture zone or verge within {signal_reach:g} m"] += 1
+                continue
+            candidates = [(target[0] - x0, target[1] - y0)]
+        reason = None
+        for dx, dy in candidates:
+            shape = footprint(category, size_of(category), x0 + dx, y0 + dy, heading)
+            if blocked.intersects(shape):
+                reason = reason or _why(classes, zones, shape)
+                continue
+            if not occupied.clear(shape, gap):
+                reason = reason or "overlaps another object"
+                continue
+            put(category, x0 + dx, y0 + dy, heading, _zone_of(zones, shape), source)
+            reason = None
+            break
+        if reason is not None:
+            skipped[f"{category}: {reason}"] += 1
+
+    # 2. The zone grammar, rule by rule along every road side.
+    zone_shapes = {
+        name: prep(getattr(zones, name).buffer(1e-6)) for name in ("furniture", "frontage", "verge")
+    }
+    parking = prep(zones.parking.buffer(0.5))
+    places = [(p.position, p.category) for p in city.pois]
+    for rule in grammar:
+        if rule.category in excluded:
+            continue
+        for road in city.roads:
+            if road.highway in SHARED_SURFACE_HIGHWAYS or (rule.roads and road.highway not in rule.roads):
+                continue
+            line = LineString(road.centerline.points)
+            half = road.width / 2.0
+            for sign, walk in ((1.0, road.sidewalk_left), (-1.0, road.sidewalk_right)):
+                if walk is None:
+                    continue
+                zone = rule.zone
+                middle = _zone_line(line, sign, half, walk, zone, settings)
+                if middle is None and zone == "furniture":
+                    zone = "verge"  # too narrow a sidewalk: lamps and trees stand beyond it
+                    middle = _zone_line(line, sign, half, walk, zone, settings)
+                if middle is None:
+                    continue
+                turn = math.pi if zone == "frontage" else 0.0
+                for along in _stations(rule, middle, rng, places, parking):
+                    point = middle.interpolate(along)
+                    # Away from the road on this side: furniture faces the walkway that way, frontage
+                    # objects face the street.
+                    away = _tangent(middle, along) + sign * math.pi / 2.0
+                    heading = math.remainder(away + turn, math.tau)
+                    spacing = rule.spacing / 2.0
+                    if budget is not None and len(placements) >= budget:
+                        break
+                    if occupied.near(rule.category, point.x, point.y, spacing):
+                        continue
+                    shape = footprint(rule.category, size_of(rule.category), point.x, point.y, heading)
+                    if not zone_shapes[zone].contains(shape) or not occupied.clear(shape, gap):
+                        continue
+                    put(rule.category, point.x, point.y, heading, zone, "grammar")
+    return StreetObjects(placements=tuple(placements), skipped=dict(sorted(skipped.items())))
+
+
+def _zone_line(
+    line: LineString, sign: float, half: float, walk: float, zone: str, settings: ZoneSettings
+) -> LineString | None:
+    """The middle line of a road side's zone, or None if the side has no such zone."""
+    furniture, frontage = sidewalk_split(walk, settings)
+    if zone == "furniture":
+        width, offset = furniture, half + settings.curb_width + furniture / 2.0
+    elif zone == "frontage":
+        width, offset = frontage, half + walk - frontage / 2.0
+    else:
+        width, offset = settings.verge_width, half + walk + settings.verge_width / 2.0
+    if width <= 0:
+        return None
+    middle = line.offset_curve(sign * offset, quad_segs=4, join_style="mitre")
+    if middle.is_empty or middle.geom_type != "LineString":
+        return None
+    return middle
+
+
+def _stations(
+    rule: GrammarRule,
+    middle: LineString,
+    rng: np.random.Generator,
+    places: list[tuple[tuple[float, float], str]],
+    parking: object,
+) -> list[float]:
+    """Where along a zone's middle line a rule proposes its objects."""
+    length = middle.length
+    if rule.where == "ends":
+        return [s for s in (6.0, length - 6.0) if 0.0 < s < length]
+    if rule.where == "places":
+        stations = []
+        for position, category in places:
+            if category not in rule.place_categories:
+                continue
+            point = Point(position)
+            if middle.distance(point) > 25.0:
+                continue
+            along = middle.project(point)
+            stations += [along + d for d in (-1.5, 1.5) if 0.0 < along + d < length]
+        return stations
+    start = float(rng.uniform(0.3, 0.7)) * min(rule.spacing, length)
+    stations = [float(s) for s in np.arange(start, length, rule.spacing)]
+    if rule.where == "parking":
+        stations = [s for s in stations if parking.intersects(middle.interpolate(s))]  # type: ignore[attr-defined]
+    return stations
+
+
+def _nearest_on(zone: BaseGeometry, x: float, y: float, reach: float) -> tuple[float, float] | None:
+    """The point of ``zone`` nearest to (x, y), pulled 0.3 m inside it, if within ``reach``."""
+    if zone.is_empty:
+        return None
+    inner = zone.buffer(-0.3)
+    target = inner if not inner.is_empty else zone
+    point = Point(x, y)
+    if target.distance(point) > reach:
+        return None
+    near = nearest_points(target, point)[0]
+    return (near.x, near.y)
+
+
+def _why(classes: dict[str, BaseGeometry], zones: StreetZones, shape: Polygon) -> str:
+    """Why a footprint cannot stand where it is."""
+    for cls, reason in (
+        ("building", "inside a building"),
+        ("water", "in water"),
+        ("crosswalk", "on a crosswalk"),
+        ("road", "on the carriageway"),
+        ("shared", "on a shared street"),
+    ):
+        if classes[cls].intersects(shape):
+            return reason
+    return "in the clear walkway"
+
+
+def _zone_of(zones: StreetZones, shape: Polygon) -> str:
+    """The zone a placed footprint stands in: a sidewalk zone, or ``open`` (parks, plazas, ground)."""
+    for name in ("furniture", "frontage", "verge"):
+        if getattr(zones, name).intersects(shape):
+            return name
+    return "open"

@@ -1,0 +1,94 @@
+"""Street objects: mapped furniture at its node (or skipped with a reason), the grammar in its zones,
+nothing in the clear walkway, on the road or in a building, nothing overlapping."""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+
+import numpy as np
+import pytest
+from shapely.strtree import STRtree
+
+from navverse.city.scene import CityGeometry, geometry_plan
+from navverse.city.street_objects import MAPPED_CATEGORIES, footprint, plan_street_objects
+from navverse.city.street_zones import street_zones
+from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+
+# Stand-in sizes (width, depth, height): the planner only needs footprints.
+SIZES = {
+    "street_lamp": (0.4, 1.2, 6.0),
+    "deciduous_tree": (4.0, 4.0, 8.0),
+    "birch_tree": (3.0, 3.0, 9.0),
+    "fire_hydrant": (0.45, 0.35, 0.8),
+    "parking_meter": (0.3, 0.25, 1.4),
+    "waste_bin": (0.5, 0.5, 0.9),
+    "street_sign": (0.6, 0.1, 2.6),
+    "utility_box": (0.9, 0.4, 1.3),
+    "park_bench": (1.6, 0.6, 0.85),
+    "street_planter": (1.2, 0.6, 0.7),
+    "a_frame_sign": (0.6, 0.5, 1.0),
+    "bistro_table": (0.6, 0.6, 0.75),
+    "newspaper_box": (0.5, 0.45, 1.1),
+    "bus_stop_sign": (0.4, 0.1, 2.8),
+    "traffic_light": (0.4, 0.4, 3.5),
+    "bike_rack": (2.0, 0.6, 0.9),
+    "post_box": (0.5, 0.5, 1.3),
+    "vending_machine": (0.9, 0.8, 1.9),
+}
+
+
+@pytest.fixture(scope="module")
+def street():
+    city = synthetic_city(SyntheticCityParams(size=(400.0, 400.0)), seed=2)
+    plan = geometry_plan(city, CityGeometry(junction_crosswalks=True))
+    zones = street_zones(city, plan)
+    placed = plan_street_objects(city, plan, zones, SIZES.__getitem__, np.random.default_rng(4))
+    return city, plan, zones, placed
+
+
+def _shapes(placed):
+    return [footprint(p.category, SIZES[p.category], p.x, p.y, p.heading) for p in placed.placements]
+
+
+def test_nothing_stands_in_the_walkway_on_the_road_or_in_a_building(street) -> None:
+    _, plan, zones, placed = street
+    assert len(placed.placements) > 300
+    blocked = [zones.walkway, plan.classes["road"], plan.classes["crosswalk"], plan.classes["building"]]
+    for shape in _shapes(placed):
+        for area in blocked:
+            assert shape.intersection(area).area < 1e-6
+
+
+def test_no_two_objects_overlap(street) -> None:
+    _, _, _, placed = street
+    shapes = _shapes(placed)
+    tree = STRtree(shapes)
+    for i, shape in enumerate(shapes):
+        for j in tree.query(shape, predicate="intersects"):
+            assert j == i
+
+
+def test_mapped_furniture_stands_at_its_node_or_is_skipped_with_a_reason(street) -> None:
+    city, _, _, placed = street
+    mapped = {f"map:{f.id}": f for f in city.furniture}
+    placed_mapped = [p for p in placed.placements if p.source in mapped]
+    for p in placed_mapped:
+        item = mapped[p.source]
+        assert p.category == MAPPED_CATEGORIES[item.kind]
+        if item.kind != "traffic_signals":  # a signal's light moves off the road to the corner
+            assert math.dist((p.x, p.y), item.position) <= 0.5 + 1e-9
+    assert len(placed_mapped) + sum(placed.skipped.values()) == len(city.furniture)
+    assert all(":" in reason for reason in placed.skipped)  # "<category>: <why>"
+    kinds = Counter(mapped[p.source].kind for p in placed_mapped)
+    assert kinds["tree"] > 50 and kinds["street_lamp"] > 20
+
+
+def test_the_grammar_fills_zones_and_the_budget_holds(street) -> None:
+    city, plan, zones, placed = street
+    grammar = Counter((p.category, p.zone) for p in placed.placements if p.source == "grammar")
+    assert grammar and all(zone in ("furniture", "frontage", "verge") for _, zone in grammar)
+    again = plan_street_objects(city, plan, zones, SIZES.__getitem__, np.random.default_rng(4))
+    assert again == placed
+    capped = plan_street_objects(city, plan, zones, SIZES.__getitem__, np.random.default_rng(4), budget=100)
+    assert len(capped.placements) == 100 and capped.skipped["mapped furniture: over the density cap"] > 0
