@@ -1,4 +1,4 @@
-"""Buildings of a city map as closed solids, with their scene annotations (format 2.1).
+"""Buildings of a city map as closed solids, with their scene annotations (format 2.2).
 
 Each footprint (courtyards as holes) is extruded from its base (``base_height`` above the lowest
 terrain under it) to its height, a watertight prism of terrain class ``building``. Its annotation

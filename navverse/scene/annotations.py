@@ -44,12 +44,13 @@ __all__ = [
     "save_annotations",
 ]
 
-SCENE_FORMAT_VERSION = "2.1"
+SCENE_FORMAT_VERSION = "2.2"
 """Version of the ``scene.json`` layout. 1.1 added ``regions.rooms`` and ``regions.doors``; 2.0 holds
 ``buildings`` (footprint, heights, rooms, doors, exits, facades) in place of ``regions``, and
 storefronts name their building and facade; 2.1 adds the map frame of a city (``geo``), the map
 feature a building was made from (``map_id``, ``osm``) and the road each facade faces
-(``road``, ``road_distance``). 1.x files are upgraded when read (see
+(``road``, ``road_distance``); 2.2 adds where a city's object stands and where it came from
+(``zone``, ``group``, ``source`` of an object). 1.x files are upgraded when read (see
 :func:`upgrade_annotations`); a newer 2.x file is read without the fields this version does not know;
 another major version cannot be read."""
 
@@ -113,6 +114,14 @@ class ObjectAnnotation(BaseModel):
     center: Vec3
     size: PositiveVec3
     yaw: float
+    zone: str | None = None
+    """Where a populated city's object stands (``furniture``, ``frontage``, ``verge``, ``open``,
+    ``parking_lane``, ``curbside``, ``parking_lot``...); None for objects not placed by zone."""
+    group: str | None = None
+    """The contextual group instance it belongs to (e.g. ``bus_stop_wait-3``), if any."""
+    source: str | None = None
+    """What placed it: the map feature (``osm:node/123``, ``map:furniture-4``) or the rule
+    (``grammar``, ``parking``, ``group``); None if not recorded."""
 
     @field_validator("category")
     @classmethod

@@ -67,6 +67,9 @@ class ObjectPart:
         Extent along the object's own axes; by default the extent of ``mesh``.
     kind : str, optional
         What the object is, naming its prim (``<kind>_<id>``); by default ``category``.
+    zone, group, source : str, optional
+        Where it stands, its contextual group and what placed it (see
+        :class:`~navverse.scene.annotations.ObjectAnnotation`).
     """
 
     category: str
@@ -75,6 +78,9 @@ class ObjectPart:
     yaw: float = 0.0
     size: Vec3 | None = None
     kind: str | None = None
+    zone: str | None = None
+    group: str | None = None
+    source: str | None = None
 
     def extent(self) -> Vec3:
         """``size``, or the extent of the local mesh."""
@@ -95,6 +101,9 @@ def object_parts(scene: Scene) -> list[ObjectPart]:
             yaw=o.annotation.yaw,
             size=o.annotation.size,
             kind=o.annotation.prim_path.rsplit("/", 1)[1].rsplit("_", 1)[0],
+            zone=o.annotation.zone,
+            group=o.annotation.group,
+            source=o.annotation.source,
         )
         for o in scene.objects
     ]
@@ -177,6 +186,9 @@ def assemble_scene(
             center=tuple(float(v) for v in part.center),
             size=part.extent(),
             yaw=float(part.yaw),
+            zone=part.zone,
+            group=part.group,
+            source=part.source,
         )
         placed.append(SceneObject(annotation=annotation, mesh=part.mesh))
     classes = dict(
