@@ -3,6 +3,7 @@
 Usage::
 
     python scripts/asset_gallery.py [--out docs/img/asset_gallery.png] [--seed 7] [--only chair sofa]
+                                    [--set indoor|outdoor|all]
 
 Each panel shows one object (sampled size, fixed seed) from the front-right, with its faces coloured
 by their part colour and shaded by a fixed directional light, under the category name.
@@ -21,7 +22,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-from navverse.assets.library import categories, make_object
+from navverse.assets.library import asset, categories, make_object
 from navverse.scene.geometry import MeshData
 
 _LIGHT = np.array([0.35, 0.75, 0.9]) / np.linalg.norm([0.35, 0.75, 0.9])
@@ -73,9 +74,11 @@ def draw(ax: plt.Axes, mesh: MeshData, title: str, *, elev: float = 22.0, azim: 
     ax.set_title(f"{title}\n{size[0]:.2f}×{size[1]:.2f}×{size[2]:.2f} m", fontsize=8, pad=0)
 
 
-def render(out: Path, *, seed: int, only: list[str] | None, columns: int, dpi: int) -> None:
-    """Build every category with the same seed and save the contact sheet."""
-    names = only or list(categories())
+def render(
+    out: Path, *, seed: int, only: list[str] | None, columns: int, dpi: int, which: str = "all"
+) -> None:
+    """Build every category (of ``which`` set) with the same seed and save the contact sheet."""
+    names = only or [n for n in categories() if which == "all" or asset(n).outdoor == (which == "outdoor")]
     rows = math.ceil(len(names) / columns)
     fig = plt.figure(figsize=(2.0 * columns, 2.1 * rows))
     for k, name in enumerate(names):
@@ -96,8 +99,9 @@ def main() -> None:
     parser.add_argument("--only", nargs="*", help="categories to draw (default: all)")
     parser.add_argument("--columns", type=int, default=9)
     parser.add_argument("--dpi", type=int, default=80)
+    parser.add_argument("--set", dest="which", choices=("all", "indoor", "outdoor"), default="all")
     args = parser.parse_args()
-    render(args.out, seed=args.seed, only=args.only, columns=args.columns, dpi=args.dpi)
+    render(args.out, seed=args.seed, only=args.only, columns=args.columns, dpi=args.dpi, which=args.which)
     print(f"wrote {args.out} ({args.out.stat().st_size / 1e6:.2f} MB)")
 
 

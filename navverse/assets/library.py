@@ -25,16 +25,22 @@ from collections.abc import Sequence
 import numpy as np
 
 from navverse.assets import (
+    carried_items,
     decor,
     electronics,
     fixtures,
     home,
     kitchen_bath,
     medical,
+    nature,
     retail,
     seating,
     storage,
+    street_amenities,
+    street_furniture,
     tables,
+    vehicles,
+    work_play,
 )
 from navverse.assets.errors import UnknownCategoryError
 from navverse.assets.spec import Asset, Size, SupportArea
@@ -42,7 +48,9 @@ from navverse.scene.geometry import MeshData
 
 __all__ = ["Asset", "SupportArea", "asset", "categories", "make_object"]
 
-_MODULES = (seating, tables, storage, home, kitchen_bath, electronics, fixtures, decor, retail, medical)
+_INDOOR = (seating, tables, storage, home, kitchen_bath, electronics, fixtures, decor, retail, medical)
+_OUTDOOR = (vehicles, street_furniture, street_amenities, nature, work_play, carried_items)
+_MODULES = _INDOOR + _OUTDOOR
 
 
 @functools.cache
