@@ -26,12 +26,14 @@ face and no gap: the curb face between road and curb, the ramp's sides, the bank
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 import shapely
 from shapely.geometry import Polygon, box
 from shapely.geometry.base import BaseGeometry
+from shapely.strtree import STRtree
 
 from navverse.city.map import CityMap
 from navverse.city.prisms import HeightFn, polygon_prism, polygons_of
@@ -116,32 +118,91 @@ def _prisms(geometry: BaseGeometry, top: HeightFn, *, margin: float, terrain: He
     return meshes
 
 
+class _Nearby:
+    """The parts of a large geometry near a shape, through an STR tree of its parts."""
+
+    def __init__(self, geometry: BaseGeometry) -> None:
+        self.parts = [g for g in getattr(geometry, "geoms", [geometry]) if not g.is_empty]
+        self.tree = STRtree(self.parts)
+
+    def near(self, shape: BaseGeometry, distance: float = 0.0) -> BaseGeometry:
+        """The union of the parts within ``distance`` of ``shape``'s envelope (empty if none)."""
+        hits = self.tree.query(shape.envelope.buffer(distance, join_style="mitre") if distance else shape)
+        items = [self.parts[i] for i in sorted(hits.tolist())]
+        return shapely.union_all(items) if items else Polygon()
+
+
 def _crosswalk_parts(
     plan: dict[str, BaseGeometry], city: CityMap, *, crosswalk_width: float, settings: GroundSettings
-) -> tuple[list[tuple[BaseGeometry, float]], BaseGeometry, BaseGeometry, BaseGeometry]:
-    """Crosswalk ramps with their lips, the road's edge, the flat rest of the crosswalks, and the curb
-    strip of raised crossings."""
+) -> tuple[list[tuple[BaseGeometry, float, BaseGeometry]], BaseGeometry, BaseGeometry]:
+    """Crosswalk ramps with their lips and the road edge they rise to, the flat rest of the
+    crosswalks, and the curb strip of raised crossings.
+
+    Each crosswalk reads only the parts of the plan and of the road's edge near it (STR trees), and
+    each ramp gives way only to the earlier ramps it meets, so the work grows with the number of
+    crosswalks, not with its square.
+    """
     carriageway = shapely.union_all([plan["road"], plan["crosswalk"]])
     window = box(*city.window)
-    edge = carriageway.boundary.difference(window.exterior.buffer(1e-6))
-    band = edge.buffer(settings.ramp_length, quad_segs=2)
-    ramps: list[tuple[BaseGeometry, float]] = []
+    edges = _Nearby(carriageway.boundary.difference(window.exterior.buffer(1e-6)))
+    crosswalk_plan = _Nearby(plan["crosswalk"])
+    ramps: list[tuple[BaseGeometry, float, BaseGeometry]] = []
+    taken = _GrowingIndex()
     raised: list[BaseGeometry] = []
     for kerb, polygon in crosswalk_polygons(city, crosswalk_width=crosswalk_width):
         if kerb == "raised":
             raised.append(polygon)
             continue
         lip = LIPS[kerb]
-        piece = polygon.intersection(plan["crosswalk"]).intersection(band)
-        for taken, _ in ramps:
-            piece = piece.difference(taken)
+        reach = settings.ramp_length + 1.0
+        x0, y0, x1, y1 = polygon.bounds
+        edge = shapely.clip_by_rect(
+            edges.near(polygon, reach), x0 - reach, y0 - reach, x1 + reach, y1 + reach
+        )
+        if edge.is_empty:
+            continue
+        band = edge.buffer(settings.ramp_length, quad_segs=2)
+        piece = polygon.intersection(crosswalk_plan.near(polygon)).intersection(band)
+        for earlier in taken.meeting(piece):
+            piece = piece.difference(earlier)
         if not piece.is_empty:
-            ramps.append((piece, settings.lowered_curb_height if lip is None else lip))
+            ramps.append((piece, settings.lowered_curb_height if lip is None else lip, edge))
+            taken.add(piece)
     flat_rest = plan["crosswalk"]
     if ramps:
-        flat_rest = flat_rest.difference(shapely.union_all([p for p, _ in ramps]))
+        flat_rest = flat_rest.difference(shapely.union_all([p for p, _, _ in ramps]))
     raised_curb = plan["lowered_curb"].intersection(shapely.union_all(raised)) if raised else Polygon()
-    return ramps, edge, flat_rest, raised_curb
+    return ramps, flat_rest, raised_curb
+
+
+class _GrowingIndex:
+    """Shapes added one at a time, found by a grid of their envelopes (an STR tree cannot grow)."""
+
+    def __init__(self, cell: float = 25.0) -> None:
+        self.cell = cell
+        self.shapes: list[BaseGeometry] = []
+        self.grid: dict[tuple[int, int], list[int]] = {}
+
+    def _keys(self, shape: BaseGeometry) -> list[tuple[int, int]]:
+        x0, y0, x1, y1 = shape.bounds
+        c = self.cell
+        return [
+            (i, j)
+            for i in range(math.floor(x0 / c), math.floor(x1 / c) + 1)
+            for j in range(math.floor(y0 / c), math.floor(y1 / c) + 1)
+        ]
+
+    def add(self, shape: BaseGeometry) -> None:
+        for key in self._keys(shape):
+            self.grid.setdefault(key, []).append(len(self.shapes))
+        self.shapes.append(shape)
+
+    def meeting(self, shape: BaseGeometry) -> list[BaseGeometry]:
+        """The shapes added so far whose envelopes meet ``shape``'s, in the order they were added."""
+        if shape.is_empty:
+            return []
+        found = sorted({i for key in self._keys(shape) for i in self.grid.get(key, ())})
+        return [self.shapes[i] for i in found if shapely.intersects(self.shapes[i].envelope, shape.envelope)]
 
 
 def ground_surfaces(
@@ -174,7 +235,7 @@ def ground_surfaces(
     """
     depth = settings.road_depression
     margin = depth + settings.water_depth + 0.3
-    ramps, edge, flat_crosswalk, raised_curb = _crosswalk_parts(
+    ramps, flat_crosswalk, raised_curb = _crosswalk_parts(
         plan, city, crosswalk_width=crosswalk_width, settings=settings
     )
     pieces: dict[str, list[MeshData]] = {}
@@ -186,7 +247,7 @@ def ground_surfaces(
         geometry = plan[surface_class]
         if surface_class == "crosswalk":
             add(terrain_class, flat_crosswalk, _offset(terrain, -depth))
-            for piece, lip in ramps:
+            for piece, lip, edge in ramps:
                 add(terrain_class, piece, _ramp(terrain, edge, settings, lip))
             continue
         if surface_class == "lowered_curb" and not raised_curb.is_empty:
