@@ -2,10 +2,11 @@
 
 1. Synthetic cities of the paper's density (``synthetic_city`` grid layout, its default street
    spacing and building parameters) of 0.25, 1 and 4 km^2, each built from a recipe in a scratch
-   workspace with ``navverse build`` in a child process: the command's wall time, and per stage
-   the wall time and peak RSS the build recorded in its manifests; the city's buildings and road
-   km per km^2 (the paper: ~546 buildings, ~36.4 km), navigable area, polygons and islands. The
-   4 km^2 to 1 km^2 ratio of wall times says how the build scales.
+   workspace with ``navverse build`` in a child process (map, geometry, population, navmesh): the
+   command's wall time, and per stage the wall time and peak RSS the build recorded in its
+   manifests; the city's buildings and road km per km^2 (the paper: ~546 buildings, ~36.4 km),
+   navigable area, polygons and islands. The 4 km^2 to 1 km^2 ratio of wall times says how the
+   build scales.
 2. The shipped real extracts (``recipes/scenes/outdoor/*.yaml`` whose map is ``osm_city``), built
    the same way.
 3. Windowed reads: a 1 km^2 synthetic city written as OSM, tiled ``--tiles`` x ``--tiles`` times
@@ -45,7 +46,7 @@ from rich.table import Table
 
 REPO = Path(__file__).resolve().parents[1]
 NAVVERSE = Path(sys.executable).with_name("navverse")
-STAGES = ("synthetic_city", "osm_city", "city_geometry", "navmesh")
+STAGES = ("synthetic_city", "osm_city", "city_geometry", "populate", "navmesh")
 PAPER_BUILDINGS_PER_KM2 = 546
 PAPER_ROAD_KM_PER_KM2 = 36.4
 
@@ -261,6 +262,7 @@ def build_table(title: str, rows: list[dict[str, Any]]) -> Table:
         "wall s",
         "map s",
         "geometry s",
+        "populate s",
         "navmesh s",
         "peak RSS MB",
         "buildings/km²",
@@ -279,6 +281,7 @@ def build_table(title: str, rows: list[dict[str, Any]]) -> Table:
             f"{row['wall_s']:.1f}",
             f"{map_s:.1f}",
             f"{walls['city_geometry']:.1f}",
+            f"{walls.get('populate', float('nan')):.1f}",
             f"{walls['navmesh']:.1f}",
             f"{row['peak_rss_mb']:.0f}",
             f"{row['buildings_per_km2']:.0f}",

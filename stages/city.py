@@ -159,7 +159,7 @@ class CityGeometryParams(Params):
         return self
 
 
-@stage(name="city_geometry", inputs=["city_map"], outputs=["geometry"])
+@stage(name="city_geometry", inputs=["city_map"], outputs=["street_geometry"])
 def city_geometry(ctx: StageContext, params: CityGeometryParams) -> None:
     """A scene (roads below curbs, crosswalks, sidewalks, land, buildings) and its street plan."""
     import numpy as np

@@ -106,7 +106,7 @@ def test_a_file_with_broken_features_builds_the_rest_and_counts_them(tmp_path: P
     assert not built.report.failed
     city = read_city_map(built.output("city", "city_map") / "city_map.json")
     assert city.dropped  # counted by reason
-    assert built.manifest("city", "geometry")["stats"]["dropped"] == city.dropped
+    assert built.manifest("city", "street_geometry")["stats"]["dropped"] == city.dropped
     assert read_annotations(built.output("city", "scene")).statistics.buildings >= 2
 
 
@@ -131,10 +131,14 @@ def test_the_same_recipe_builds_the_same_bytes_and_seeds_differ(tmp_path: Path) 
         assert not built.report.failed
         targets = ("city", "synthetic-s1", "synthetic-s2")
         scenes.append(
-            {(t, out): _digest(built.output(t, out)) for t in targets for out in ("geometry", "scene")}
+            {
+                (t, out): _digest(built.output(t, out))
+                for t in targets
+                for out in ("street_geometry", "geometry", "scene")
+            }
         )
     assert scenes[0] == scenes[1]
-    assert "street_plan.json" in scenes[0][("city", "geometry")]
+    assert "street_plan.json" in scenes[0][("city", "street_geometry")]
     assert set(scenes[0][("city", "scene")]) >= {
         "scene.usdc",
         "scene.json",

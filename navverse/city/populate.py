@@ -1,0 +1,249 @@
+"""Street life: a city scene with parked cars and street objects standing on it.
+
+:func:`populate_city` lays the street zones (:mod:`navverse.city.street_zones`), plans the street
+objects (:mod:`navverse.city.street_objects`: mapped furniture, then the zone grammar) within a
+budget of ``objects_per_km2``, picks parking slots (:mod:`navverse.city.parking`) for up to
+``cars_per_km2`` cars, builds every object from the object library, stands it on the scene's
+surface (a vertical ray cast at its position) and adds it to the scene with its zone and source.
+
+Footprints are planned with each category's largest size (``size_max``), so the object built,
+whose size is drawn within the category's range, never reaches beyond its footprint. A car's size
+is drawn and then shrunk, within its category's range, to fit its slot; a body type whose smallest
+car does not fit is not drawn for that slot.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from navverse.assets.library import asset, make_object
+from navverse.city.map import CityMap
+from navverse.city.parking import Slot, lot_slots, street_slots
+from navverse.city.street_objects import GRAMMAR, Placement, plan_street_objects
+from navverse.city.street_plan import StreetPlan
+from navverse.city.street_zones import ZoneSettings, street_zones
+from navverse.scene.compose import ObjectPart, object_parts, replace_parts
+from navverse.scene.geometry import Scene
+
+__all__ = ["CAR_TYPES", "PopulateSettings", "Population", "populate_city"]
+
+CAR_TYPES: dict[str, float] = {
+    "sedan": 0.38,
+    "hatchback": 0.22,
+    "suv": 0.24,
+    "van": 0.08,
+    "pickup_truck": 0.08,
+}
+"""Body types of parked cars and their shares (a drawn type that does not fit a slot is redrawn)."""
+
+
+@dataclass(frozen=True)
+class PopulateSettings:
+    """How densely a city is populated, and with what.
+
+    Attributes
+    ----------
+    cars_per_km2 : float
+        Most parked cars per km² of the window.
+    objects_per_km2 : float
+        Most street objects (mapped and grammar) per km² of the window.
+    excluded : frozenset of str
+        Object categories never placed.
+    lot_share : float
+        Share of the cars parked in parking lots when both lots and street slots are free.
+    zones : ZoneSettings
+        Sidewalk zone widths and clearances.
+    """
+
+    cars_per_km2: float = 200.0
+    objects_per_km2: float = 1000.0
+    excluded: frozenset[str] = frozenset()
+    lot_share: float = 0.4
+    zones: ZoneSettings = field(default_factory=ZoneSettings)
+
+
+@dataclass(frozen=True)
+class Population:
+    """A populated scene and what was placed.
+
+    Attributes
+    ----------
+    scene : Scene
+        The scene with the new objects after its own.
+    counts : dict
+        ``cars`` by zone, ``objects`` by category, ``zones`` (objects by zone), ``sources`` (by what
+        placed them), ``skipped`` (mapped furniture not placed, by reason).
+    """
+
+    scene: Scene
+    counts: dict[str, dict[str, int]]
+
+
+def _largest(category: str) -> tuple[float, float, float]:
+    return asset(category).size_max
+
+
+class _Ground:
+    """Heights of a scene's surfaces under xy points, by vertical ray casts."""
+
+    def __init__(self, scene: Scene) -> None:
+        import open3d as o3d
+
+        mesh = scene.world_mesh(include_objects=False).mesh
+        self._rays = o3d.t.geometry.RaycastingScene()
+        self._rays.add_triangles(
+            o3d.core.Tensor(mesh.vertices.astype(np.float32)), o3d.core.Tensor(mesh.faces.astype(np.uint32))
+        )
+        self._top = float(mesh.vertices[:, 2].max()) + 10.0
+        self._o3d = o3d
+
+    def __call__(self, xy: np.ndarray) -> np.ndarray:
+        """The height of the highest surface under each point (NaN where there is none)."""
+        xy = np.atleast_2d(np.asarray(xy, dtype=np.float64))
+        rays = np.zeros((len(xy), 6), dtype=np.float32)
+        rays[:, :2], rays[:, 2], rays[:, 5] = xy, self._top, -1.0
+        hit = self._rays.cast_rays(self._o3d.core.Tensor(rays))["t_hit"].numpy().astype(np.float64)
+        return np.where(np.isfinite(hit), self._top - hit, np.nan)
+
+
+def _car_size(category: str, slot: Slot, rng: np.random.Generator) -> tuple[float, float, float] | None:
+    """A drawn size of a car of ``category`` shrunk to fit ``slot`` (width, length, height), or None."""
+    spec = asset(category)
+    lo = spec.size_min
+    if lo[0] > slot.width or lo[1] > slot.length:
+        return None
+    drawn = spec.sample_size(rng)
+    return (min(drawn[0], slot.width), min(drawn[1], slot.length), drawn[2])
+
+
+def _choose_slots(
+    street: list[Slot], lots: list[Slot], count: int, share: float, rng: np.random.Generator
+) -> list[Slot]:
+    """``count`` slots: ``share`` of them from the lots, the rest from the street (or what there is)."""
+    from_lots = min(len(lots), round(count * share)) if street else min(len(lots), count)
+    from_street = min(len(street), count - from_lots)
+    from_lots = min(len(lots), count - from_street)
+    chosen = []
+    for pool, n in ((street, from_street), (lots, from_lots)):
+        if n > 0:
+            chosen += [pool[i] for i in sorted(rng.choice(len(pool), size=n, replace=False).tolist())]
+    return chosen
+
+
+def populate_city(
+    scene: Scene,
+    city: CityMap,
+    plan: StreetPlan,
+    rng: np.random.Generator,
+    settings: PopulateSettings | None = None,
+) -> Population:
+    """Stand parked cars and street objects in a city scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        The city scene (``city_geometry``), with its own objects if any.
+    city : CityMap
+        The map it was made from.
+    plan : StreetPlan
+        The plan it was made from (``street_plan.json``).
+    rng : numpy.random.Generator
+        The only source of randomness.
+    settings : PopulateSettings, optional
+        Densities and exclusions.
+
+    Returns
+    -------
+    Population
+        The populated scene and its counts.
+    """
+    settings = settings or PopulateSettings()
+    x0, y0, x1, y1 = city.window
+    area_km2 = (x1 - x0) * (y1 - y0) / 1e6
+    zones = street_zones(city, plan, settings.zones)
+    grammar = tuple(rule for rule in GRAMMAR if rule.category not in settings.excluded)
+    street = plan_street_objects(
+        city,
+        plan,
+        zones,
+        _largest,
+        rng,
+        settings=settings.zones,
+        grammar=grammar,
+        excluded=settings.excluded,
+        budget=math.floor(settings.objects_per_km2 * area_km2),
+    )
+    car_types = {k: v for k, v in CAR_TYPES.items() if k not in settings.excluded}
+    slots: list[Slot] = []
+    if car_types:
+        free_street = street_slots(city, zones, rng, settings=settings.zones)
+        free_lots = lot_slots(plan.classes["parking"])
+        count = math.floor(settings.cars_per_km2 * area_km2)
+        slots = _choose_slots(free_street, free_lots, count, settings.lot_share, rng)
+
+    ground = _Ground(scene)
+    parts: list[ObjectPart] = []
+    counts: dict[str, Counter[str]] = {k: Counter() for k in ("cars", "objects", "zones", "sources")}
+    seeds = rng.integers(0, 2**63 - 1, size=len(street.placements) + len(slots))
+    heights = ground(
+        np.array(
+            [(p.x, p.y) for p in street.placements] + [(s.x, s.y) for s in slots], dtype=np.float64
+        ).reshape(-1, 2)
+    )
+    for index, placement in enumerate(street.placements):
+        part = _object_part(placement, np.random.default_rng(int(seeds[index])), heights[index])
+        if part is not None:
+            parts.append(part)
+    names, weights = list(car_types), np.array(list(car_types.values()))
+    for k, slot in enumerate(slots):
+        index = len(street.placements) + k
+        car_rng = np.random.default_rng(int(seeds[index]))
+        size = None
+        for _ in range(4):
+            category = names[int(car_rng.choice(len(names), p=weights / weights.sum()))]
+            size = _car_size(category, slot, car_rng)
+            if size is not None:
+                break
+        if size is None or not np.isfinite(heights[index]):
+            continue
+        mesh, extent = make_object(category, car_rng, size=size)
+        parts.append(
+            ObjectPart(
+                category=category,
+                mesh=mesh,
+                center=(slot.x, slot.y, float(heights[index]) + extent[2] / 2.0),
+                yaw=math.remainder(slot.heading - math.pi / 2.0, math.tau),
+                size=extent,
+                zone=slot.zone,
+                source="parking",
+            )
+        )
+        counts["cars"][slot.zone] += 1
+    for part in parts:
+        counts["objects"][part.category] += 1
+        counts["zones"][part.zone or "none"] += 1
+        counts["sources"][(part.source or "").split(":")[0]] += 1
+    populated = replace_parts(scene, objects=[*object_parts(scene), *parts])
+    result = {name: dict(sorted(counter.items())) for name, counter in counts.items()}
+    result["skipped"] = dict(street.skipped)
+    return Population(scene=populated, counts=result)
+
+
+def _object_part(placement: Placement, rng: np.random.Generator, height: float) -> ObjectPart | None:
+    """The object of a placement, standing at ``height`` with its front along the placement's heading."""
+    if not np.isfinite(height):
+        return None
+    mesh, extent = make_object(placement.category, rng)
+    return ObjectPart(
+        category=placement.category,
+        mesh=mesh,
+        center=(placement.x, placement.y, float(height) + extent[2] / 2.0),
+        yaw=math.remainder(placement.heading - math.pi / 2.0, math.tau),
+        size=extent,
+        zone=placement.zone,
+        source=placement.source,
+    )

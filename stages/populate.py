@@ -1,0 +1,81 @@
+"""Street life: parked cars and street objects stood in a city scene."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from pydantic import AfterValidator, Field
+
+from pipeline import Params, StageContext, stage
+
+
+def _categories(names: list[str]) -> list[str]:
+    from navverse.assets.library import categories
+
+    known = set(categories())
+    unknown = sorted(set(names) - known)
+    if unknown:
+        listed = ", ".join(sorted(known))
+        raise ValueError(
+            f"unknown object categories {', '.join(unknown)}; the object library knows: {listed}"
+        )
+    return sorted(set(names))
+
+
+class PopulateParams(Params):
+    """Parameters of :func:`populate`.
+
+    ``cars_per_km2`` and ``objects_per_km2`` cap the parked cars and the street objects (mapped
+    furniture first, then the zone grammar) per km² of the city's window; ``exclude`` names object
+    categories never placed; ``lot_share`` is the share of cars parked in parking lots when there
+    are lots and street slots; ``clear_width`` is the walkway kept clear on sidewalks wide enough
+    (else ``min_clear``, else the whole sidewalk).
+    """
+
+    cars_per_km2: Annotated[float, Field(ge=0.0, le=5000.0)] = 200.0
+    objects_per_km2: Annotated[float, Field(ge=0.0, le=20000.0)] = 1000.0
+    exclude: Annotated[list[str], AfterValidator(_categories)] = []
+    lot_share: Annotated[float, Field(ge=0.0, le=1.0)] = 0.4
+    clear_width: Annotated[float, Field(ge=0.8, le=5.0)] = 1.5
+    min_clear: Annotated[float, Field(ge=0.8, le=5.0)] = 1.3
+
+
+@stage(
+    name="populate",
+    inputs=["city_map", "street_geometry"],
+    outputs=["geometry"],
+    passthrough={"geometry": "street_geometry"},
+)
+def populate(ctx: StageContext, params: PopulateParams) -> None:
+    """The city scene with parked cars, mapped street furniture and sidewalk objects by zone."""
+    from navverse.city.map import read_city_map
+    from navverse.city.populate import PopulateSettings, populate_city
+    from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan, save_street_plan
+    from navverse.city.street_zones import ZoneSettings
+    from navverse.scene import read_scene, write_scene_dir
+    from stages.city import CITY_MAP_FILE
+
+    city = read_city_map(ctx.input("city_map") / CITY_MAP_FILE)
+    ctx.progress(0, 3, "reading")
+    scene = read_scene(ctx.input("street_geometry"))
+    plan = load_street_plan(ctx.input("street_geometry") / STREET_PLAN_FILE)
+    settings = PopulateSettings(
+        cars_per_km2=params.cars_per_km2,
+        objects_per_km2=params.objects_per_km2,
+        excluded=frozenset(params.exclude),
+        lot_share=params.lot_share,
+        zones=ZoneSettings(clear_width=params.clear_width, min_clear=params.min_clear),
+    )
+    ctx.progress(1, 3, "placing")
+    result = populate_city(scene, city, plan, ctx.rng, settings)
+    ctx.progress(2, 3, "writing")
+    write_scene_dir(result.scene, ctx.output)
+    save_street_plan(plan, ctx.output / STREET_PLAN_FILE)
+    ctx.progress(3, 3, "done")
+    counts = result.counts
+    ctx.record(**counts)
+    ctx.log.info(
+        "populated %s: %d cars, %d street objects, %d mapped objects skipped",
+        ctx.target, sum(counts["cars"].values()),
+        sum(counts["objects"].values()) - sum(counts["cars"].values()), sum(counts["skipped"].values()),
+    )  # fmt: skip

@@ -1,0 +1,100 @@
+"""A populated synthetic city: cars on the road clear of crosswalks, junctions and sidewalks; objects
+out of the clear walkway, on the ground, within the caps; the same seed gives the same scene."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from shapely.geometry import Polygon
+
+from navverse.city.populate import CAR_TYPES, PopulateSettings, populate_city
+from navverse.city.scene import CityGeometry, city_scene, geometry_plan
+from navverse.city.street_objects import footprint
+from navverse.city.street_zones import street_zones
+from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.scene import read_annotations, write_scene_dir
+
+GEOMETRY = CityGeometry(junction_crosswalks=True)
+
+
+def _populated(seed: int, settings: PopulateSettings | None = None, *, side: float = 300.0):
+    city = synthetic_city(SyntheticCityParams(size=(side, side)), seed=4)
+    plan = geometry_plan(city, GEOMETRY)
+    scene = city_scene(city, scene_id="populated", geometry=GEOMETRY, plan=plan)
+    return city, plan, populate_city(scene, city, plan, np.random.default_rng(seed), settings)
+
+
+@pytest.fixture(scope="module")
+def populated():
+    return _populated(0, PopulateSettings(cars_per_km2=600.0, objects_per_km2=2000.0))
+
+
+def _box(center, size, yaw) -> Polygon:
+    c, s = math.cos(yaw), math.sin(yaw)
+    half = np.array(size[:2]) / 2.0
+    corners = [(a * half[0], b * half[1]) for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+    return Polygon([(center[0] + u * c - v * s, center[1] + u * s + v * c) for u, v in corners])
+
+
+def test_cars_park_on_the_road_never_on_crosswalks_junctions_or_sidewalks(populated) -> None:
+    city, plan, population = populated
+    zones = street_zones(city, plan)
+    cars = [o.annotation for o in population.scene.objects if o.annotation.category in CAR_TYPES]
+    assert len(cars) == sum(population.counts["cars"].values()) >= 40
+    crosswalks = plan.classes["crosswalk"].union(plan.classes["lowered_curb"])
+    for car in cars:
+        shape = _box(car.center, car.size, car.yaw)
+        assert car.zone in ("curbside", "parking_lane", "parking_lot") and car.source == "parking"
+        if car.zone != "parking_lot":
+            assert shape.difference(plan.classes["road"]).area < 1e-4
+            assert shape.intersection(zones.junctions).area < 1e-6
+        assert shape.intersection(crosswalks).area < 1e-6
+        assert shape.intersection(plan.classes["sidewalk"]).area < 1e-6
+
+
+def test_street_objects_keep_out_of_the_walkway_and_stand_on_the_ground(populated) -> None:
+    city, plan, population = populated
+    zones = street_zones(city, plan)
+    objects = [o.annotation for o in population.scene.objects if o.annotation.category not in CAR_TYPES]
+    assert len(objects) > 50
+    for obj in objects:
+        shape = footprint(obj.category, obj.size, obj.center[0], obj.center[1], obj.yaw + math.pi / 2.0)
+        assert shape.intersection(zones.walkway).area < 1e-6, obj
+        assert shape.intersection(plan.classes["road"]).area < 1e-6, obj
+    bottoms = np.array([o.center[2] - o.size[2] / 2.0 for o in objects])
+    assert np.all(np.abs(bottoms) < 1e-4)  # flat city: every sidewalk and verge is at 0 (float32 casts)
+
+
+def test_caps_and_counts(populated) -> None:
+    city, _, population = populated
+    x0, y0, x1, y1 = city.window
+    area = (x1 - x0) * (y1 - y0) / 1e6
+    counts = population.counts
+    assert sum(counts["cars"].values()) <= 600.0 * area
+    assert sum(counts["objects"].values()) - sum(counts["cars"].values()) <= 2000.0 * area
+    assert sum(counts["zones"].values()) == len(population.scene.objects)
+    stats = population.scene.annotations.statistics.objects_per_category
+    assert stats == counts["objects"]
+
+
+def test_excluded_categories_are_never_placed() -> None:
+    _, _, population = _populated(
+        1, PopulateSettings(excluded=frozenset({"street_lamp", "sedan"})), side=180.0
+    )
+    categories = {o.annotation.category for o in population.scene.objects}
+    assert categories and not categories & {"street_lamp", "sedan"}
+
+
+def test_the_same_seed_writes_the_same_bytes(tmp_path: Path) -> None:
+    written = []
+    for run in ("a", "b"):
+        _, _, population = _populated(7, side=150.0)
+        (tmp_path / run).mkdir()
+        write_scene_dir(population.scene, tmp_path / run)
+        written.append({p.name: p.read_bytes() for p in (tmp_path / run).iterdir()})
+    assert written[0] == written[1]
+    other = _populated(8, side=150.0)[2].scene.annotations.objects
+    assert [o.center for o in other] != [o.center for o in read_annotations(tmp_path / "a").objects]

@@ -1,0 +1,53 @@
+"""The populate stage through the engine: a synthetic city with its cars and street objects recorded
+in scene.json and the manifest; skipping it leaves the street bare; a wrong category is refused."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from navverse.scene import read_annotations
+from tests.stages.conftest import build_all, navverse_command, workspace_with
+
+CITY = """\
+extends: outdoor-city
+stages:
+  synthetic_city: {{size: [160, 160]}}
+  populate: {populate}
+"""
+
+
+def test_a_populated_city_records_its_objects_and_counts(tmp_path: Path) -> None:
+    workspace = workspace_with(
+        tmp_path / "ws",
+        [],
+        {"scenes/city.yaml": CITY.format(populate="{cars_per_km2: 800, objects_per_km2: 3000}")},
+    )
+    built = build_all(workspace)
+    assert not built.report.failed
+    scene = read_annotations(built.output("city", "scene"))
+    stats = built.manifest("city", "geometry")["stats"]
+    assert sum(stats["cars"].values()) > 5 and sum(stats["objects"].values()) == len(scene.objects)
+    assert all(o.zone and o.source for o in scene.objects)
+    assert {o.source.split(":")[0] for o in scene.objects} >= {"parking", "map"}
+    assert (built.output("city", "geometry") / "street_plan.json").is_file()
+    street = read_annotations(built.output("city", "street_geometry"))
+    assert not street.objects  # the bare street is kept as its own artifact
+
+
+def test_skipping_populate_leaves_the_street_bare(tmp_path: Path) -> None:
+    workspace = workspace_with(
+        tmp_path / "ws", [], {"scenes/city.yaml": CITY.format(populate="{skip: true}")}
+    )
+    built = build_all(workspace)
+    assert not built.report.failed
+    assert not read_annotations(built.output("city", "scene")).objects
+
+
+def test_an_unknown_category_is_refused_before_anything_is_built(tmp_path: Path) -> None:
+    root = tmp_path / "ws"
+    workspace_with(root, [], {"scenes/city.yaml": CITY.format(populate="{exclude: [sedan, flying_car]}")})
+    result = navverse_command(root, "build", "city")
+    output = result.stdout + result.stderr
+    assert result.returncode == 1 and "Traceback" not in output
+    assert "unknown object categories flying_car" in output and "sedan" in output
+    assert not (root / "data" / "built" / "targets" / "city").exists()
