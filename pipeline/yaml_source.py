@@ -295,6 +295,8 @@ def _compose(text: str, *, file: str) -> yaml.Node | None:
         # libyaml marks an error at the end of the text on a line after the last one
         line = min(mark.line + 1, text.count("\n") + 1) if mark is not None else None
         what = " ".join(part for part in (exc.context, exc.problem) if part) or str(exc)
+        if "maximum nesting depth" in what:  # libyaml's own limit (PyYAML >= 6.0.3), met before ours
+            raise YamlSourceError(file, line, _too_deep()) from None
         raise YamlSourceError(file, line, f"invalid YAML: {what}") from None
     except yaml.YAMLError as exc:
         raise YamlSourceError(file, None, f"invalid YAML: {exc}") from None
