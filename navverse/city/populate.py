@@ -19,13 +19,14 @@ from collections import Counter
 from dataclasses import dataclass, field
 
 import numpy as np
+import shapely
 
 from navverse.assets.library import asset, make_object
 from navverse.city.map import CityMap
 from navverse.city.parking import Slot, lot_slots, street_slots
-from navverse.city.street_objects import GRAMMAR, Placement, plan_street_objects
+from navverse.city.street_objects import GRAMMAR, Placement, footprint, plan_street_objects
 from navverse.city.street_plan import StreetPlan
-from navverse.city.street_zones import ZoneSettings, street_zones
+from navverse.city.street_zones import StreetZones, ZoneSettings, street_zones, walkway_clearance
 from navverse.scene.compose import ObjectPart, object_parts, replace_parts
 from navverse.scene.geometry import Scene
 
@@ -76,11 +77,13 @@ class Population:
         The scene with the new objects after its own.
     counts : dict
         ``cars`` by zone, ``objects`` by category, ``zones`` (objects by zone), ``sources`` (by what
-        placed them), ``skipped`` (mapped furniture not placed, by reason).
+        placed them), ``skipped`` (mapped furniture not placed, by reason), ``walkway_clearance_m``
+        (``min``, ``median`` and ``transects`` of the clear walkway width measured across every
+        sidewalk with the objects standing: :func:`~navverse.city.street_zones.walkway_clearance`).
     """
 
     scene: Scene
-    counts: dict[str, dict[str, int]]
+    counts: dict[str, dict[str, float]]
 
 
 def _largest(category: str) -> tuple[float, float, float]:
@@ -228,9 +231,28 @@ def populate_city(
         counts["zones"][part.zone or "none"] += 1
         counts["sources"][(part.source or "").split(":")[0]] += 1
     populated = replace_parts(scene, objects=[*object_parts(scene), *parts])
-    result = {name: dict(sorted(counter.items())) for name, counter in counts.items()}
+    result: dict[str, dict[str, float]] = {
+        name: dict(sorted(counter.items())) for name, counter in counts.items()
+    }
     result["skipped"] = dict(street.skipped)
+    result["walkway_clearance_m"] = _clearance(city, zones, parts)
     return Population(scene=populated, counts=result)
+
+
+def _clearance(city: CityMap, zones: StreetZones, parts: list[ObjectPart]) -> dict[str, float]:
+    """The clear walkway widths across the sidewalks once ``parts`` stand on them."""
+    shapes = [
+        footprint(p.category, p.extent(), p.center[0], p.center[1], p.yaw + math.pi / 2.0) for p in parts
+    ]
+    free = zones.walkway.difference(shapely.union_all(shapes)) if shapes else zones.walkway
+    widths = walkway_clearance(city, zones, free)
+    if not len(widths):
+        return {"min": 0.0, "median": 0.0, "transects": 0}
+    return {
+        "min": round(float(widths.min()), 3),
+        "median": round(float(np.median(widths)), 3),
+        "transects": len(widths),
+    }
 
 
 def _object_part(placement: Placement, rng: np.random.Generator, height: float) -> ObjectPart | None:

@@ -29,16 +29,25 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
 import shapely
 from shapely.geometry import LineString, Polygon
 from shapely.geometry.base import BaseGeometry
+from shapely.prepared import prep
 from shapely.strtree import STRtree
 
 from navverse.city.map import CityMap, Road
 from navverse.city.street_plan import StreetPlan
 from navverse.city.surfaces import CURB_WIDTH, QUAD_SEGMENTS, SHARED_SURFACE_HIGHWAYS, carriageways
 
-__all__ = ["CURBSIDE_HIGHWAYS", "StreetZones", "ZoneSettings", "sidewalk_split", "street_zones"]
+__all__ = [
+    "CURBSIDE_HIGHWAYS",
+    "StreetZones",
+    "ZoneSettings",
+    "sidewalk_split",
+    "street_zones",
+    "walkway_clearance",
+]
 
 CURBSIDE_HIGHWAYS = frozenset({"residential", "unclassified", "tertiary"})
 """Streets along whose curbs cars plausibly park when nothing is mapped."""
@@ -226,3 +235,48 @@ def street_zones(city: CityMap, plan: StreetPlan, settings: ZoneSettings | None 
         junctions=junctions,
         verge=verge_zone,
     )
+
+
+def walkway_clearance(
+    city: CityMap, zones: StreetZones, walkway: BaseGeometry | None = None, *, step: float = 5.0
+) -> np.ndarray:
+    """Clear walkway widths measured across every sidewalk (m), one per transect.
+
+    Transects run across each road side's sidewalk every ``step`` meters, from the curb strip to
+    the sidewalk's outer edge; those within 1 m of a junction zone, and those whose outer end is not
+    on the walkway (another street's sidewalk or a building takes over there), are left out. The
+    width is the length of the transect on ``walkway`` (by default the zones' own; pass the walkway
+    minus whatever stands on it to measure what is left clear).
+    """
+    walkway = zones.walkway if walkway is None else walkway
+    junctions = prep(zones.junctions.buffer(1.0))
+    on_walkway = prep(walkway.buffer(1e-6))
+    widths = []
+    for road in city.roads:
+        if road.highway in SHARED_SURFACE_HIGHWAYS:
+            continue
+        line = LineString(road.centerline.points)
+        for sign, width in ((1.0, road.sidewalk_left), (-1.0, road.sidewalk_right)):
+            if width is None:
+                continue
+            for along in np.arange(step / 2.0, line.length - step / 2.0, step):
+                cut = _transect(line, float(along), sign, road.width / 2.0 + 0.2, road.width / 2.0 + width)
+                if cut is None or junctions.intersects(cut):
+                    continue
+                if not on_walkway.contains(cut.interpolate(cut.length - 0.05)):
+                    continue
+                widths.append(cut.intersection(walkway).length)
+    return np.asarray(widths, dtype=np.float64)
+
+
+def _transect(line: LineString, along: float, sign: float, start: float, end: float) -> LineString | None:
+    """The segment across ``line`` at ``along``, from ``start`` to ``end`` meters on one side."""
+    ahead = line.interpolate(min(line.length, along + 0.5))
+    behind = line.interpolate(max(0.0, along - 0.5))
+    dx, dy = ahead.x - behind.x, ahead.y - behind.y
+    norm = math.hypot(dx, dy)
+    if norm == 0:
+        return None
+    here = line.interpolate(along)
+    nx, ny = -dy / norm * sign, dx / norm * sign
+    return LineString([(here.x + nx * start, here.y + ny * start), (here.x + nx * end, here.y + ny * end)])

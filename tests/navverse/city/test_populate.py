@@ -78,6 +78,9 @@ def test_caps_and_counts(populated) -> None:
     assert sum(counts["zones"].values()) == len(population.scene.objects)
     stats = population.scene.annotations.statistics.objects_per_category
     assert stats == counts["objects"]
+    # Measured across every sidewalk with the objects standing: at least 2 r_robot + 0.1 m clear.
+    clearance = counts["walkway_clearance_m"]
+    assert clearance["transects"] > 100 and clearance["min"] >= 1.3 - 0.01
 
 
 def test_excluded_categories_are_never_placed() -> None:
