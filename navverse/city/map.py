@@ -45,8 +45,8 @@ __all__ = [
     "write_city_map",
 ]
 
-CITY_MAP_FORMAT = "1.0"
-"""Format of ``city_map.json``: a reader reads its own major version."""
+CITY_MAP_FORMAT = "1.1"
+"""Format of ``city_map.json``: a reader reads its own major version (1.1 added furniture ``shelter``)."""
 MAX_COORDINATE = 1e6
 """Largest |x| or |y| in a map (m): a city is far smaller; anything larger is a projection error."""
 
@@ -220,12 +220,14 @@ class Poi(_Model):
 
 
 class StreetFurniture(_Model):
-    """A mapped street object: a tree, lamp, bench, hydrant, bus stop... (``kind`` from its tag)."""
+    """A mapped street object: a tree, lamp, bench, hydrant, bus stop... (``kind`` from its tag);
+    ``shelter``: a bus stop with a shelter (``shelter=yes``)."""
 
     id: FeatureId
     osm: OsmRef | None = None
     position: Point2
     kind: str
+    shelter: bool = False
 
 
 class CityMap(_Model):

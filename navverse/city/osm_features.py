@@ -415,9 +415,14 @@ class _Builder:
         for node in self.nodes:
             kind = furniture_kind(node.tags)
             if kind is not None:
-                drafts.append(
-                    ((0, node.id, 0), {"osm": f"node/{node.id}", "position": _point(node.xy), "kind": kind})
-                )
+                shelter = kind == "bus_stop" and node.tags.get("shelter") == "yes"
+                record = {
+                    "osm": f"node/{node.id}",
+                    "position": _point(node.xy),
+                    "kind": kind,
+                    "shelter": shelter,
+                }
+                drafts.append(((0, node.id, 0), record))
         return _numbered(drafts, "furniture", StreetFurniture)
 
 

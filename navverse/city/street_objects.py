@@ -5,10 +5,11 @@ source), never geometry; :mod:`navverse.city.populate` turns them into objects.
 
 1. **Mapped furniture** (``CityMap.furniture``: OSM nodes, or a synthetic city's own) is placed at
    its node, or up to ``snap`` (0.5 m) from it, where its footprint stands clear: off the road,
-   the clear walkway, buildings and water, and off what is already placed. The category follows the
-   tag (:data:`MAPPED_CATEGORIES`); a traffic signal node lies on the road, so its light goes to
-   the nearest furniture-zone point within ``signal_reach``. What cannot be placed is skipped and
-   counted by reason.
+   the clear walkway, buildings and water, and off what is already placed. A bus stop tagged
+   ``shelter=yes`` also gets a bus shelter behind or beside its sign, facing the street. The
+   category follows the tag (:data:`MAPPED_CATEGORIES`); a traffic signal node lies on the road, so
+   its light goes to the nearest furniture-zone point within ``signal_reach``. What cannot be
+   placed is skipped and counted by reason.
 2. **The zone grammar** then walks every sidewalk's furniture zone and frontage zone
    (:mod:`navverse.city.street_zones`) and proposes objects at the spacings of :data:`GRAMMAR`
    (lamps every ~30 m, street trees every ~10 m on residential streets, a hydrant every ~90 m,
@@ -330,6 +331,13 @@ def plan_street_objects(
             break
         if reason is not None:
             skipped[f"{category}: {reason}"] += 1
+        elif item.shelter and "bus_shelter" not in excluded:
+            spot = _shelter_spot(x0 + dx, y0 + dy, heading, size_of("bus_shelter"), blocked, occupied, gap)
+            if spot is None:
+                skipped["bus_shelter: no room beside its stop"] += 1
+            else:
+                zone = _zone_of(zones, footprint("bus_shelter", size_of("bus_shelter"), *spot, heading))
+                put("bus_shelter", *spot, heading, zone, source)
 
     # 2. The zone grammar, rule by rule along every road side.
     zone_shapes = {
@@ -372,6 +380,29 @@ def plan_street_objects(
                         continue
                     put(rule.category, point.x, point.y, heading, zone, "grammar")
     return StreetObjects(placements=tuple(placements), skipped=dict(sorted(skipped.items())))
+
+
+def _shelter_spot(
+    x: float,
+    y: float,
+    heading: float,
+    size: tuple[float, float, float],
+    blocked: object,
+    occupied: _Occupancy,
+    gap: float,
+) -> tuple[float, float] | None:
+    """Where a bus shelter facing ``heading`` (the street) stands beside its stop at (x, y): behind
+    it (away from the street) or beside it along the street, clear of what is blocked or placed."""
+    back = (-math.cos(heading), -math.sin(heading))
+    along = (-math.sin(heading), math.cos(heading))
+    for behind in size[1] / 2.0 + np.arange(0.3, 5.0, 0.25):
+        for side in (0.0, size[0] / 2.0 + 0.5, -size[0] / 2.0 - 0.5):
+            cx = x + back[0] * float(behind) + along[0] * side
+            cy = y + back[1] * float(behind) + along[1] * side
+            shape = footprint("bus_shelter", size, cx, cy, heading)
+            if not blocked.intersects(shape) and occupied.clear(shape, gap):  # type: ignore[attr-defined]
+                return (cx, cy)
+    return None
 
 
 def _zone_line(

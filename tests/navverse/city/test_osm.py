@@ -582,3 +582,15 @@ def test_clip_polyline_keeps_direction_and_closed_loops() -> None:
         [[5.0, 10.0], [5.0, 0.0]],
     ]
     assert clip_polyline(np.array([[20.0, 20.0], [30.0, 30.0]]), rect) == []
+
+
+def test_a_bus_stop_keeps_its_shelter_tag(tmp_path: Path) -> None:
+    nodes = {
+        1: (-50.0, 0.0, {}),
+        2: (50.0, 0.0, {}),
+        3: (0.0, 8.0, {"highway": "bus_stop", "shelter": "yes"}),
+        4: (20.0, 8.0, {"highway": "bus_stop"}),
+    }
+    text = _osm_xml(nodes, {10: ([1, 2], {"highway": "residential"})})
+    city = read_osm(_write(tmp_path / "stops.osm", text), center=(48.0, 11.0), size_m=(200.0, 200.0))
+    assert sorted((f.kind, f.shelter) for f in city.furniture) == [("bus_stop", False), ("bus_stop", True)]

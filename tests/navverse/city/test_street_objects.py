@@ -8,8 +8,10 @@ from collections import Counter
 
 import numpy as np
 import pytest
+from shapely.geometry import LineString
 from shapely.strtree import STRtree
 
+from navverse.city.map import StreetFurniture
 from navverse.city.scene import CityGeometry, geometry_plan
 from navverse.city.street_objects import MAPPED_CATEGORIES, footprint, plan_street_objects
 from navverse.city.street_zones import street_zones
@@ -92,3 +94,44 @@ def test_the_grammar_fills_zones_and_the_budget_holds(street) -> None:
     assert again == placed
     capped = plan_street_objects(city, plan, zones, SIZES.__getitem__, np.random.default_rng(4), budget=100)
     assert len(capped.placements) == 100 and capped.skipped["mapped furniture: over the density cap"] > 0
+
+
+def _stops_by_parks(city, plan, count: int):
+    """Bus stop nodes at the kerb of sidewalks with park land behind them."""
+    green = plan.classes["green"].union(plan.classes["ground"])
+    stops = []
+    for road in city.roads:
+        line = LineString(road.centerline.points)
+        for sign, walk in ((1.0, road.sidewalk_left), (-1.0, road.sidewalk_right)):
+            if walk is None or line.length < 40.0:
+                continue
+            behind = line.offset_curve(sign * (road.width / 2.0 + walk + 2.0))
+            kerb = line.offset_curve(sign * (road.width / 2.0 + 0.5))
+            if behind.is_empty or kerb.is_empty:
+                continue
+            middle = behind.interpolate(0.5, normalized=True)
+            if green.contains(middle.buffer(1.2)):
+                stops.append(kerb.interpolate(0.5, normalized=True))
+    return [
+        StreetFurniture(id=f"stop-{i}", position=(p.x, p.y), kind="bus_stop", shelter=True)
+        for i, p in enumerate(stops[:count])
+    ]
+
+
+def test_a_bus_stop_with_a_shelter_gets_one_beside_it(street) -> None:
+    city, plan, zones, _ = street
+    stops = _stops_by_parks(city, plan, 6)
+    assert len(stops) >= 2
+    sizes = {**SIZES, "bus_shelter": (3.0, 1.5, 2.5)}
+    sheltered = city.model_copy(update={"furniture": stops})
+    placed = plan_street_objects(sheltered, plan, zones, sizes.__getitem__, np.random.default_rng(4))
+    signs = {p.source: p for p in placed.placements if p.category == "bus_stop_sign"}
+    shelters = [p for p in placed.placements if p.category == "bus_shelter"]
+    assert len(shelters) >= 2
+    assert len(shelters) + placed.skipped.get("bus_shelter: no room beside its stop", 0) == len(signs)
+    for shelter in shelters:
+        sign = signs[shelter.source]
+        assert math.dist((shelter.x, shelter.y), (sign.x, sign.y)) < 7.0
+        shape = footprint("bus_shelter", sizes["bus_shelter"], shelter.x, shelter.y, shelter.heading)
+        for area in (zones.walkway, plan.classes["road"], plan.classes["building"]):
+            assert shape.intersection(area).area < 1e-6
