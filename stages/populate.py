@@ -22,6 +22,18 @@ def _categories(names: list[str]) -> list[str]:
     return sorted(set(names))
 
 
+def _groups(names: list[str] | None) -> list[str] | None:
+    if names is None:
+        return None
+    from navverse.city.context_groups import GROUPS
+
+    known = {g.name for g in GROUPS}
+    unknown = sorted(set(names) - known)
+    if unknown:
+        raise ValueError(f"unknown contextual groups {', '.join(unknown)}; known: {', '.join(sorted(known))}")
+    return sorted(set(names))
+
+
 class PopulateParams(Params):
     """Parameters of :func:`populate`.
 
@@ -29,7 +41,9 @@ class PopulateParams(Params):
     furniture first, then the zone grammar) per km² of the city's window; ``exclude`` names object
     categories never placed; ``lot_share`` is the share of cars parked in parking lots when there
     are lots and street slots; ``clear_width`` is the walkway kept clear on sidewalks wide enough
-    (else ``min_clear``, else the whole sidewalk).
+    (else ``min_clear``, else the whole sidewalk). ``group_objects_per_km2`` caps the objects of
+    contextual groups (bus stop waits, picnics, roadworks...), ``groups`` names the ones to place
+    (default all 30), ``group_spacing`` is the least distance between two groups.
     """
 
     cars_per_km2: Annotated[float, Field(ge=0.0, le=5000.0)] = 200.0
@@ -38,6 +52,9 @@ class PopulateParams(Params):
     lot_share: Annotated[float, Field(ge=0.0, le=1.0)] = 0.4
     clear_width: Annotated[float, Field(ge=0.8, le=5.0)] = 1.5
     min_clear: Annotated[float, Field(ge=0.8, le=5.0)] = 1.3
+    group_objects_per_km2: Annotated[float, Field(ge=0.0, le=20000.0)] = 300.0
+    groups: Annotated[list[str] | None, AfterValidator(_groups)] = None
+    group_spacing: Annotated[float, Field(ge=0.0, le=500.0)] = 8.0
 
 
 @stage(
@@ -47,7 +64,7 @@ class PopulateParams(Params):
     passthrough={"geometry": "street_geometry"},
 )
 def populate(ctx: StageContext, params: PopulateParams) -> None:
-    """The city scene with parked cars, mapped street furniture and sidewalk objects by zone."""
+    """The city scene with parked cars, mapped street furniture, sidewalk objects by zone and groups."""
     from navverse.city.map import read_city_map
     from navverse.city.populate import PopulateSettings, populate_city
     from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan, save_street_plan
@@ -64,6 +81,9 @@ def populate(ctx: StageContext, params: PopulateParams) -> None:
         objects_per_km2=params.objects_per_km2,
         excluded=frozenset(params.exclude),
         lot_share=params.lot_share,
+        group_objects_per_km2=params.group_objects_per_km2,
+        groups=None if params.groups is None else frozenset(params.groups),
+        group_spacing=params.group_spacing,
         zones=ZoneSettings(clear_width=params.clear_width, min_clear=params.min_clear),
     )
     ctx.progress(1, 3, "placing")
@@ -75,7 +95,8 @@ def populate(ctx: StageContext, params: PopulateParams) -> None:
     counts = result.counts
     ctx.record(**counts)
     ctx.log.info(
-        "populated %s: %d cars, %d street objects, %d mapped objects skipped",
+        "populated %s: %d cars, %d street objects, %d groups, %d mapped objects skipped",
         ctx.target, sum(counts["cars"].values()),
-        sum(counts["objects"].values()) - sum(counts["cars"].values()), sum(counts["skipped"].values()),
+        counts["sources"].get("map", 0) + counts["sources"].get("grammar", 0), sum(counts["groups"].values()),
+        sum(counts["skipped"].values()),
     )  # fmt: skip

@@ -21,9 +21,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 
-from navverse.assets.library import asset, make_object
+from navverse.assets.library import SupportArea, asset, make_object
+from navverse.city.context_groups import GroupPlan, plan_groups
 from navverse.city.map import CityMap
-from navverse.city.parking import Slot, lot_slots, street_slots
+from navverse.city.parking import Slot, lot_slots, slot_polygon, street_slots
 from navverse.city.street_objects import GRAMMAR, Placement, footprint, plan_street_objects
 from navverse.city.street_plan import StreetPlan
 from navverse.city.street_zones import StreetZones, ZoneSettings, street_zones, walkway_clearance
@@ -56,6 +57,12 @@ class PopulateSettings:
         Object categories never placed.
     lot_share : float
         Share of the cars parked in parking lots when both lots and street slots are free.
+    group_objects_per_km2 : float
+        Most objects of contextual groups per km² (besides the street objects).
+    groups : frozenset of str or None
+        The contextual groups to place (:data:`~navverse.city.context_groups.GROUPS` names); None: all.
+    group_spacing : float
+        Least distance between two groups (m).
     zones : ZoneSettings
         Sidewalk zone widths and clearances.
     """
@@ -64,6 +71,9 @@ class PopulateSettings:
     objects_per_km2: float = 1000.0
     excluded: frozenset[str] = frozenset()
     lot_share: float = 0.4
+    group_objects_per_km2: float = 300.0
+    groups: frozenset[str] | None = None
+    group_spacing: float = 8.0
     zones: ZoneSettings = field(default_factory=ZoneSettings)
 
 
@@ -188,6 +198,21 @@ def populate_city(
         count = math.floor(settings.cars_per_km2 * area_km2)
         slots = _choose_slots(free_street, free_lots, count, settings.lot_share, rng)
 
+    groups = plan_groups(
+        city,
+        plan,
+        zones,
+        street.placements,
+        _largest,
+        _supports,
+        rng,
+        budget=math.floor(settings.group_objects_per_km2 * area_km2),
+        min_spacing=settings.group_spacing,
+        excluded=settings.excluded,
+        selected=settings.groups,
+        avoid=[slot_polygon(slot) for slot in slots],
+    )
+
     ground = _Ground(scene)
     parts: list[ObjectPart] = []
     counts: dict[str, Counter[str]] = {k: Counter() for k in ("cars", "objects", "zones", "sources")}
@@ -226,6 +251,7 @@ def populate_city(
             )
         )
         counts["cars"][slot.zone] += 1
+    parts += _group_parts(groups, ground, rng)
     for part in parts:
         counts["objects"][part.category] += 1
         counts["zones"][part.zone or "none"] += 1
@@ -235,6 +261,8 @@ def populate_city(
         name: dict(sorted(counter.items())) for name, counter in counts.items()
     }
     result["skipped"] = dict(street.skipped)
+    result["groups"] = dict(sorted(groups.groups.items()))
+    result["groups_skipped"] = dict(sorted(groups.skipped.items()))
     result["walkway_clearance_m"] = _clearance(city, zones, parts)
     return Population(scene=populated, counts=result)
 
@@ -253,6 +281,46 @@ def _clearance(city: CityMap, zones: StreetZones, parts: list[ObjectPart]) -> di
         "median": round(float(np.median(widths)), 3),
         "transects": len(widths),
     }
+
+
+def _supports(category: str, size: tuple[float, float, float]) -> list[SupportArea]:
+    return asset(category).support_areas(size)
+
+
+def _group_parts(groups: GroupPlan, ground: _Ground, rng: np.random.Generator) -> list[ObjectPart]:
+    """The members of the placed groups, each at its exact size, stacked ones on their supports.
+
+    A member's bottom is the ground under its group member of the ground (itself, or the support it
+    stands on, followed down) plus its own ``z``.
+    """
+    members = groups.members
+    if not members:
+        return []
+    base = []
+    for member in members:
+        while member.support is not None:
+            member = members[member.support]
+        base.append((member.x, member.y))
+    heights = ground(np.asarray(base, dtype=np.float64))
+    seeds = rng.integers(0, 2**63 - 1, size=len(members))
+    parts = []
+    for member, height, seed in zip(members, heights, seeds, strict=True):
+        if not np.isfinite(height):
+            continue
+        mesh, extent = make_object(member.category, np.random.default_rng(int(seed)), size=member.size)
+        parts.append(
+            ObjectPart(
+                category=member.category,
+                mesh=mesh,
+                center=(member.x, member.y, float(height) + member.z + extent[2] / 2.0),
+                yaw=math.remainder(member.heading - math.pi / 2.0, math.tau),
+                size=extent,
+                zone=member.zone,
+                group=member.group,
+                source=f"group:{member.region}",
+            )
+        )
+    return parts
 
 
 def _object_part(placement: Placement, rng: np.random.Generator, height: float) -> ObjectPart | None:

@@ -51,3 +51,12 @@ def test_an_unknown_category_is_refused_before_anything_is_built(tmp_path: Path)
     assert result.returncode == 1 and "Traceback" not in output
     assert "unknown object categories flying_car" in output and "sedan" in output
     assert not (root / "data" / "built" / "targets" / "city").exists()
+
+
+def test_an_unknown_group_is_refused_with_the_known_ones(tmp_path: Path) -> None:
+    root = tmp_path / "ws"
+    workspace_with(root, [], {"scenes/city.yaml": CITY.format(populate="{groups: [picnic_lunch, rave]}")})
+    result = navverse_command(root, "validate", "recipe", str(root / "recipes" / "scenes" / "city.yaml"))
+    output = result.stdout + result.stderr
+    assert result.returncode == 1 and "Traceback" not in output
+    assert "unknown contextual groups rave" in output and "bus_stop_wait" in output
