@@ -594,3 +594,15 @@ def test_a_bus_stop_keeps_its_shelter_tag(tmp_path: Path) -> None:
     text = _osm_xml(nodes, {10: ([1, 2], {"highway": "residential"})})
     city = read_osm(_write(tmp_path / "stops.osm", text), center=(48.0, 11.0), size_m=(200.0, 200.0))
     assert sorted((f.kind, f.shelter) for f in city.furniture) == [("bus_stop", False), ("bus_stop", True)]
+
+
+def test_schools_are_places(tmp_path: Path) -> None:
+    nodes = {
+        1: (-50.0, 0.0, {}),
+        2: (50.0, 0.0, {}),
+        3: (0.0, 20.0, {"amenity": "school", "name": "Grundschule"}),
+        4: (20.0, 20.0, {"amenity": "kindergarten"}),
+    }
+    text = _osm_xml(nodes, {10: ([1, 2], {"highway": "residential"})})
+    city = read_osm(_write(tmp_path / "school.osm", text), center=(48.0, 11.0), size_m=(200.0, 200.0))
+    assert sorted(p.category for p in city.pois) == ["kindergarten", "school"]
