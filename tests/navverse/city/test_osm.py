@@ -548,7 +548,8 @@ def test_tag_tables() -> None:
     assert land_class({"amenity": "parking", "parking": "underground"}, relation=False) is None
     assert land_class({"leisure": "park", "building": "yes"}, relation=False) is None
     assert poi_of({"amenity": "cafe", "shop": "bakery"}) == ("cafe", "amenity=cafe")
-    assert poi_of({"amenity": "school", "shop": "bakery"}) == ("bakery", "shop=bakery")
+    assert poi_of({"amenity": "parking", "shop": "bakery"}) == ("bakery", "shop=bakery")
+    assert poi_of({"amenity": "school"}) == ("school", "amenity=school")
     assert poi_of({"office": "yes"}) == ("office", "office=yes")
     assert poi_of({"amenity": "bench"}) is None
     assert walkway_kind({"highway": "footway", "footway": "sidewalk"}) == "sidewalk"
