@@ -1,6 +1,7 @@
 """Camera benchmark: ``navverse.sim.render.SceneRenderer`` against PyBullet's TinyRenderer.
 
-For an indoor scene (``office-s1``) and an outdoor one (``curb-street``), both already built under
+For an indoor scene (``office-s1``), an outdoor one (``curb-street``) and a populated 1 km² city
+(``aguascalientes``: its street objects, parked cars and groups; ``--city``), all already built under
 ``data/built/targets/<id>/scene/``:
 
 1. Draw camera poses: random navigable points of the scene's navmesh, the camera 0.6 m above them,
@@ -337,6 +338,9 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument(
         "--outdoor", default="curb-street", help="built outdoor scene id (default curb-street)"
     )
+    parser.add_argument(
+        "--city", default="aguascalientes", help="built, populated city scene id (default aguascalientes)"
+    )
     parser.add_argument("--frames", type=int, default=50, help="camera poses per scene (default 50)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the camera poses")
     parser.add_argument("--width", type=int, default=640)
@@ -360,11 +364,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         f"load average {load_start:.2f}",
         highlight=False,
     )
-    for scene_id in (args.indoor, args.outdoor):  # fail before any timing if a scene is missing
+    scenes = (args.indoor, args.outdoor, args.city)
+    for scene_id in scenes:  # fail before any timing if a scene is missing
         scene_dir(scene_id)
     results: dict[str, dict[str, Any]] = {}
     try:
-        for scene_id in (args.indoor, args.outdoor):
+        for scene_id in scenes:
             results[scene_id] = bench_scene(scene_id, args, console)
     except NavverseError as exc:
         print(f"error: {exc}", file=sys.stderr)

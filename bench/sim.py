@@ -1,7 +1,9 @@
 """Physics benchmark: the simulator with its controller against raw ``stepSimulation`` of the same world.
 
-For an indoor scene (``office-s1``) and an outdoor-like one (``curb-street``), both already built under
-``data/built/targets/<id>/scene/``, and for each embodiment:
+For an indoor scene (``office-s1``), an outdoor-like one (``curb-street``) and a populated 1 km² city
+(``aguascalientes``, ``--city``), all already built under ``data/built/targets/<id>/scene/``, and for
+each embodiment (the city: the same paths also in its bare street, ``street_geometry``, so that the
+cost of its objects per physics step shows as a ratio):
 
 1. Load the scene into a :class:`navverse.sim.world.World` (static terrain per class, objects as
    convex compounds) and draw seeded navmesh paths of 3-50 m on its largest island.
@@ -105,6 +107,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--paths", type=int, default=10, help="paths per scene (default 10)")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument(
+        "--city", default="aguascalientes", help="built, populated city (default aguascalientes)"
+    )
     args = parser.parse_args(argv)
     console = Console(width=max(Console().width, 150))
     console.print(
@@ -125,22 +130,31 @@ def main(argv: list[str] | None = None) -> int:
         "raw / ours",
     ):
         table.add_column(column, justify="right")
+    runs = [
+        (scene_id, kind, TARGETS / scene_id / "scene", TARGETS / scene_id / "scene")
+        for scene_id, kind in SCENES
+    ]
+    runs += [
+        (args.city, "populated city", TARGETS / args.city / "scene", TARGETS / args.city / "scene"),
+        (args.city, "bare street", TARGETS / args.city / "street_geometry", TARGETS / args.city / "scene"),
+    ]
+    per_step: dict[tuple[str, str], float] = {}
     try:
-        for scene_id, kind in SCENES:
-            scene_dir = TARGETS / scene_id / "scene"
-            if not (scene_dir / "scene.json").is_file():
+        for scene_id, kind, scene_dir, navmesh_dir in runs:
+            if not (scene_dir / "scene.json").is_file() or not (navmesh_dir / "navmesh.bin").is_file():
                 raise NavverseError(
                     f"{scene_dir} is not built; run `navverse build {scene_id}` (or `make scenes`)"
                 )
             paths = [
                 p.points
-                for p in sample_paths(load_scene_navmesh(scene_dir), args.seed, args.paths, min_length=3.0)
+                for p in sample_paths(load_scene_navmesh(navmesh_dir), args.seed, args.paths, min_length=3.0)
             ]
             with World(scene_dir) as world:
                 bodies = f"{len(world.scene.surfaces)} surfaces, {len(world.objects)} objects"
                 for embodiment in EMBODIMENTS:
                     ours, _ = time_ours(world, embodiment, paths)
                     raw = time_raw(world, embodiment, paths[0][0], ours.steps)
+                    per_step[(kind, embodiment)] = 1.0 / ours.steps_per_cpu_second
                     table.add_row(
                         f"{scene_id} ({kind}; {bodies})",
                         embodiment,
@@ -156,6 +170,12 @@ def main(argv: list[str] | None = None) -> int:
         console.print(f"[red]error:[/red] {exc}")
         return 1
     console.print(table)
+    for embodiment in EMBODIMENTS:
+        if ("populated city", embodiment) in per_step:
+            ratio = per_step[("populated city", embodiment)] / per_step[("bare street", embodiment)]
+            console.print(
+                f"{args.city}, {embodiment}: CPU per physics step populated / bare street = {ratio:.2f}"
+            )
     console.print(
         "ours: navverse.sim.rollout.follow_path (follower + PID at 50 Hz, embodiment actuation every step, "
         "contacts, terminations); raw: client.stepSimulation() alone on the same world with the robot in it. "

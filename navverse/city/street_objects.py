@@ -280,7 +280,7 @@ def plan_street_objects(
     # 1. Mapped furniture, nearest road heading.
     lines = [LineString(r.centerline.points) for r in city.roads if r.highway not in SHARED_SURFACE_HIGHWAYS]
     tree = STRtree(lines) if lines else None
-    signal_zone = zones.furniture.union(zones.verge)
+    signal_zone = _NearestZone(zones.furniture.union(zones.verge))
     offsets = [(0.0, 0.0)] + [
         (r * math.cos(a), r * math.sin(a))
         for r in (snap / 2.0, snap)
@@ -312,7 +312,7 @@ def plan_street_objects(
             heading = math.atan2(y0 - near.y, x0 - near.x) + math.pi  # the front faces the street
         candidates = offsets
         if category == "traffic_light":
-            target = _nearest_on(signal_zone, x0, y0, signal_reach)
+            target = signal_zone.nearest(x0, y0, signal_reach)
             if target is None:
                 skipped[f"{category}: no furniture zone or verge within {signal_reach:g} m"] += 1
                 continue
@@ -453,17 +453,32 @@ def _stations(
     return stations
 
 
-def _nearest_on(zone: BaseGeometry, x: float, y: float, reach: float) -> tuple[float, float] | None:
-    """The point of ``zone`` nearest to (x, y), pulled 0.3 m inside it, if within ``reach``."""
-    if zone.is_empty:
-        return None
-    inner = zone.buffer(-0.3)
-    target = inner if not inner.is_empty else zone
-    point = Point(x, y)
-    if target.distance(point) > reach:
-        return None
-    near = nearest_points(target, point)[0]
-    return (near.x, near.y)
+class _NearestZone:
+    """Nearest points of a zone, its parts pulled ``inset`` inside where they are wide enough."""
+
+    def __init__(self, zone: BaseGeometry, inset: float = 0.15) -> None:
+        parts = []
+        for part in getattr(zone, "geoms", [zone]):
+            if part.is_empty:
+                continue
+            inner = part.buffer(-inset)
+            parts.append(inner if not inner.is_empty else part)
+        self.parts = parts
+        self.tree = STRtree(parts) if parts else None
+
+    def nearest(self, x: float, y: float, reach: float) -> tuple[float, float] | None:
+        """The zone point nearest to (x, y), if within ``reach``."""
+        if self.tree is None:
+            return None
+        point = Point(x, y)
+        best, best_distance = None, reach
+        for index in self.tree.query(point.buffer(reach)):
+            part = self.parts[int(index)]
+            distance = part.distance(point)
+            if distance <= best_distance:
+                near = nearest_points(part, point)[0]
+                best, best_distance = (near.x, near.y), distance
+        return best
 
 
 def _why(classes: dict[str, BaseGeometry], zones: StreetZones, shape: Polygon) -> str:

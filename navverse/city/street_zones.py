@@ -251,6 +251,8 @@ def walkway_clearance(
     walkway = zones.walkway if walkway is None else walkway
     junctions = prep(zones.junctions.buffer(1.0))
     on_walkway = prep(walkway.buffer(1e-6))
+    parts = [p for p in getattr(walkway, "geoms", [walkway]) if not p.is_empty]
+    tree = STRtree(parts)
     widths = []
     for road in city.roads:
         if road.highway in SHARED_SURFACE_HIGHWAYS:
@@ -265,7 +267,7 @@ def walkway_clearance(
                     continue
                 if not on_walkway.contains(cut.interpolate(cut.length - 0.05)):
                     continue
-                widths.append(cut.intersection(walkway).length)
+                widths.append(sum(parts[int(i)].intersection(cut).length for i in tree.query(cut)))
     return np.asarray(widths, dtype=np.float64)
 
 
