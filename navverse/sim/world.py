@@ -1,11 +1,12 @@
 """A built scene in PyBullet: static terrain per class with its friction, static objects, contacts.
 
 Every terrain class is one static body (a concave triangle mesh of all its surfaces) with the class's
-friction, so a contact tells which surface it is on. The objects are together one static body, a
-compound of the convex pieces of every object (:mod:`navverse.sim.collision`); contacts and ray hits
-on it are attributed to the object whose box holds the point (:meth:`World.object_at`). PyBullet
-multiplies the frictions of two touching bodies, so robots use friction 1 on their feet and wheels:
-the terrain's value is the contact's.
+friction, so a contact tells which surface it is on. The objects of each 300 m square of ground
+(:data:`OBJECT_TILE`; a building is one) are one static body, a compound of the convex pieces of
+every object (:mod:`navverse.sim.collision`); contacts and ray hits on it are attributed to the
+object whose box holds the point (:meth:`World.object_at`). PyBullet multiplies the frictions of
+two touching bodies, so robots use friction 1 on their feet and wheels: the terrain's value is the
+contact's.
 
 The world runs in its own DIRECT client (several worlds can live in one process) at
 :data:`PHYSICS_HZ`; :meth:`World.step` advances one physics step.
@@ -27,7 +28,16 @@ from navverse.scene.geometry import MeshData
 from navverse.sim.bullet import connect, pybullet
 from navverse.sim.collision import convex_parts, default_cache_dir, hulls_file
 
-__all__ = ["CONTROL_HZ", "GRAVITY", "OBJECT_FRICTION", "PHYSICS_HZ", "BodyInfo", "Contact", "World"]
+__all__ = [
+    "CONTROL_HZ",
+    "GRAVITY",
+    "OBJECT_FRICTION",
+    "OBJECT_TILE",
+    "PHYSICS_HZ",
+    "BodyInfo",
+    "Contact",
+    "World",
+]
 
 PHYSICS_HZ = 200
 """Physics steps per simulated second."""
@@ -36,6 +46,8 @@ CONTROL_HZ = 50
 GRAVITY = 9.81
 OBJECT_FRICTION = 0.6
 """Friction of objects (furniture); terrain classes carry their own."""
+OBJECT_TILE = 300.0
+"""Side of the ground squares whose objects make one static compound body (m)."""
 
 
 @dataclass(frozen=True)
@@ -82,8 +94,9 @@ class World:
         without an id; :meth:`contacts` and :meth:`surface_below` name the object itself).
     objects : list of BodyInfo
         One per scene object, in the scene's order.
-    object_body : int
-        The objects' compound body, -1 when the scene has no objects.
+    object_bodies : tuple of int
+        The objects' compound bodies, one per :data:`OBJECT_TILE` square of the ground that holds
+        objects (one for a building; none when the scene has no objects).
     """
 
     def __init__(
@@ -145,34 +158,46 @@ class World:
             )
 
     def _load_objects(self, cache: Path | None) -> None:
-        # All objects are one static body, a compound of every convex piece in world coordinates:
-        # Bullet refreshes the bounds of every body each step, static ones included, so a body per
-        # object would cost more than the robot's own physics in a furnished building. Which object a
-        # contact or a ray touches is found from the objects' boxes (:meth:`object_at`).
+        # The objects are static compounds of every convex piece in world coordinates, one per
+        # OBJECT_TILE square: Bullet refreshes the bounds of every body each step, static ones
+        # included, so a body per object would cost more than the robot's own physics in a
+        # furnished building; and one compound for a whole city makes every contact of a robot
+        # with several links walk a compound spanning the city (a populated km² stepped 5 times
+        # slower with the TurtleBot). Which object a contact or a ray touches is found from the
+        # objects' boxes (:meth:`object_at`).
         annotations = [obj.annotation for obj in self.scene.objects]
         self.objects = [BodyInfo("object", object_id=a.id, category=a.category) for a in annotations]
         self._object_center = np.array([a.center for a in annotations], dtype=float).reshape(-1, 3)
         self._object_half = np.array([a.size for a in annotations], dtype=float).reshape(-1, 3) / 2.0
         self._object_yaw = np.array([a.yaw for a in annotations], dtype=float)
-        self.object_body = -1
-        hulls: list[np.ndarray] = []
+        self.object_bodies: tuple[int, ...] = ()
+        tiles: dict[tuple[int, int], list[np.ndarray]] = {}
         for obj, center, yaw in zip(self.scene.objects, self._object_center, self._object_yaw, strict=True):
             c, s = math.cos(yaw), math.sin(yaw)
             rotation_t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])  # row vectors @ R.T
-            hulls.extend(part @ rotation_t + center for part in convex_parts(obj.mesh, cache_dir=cache))
-        if not hulls:
+            key = (math.floor(center[0] / OBJECT_TILE), math.floor(center[1] / OBJECT_TILE))
+            tiles.setdefault(key, []).extend(
+                part @ rotation_t + center for part in convex_parts(obj.mesh, cache_dir=cache)
+            )
+        if not any(tiles.values()):
             return
         if cache is None:
             self._scratch = tempfile.TemporaryDirectory(prefix="navverse-hulls-")
             directory = Path(self._scratch.name)
         else:
             directory = cache / "hulls"
-        shape = self.client.createCollisionShape(
-            pybullet.GEOM_MESH, fileName=str(hulls_file(hulls, directory))
-        )
-        self.object_body = self.client.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=shape)
-        self.client.changeDynamics(self.object_body, -1, lateralFriction=OBJECT_FRICTION, restitution=0.0)
-        self.bodies[self.object_body] = BodyInfo("object", friction=OBJECT_FRICTION)
+        bodies = []
+        for _, hulls in sorted(tiles.items()):
+            if not hulls:
+                continue
+            shape = self.client.createCollisionShape(
+                pybullet.GEOM_MESH, fileName=str(hulls_file(hulls, directory))
+            )
+            body = self.client.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=shape)
+            self.client.changeDynamics(body, -1, lateralFriction=OBJECT_FRICTION, restitution=0.0)
+            self.bodies[body] = BodyInfo("object", friction=OBJECT_FRICTION)
+            bodies.append(body)
+        self.object_bodies = tuple(bodies)
 
     def object_at(self, point: Sequence[float]) -> BodyInfo:
         """The object whose box contains (or, failing that, is nearest to) a point on the objects' body."""
@@ -185,7 +210,7 @@ class World:
 
     def _resolve(self, body: int, point: Sequence[float]) -> BodyInfo | None:
         """What a static body is at a point of it (for the objects' body: the object there)."""
-        if body == self.object_body:
+        if body in self.object_bodies:
             return self.object_at(point)
         return self.bodies.get(body)
 

@@ -51,8 +51,9 @@ def test_terrain_bodies_carry_their_class_and_friction(world: World):
         assert info.friction == pytest.approx(friction) and info.navigable is navigable
         assert world.client.getDynamicsInfo(body, -1)[1] == pytest.approx(friction)  # lateral friction
     assert [info.object_id for info in world.objects] == [1, 2]
-    # The objects are one compound body; a point on each is attributed to the right object.
-    assert world.bodies[world.object_body].kind == "object"
+    # The objects are one compound body (a building is within one tile); a point on each is
+    # attributed to the right object.
+    assert len(world.object_bodies) == 1 and world.bodies[world.object_bodies[0]].kind == "object"
     assert world.object_at([6.0, 2.0, 0.75]).object_id == 2
     assert world.object_at([2.0, 2.0, 0.1]).category == "bathtub"
 
