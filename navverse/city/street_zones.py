@@ -30,7 +30,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import shapely
 from shapely.geometry import LineString, Polygon
 from shapely.geometry.base import BaseGeometry
 from shapely.prepared import prep
@@ -38,7 +37,14 @@ from shapely.strtree import STRtree
 
 from navverse.city.map import CityMap, Road
 from navverse.city.street_plan import StreetPlan
-from navverse.city.surfaces import CURB_WIDTH, QUAD_SEGMENTS, SHARED_SURFACE_HIGHWAYS, carriageways
+from navverse.city.surfaces import (
+    CURB_WIDTH,
+    QUAD_SEGMENTS,
+    SHARED_SURFACE_HIGHWAYS,
+    areal,
+    carriageways,
+    union_of,
+)
 
 __all__ = [
     "CURBSIDE_HIGHWAYS",
@@ -100,16 +106,6 @@ class StreetZones:
     verge: BaseGeometry
 
 
-def _union(geometries: list[BaseGeometry]) -> BaseGeometry:
-    items = [g for g in geometries if not g.is_empty]
-    return shapely.union_all(items) if items else Polygon()
-
-
-def _areal(geometry: BaseGeometry) -> BaseGeometry:
-    parts = [g for g in getattr(geometry, "geoms", [geometry]) if g.geom_type in ("Polygon", "MultiPolygon")]
-    return _union(parts)
-
-
 def _grow(geometry: BaseGeometry, distance: float) -> BaseGeometry:
     """``geometry`` grown by at least ``distance`` everywhere (its polygonal arcs circumscribe the circle)."""
     return geometry.buffer(distance / math.cos(math.pi / (4 * QUAD_SEGMENTS)), quad_segs=QUAD_SEGMENTS)
@@ -154,7 +150,7 @@ def _junctions(city: CityMap, lanes: dict[str, BaseGeometry], grow: float) -> Ba
             if b <= a:
                 continue
             meets.append(lanes[road_id].intersection(lanes[ids[b]]))
-    return _grow(_union(meets), grow) if meets else Polygon()
+    return _grow(union_of(meets), grow) if meets else Polygon()
 
 
 def _curbside(road: Road, sign: float, walk_width: float | None, settings: ZoneSettings) -> bool:
@@ -189,7 +185,7 @@ def street_zones(city: CityMap, plan: StreetPlan, settings: ZoneSettings | None 
     junctions = _junctions(city, lanes, settings.corner_clearance)
     near_crossing = _grow(crosswalks, settings.crosswalk_margin)
     driveways = _grow(
-        _union([lanes[r.id] for r in city.roads if r.highway == "service"]), settings.driveway_margin
+        union_of([lanes[r.id] for r in city.roads if r.highway == "service"]), settings.driveway_margin
     )
 
     furniture, frontage, parking, curbside, verge = [], [], [], [], []
@@ -213,18 +209,18 @@ def street_zones(city: CityMap, plan: StreetPlan, settings: ZoneSettings | None 
                 parking.append(_band(line, sign, half - park_width, half))
             elif _curbside(r, sign, walk_width, settings):
                 curbside.append(_band(line, sign, half - settings.curbside_band, half))
-    keep_clear = _union([near_crossing, junctions])
-    furniture_zone = _areal(_union(furniture).intersection(sidewalk).difference(keep_clear))
-    frontage_zone = _areal(
-        _union(frontage).intersection(sidewalk).difference(keep_clear).difference(furniture_zone)
+    keep_clear = union_of([near_crossing, junctions])
+    furniture_zone = areal(union_of(furniture).intersection(sidewalk).difference(keep_clear))
+    frontage_zone = areal(
+        union_of(frontage).intersection(sidewalk).difference(keep_clear).difference(furniture_zone)
     )
-    walkway = _areal(sidewalk.difference(furniture_zone).difference(frontage_zone))
-    open_land = _union([classes["ground"], classes["green"], classes["plaza"]])
-    verge_zone = _areal(_union(verge).intersection(open_land).difference(keep_clear))
-    on_road_clear = _union([near_crossing, junctions, driveways])
-    parking_zone = _areal(_union(parking).intersection(road).difference(on_road_clear))
-    curbside_zone = _areal(
-        _union(curbside).intersection(road).difference(on_road_clear).difference(parking_zone)
+    walkway = areal(sidewalk.difference(furniture_zone).difference(frontage_zone))
+    open_land = union_of([classes["ground"], classes["green"], classes["plaza"]])
+    verge_zone = areal(union_of(verge).intersection(open_land).difference(keep_clear))
+    on_road_clear = union_of([near_crossing, junctions, driveways])
+    parking_zone = areal(union_of(parking).intersection(road).difference(on_road_clear))
+    curbside_zone = areal(
+        union_of(curbside).intersection(road).difference(on_road_clear).difference(parking_zone)
     )
     return StreetZones(
         furniture=furniture_zone,

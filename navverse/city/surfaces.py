@@ -38,9 +38,11 @@ __all__ = [
     "QUAD_SEGMENTS",
     "SHARED_SURFACE_HIGHWAYS",
     "SURFACE_CLASSES",
+    "areal",
     "carriageways",
     "crosswalk_polygons",
     "plan_surfaces",
+    "union_of",
 ]
 
 CURB_WIDTH = 0.15
@@ -75,7 +77,7 @@ def _polygon(shape: Polygon2) -> BaseGeometry:
     return polygon if polygon.is_valid else shapely.make_valid(polygon)
 
 
-def _areal(geometry: BaseGeometry) -> BaseGeometry:
+def areal(geometry: BaseGeometry) -> BaseGeometry:
     """The polygonal part of ``geometry`` (a difference can leave lines and points behind)."""
     parts = [g for g in getattr(geometry, "geoms", [geometry]) if isinstance(g, Polygon | MultiPolygon)]
     if not parts:
@@ -83,7 +85,8 @@ def _areal(geometry: BaseGeometry) -> BaseGeometry:
     return shapely.union_all(parts)
 
 
-def _union(geometries: Iterable[BaseGeometry]) -> BaseGeometry:
+def union_of(geometries: Iterable[BaseGeometry]) -> BaseGeometry:
+    """The union of the non-empty ``geometries`` (an empty polygon if there are none)."""
     items = [g for g in geometries if not g.is_empty]
     return shapely.union_all(items) if items else Polygon()
 
@@ -184,21 +187,21 @@ def plan_surfaces(
     window = box(*city.window)
     lanes = carriageways(city)
     kinds = {road.id: road.highway in SHARED_SURFACE_HIGHWAYS for road in city.roads}
-    road_area = _union(p for road_id, p in lanes.items() if not kinds[road_id])
-    shared_area = _union(p for road_id, p in lanes.items() if kinds[road_id])
-    walkway_area = _union(
+    road_area = union_of(p for road_id, p in lanes.items() if not kinds[road_id])
+    shared_area = union_of(p for road_id, p in lanes.items() if kinds[road_id])
+    walkway_area = union_of(
         LineString(w.centerline.points).buffer(w.width / 2.0, join_style="round", quad_segs=QUAD_SEGMENTS)
         for w in city.walkways
         if w.kind != "crossing"
     )
-    crosswalks = _union(p for _, p in crosswalk_polygons(city, crosswalk_width=crosswalk_width))
-    sidewalk_area = _union([*(s for road in city.roads for s in _sidewalk_strips(road)), walkway_area])
-    walked = _union([sidewalk_area, crosswalks])
+    crosswalks = union_of(p for _, p in crosswalk_polygons(city, crosswalk_width=crosswalk_width))
+    sidewalk_area = union_of([*(s for road in city.roads for s in _sidewalk_strips(road)), walkway_area])
+    walked = union_of([sidewalk_area, crosswalks])
     edge_strip = road_area.buffer(curb_width, join_style="mitre").difference(road_area)
     curb = edge_strip.intersection(walked)
     lowered = curb.intersection(crosswalks)
     by_class: dict[str, BaseGeometry] = {
-        "building": _union(_polygon(b.footprint) for b in city.buildings),
+        "building": union_of(_polygon(b.footprint) for b in city.buildings),
         "crosswalk": crosswalks.intersection(road_area),
         "road": road_area,
         "shared": shared_area,
@@ -207,12 +210,12 @@ def plan_surfaces(
         "sidewalk": sidewalk_area,
     }
     for cls in ("water", "parking", "plaza", "pedestrian", "green"):
-        by_class[cls] = _union(_polygon(a.polygon) for a in city.areas if a.cls == cls)
+        by_class[cls] = union_of(_polygon(a.polygon) for a in city.areas if a.cls == cls)
     taken: BaseGeometry = Polygon()
     plan: dict[str, BaseGeometry] = {}
     for cls in PRIORITY:
-        own = _areal(by_class[cls].intersection(window).difference(taken))
+        own = areal(by_class[cls].intersection(window).difference(taken))
         plan[cls] = own
         taken = taken.union(own)  # binary: union_all can drop a small piece here (GEOS 3.14)
-    plan["ground"] = _areal(window.difference(taken))
+    plan["ground"] = areal(window.difference(taken))
     return plan
