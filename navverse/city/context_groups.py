@@ -64,7 +64,9 @@ the ground): its position and heading are given in the support's local frame, it
 (clamped) so that it lies wholly inside the area, and its ``z`` is the area's height. Heights are
 above the ground under the group (stand a member on the ground height under its support). Support
 areas are computed with the size ``size_of`` gives the support, so **the support must be built at
-exactly** :attr:`GroupMember.size` (which is ``size_of(category)`` for every member).
+exactly** :attr:`GroupMember.size` (which is ``size_of(category)`` for every member). On a slatted
+top (a pallet's deck boards run one way or the other by design) only the centre is sure to be a
+board, so an item stands there, whole over a board, not bridging a gap.
 """
 
 from __future__ import annotations
@@ -82,6 +84,7 @@ from shapely.strtree import STRtree
 
 from navverse.assets.spec import SupportArea
 from navverse.city.map import CityMap
+from navverse.city.shape_grid import ShapeGrid
 from navverse.city.street_objects import BASE_FOOTPRINT, Placement, footprint
 from navverse.city.street_plan import StreetPlan
 from navverse.city.street_zones import StreetZones
@@ -296,8 +299,8 @@ GROUPS: tuple[GroupSpec, ...] = (
         "delivery_drop",
         ("shop_front", "cafe_front"),
         _m("cargo_pallet"),
-        _on(0, "shopping_bag", -0.25, -0.2),
-        _on(0, "shopping_bag", 0.25, 0.25),
+        _on(0, "shopping_bag"),
+        _m("shopping_bag", -1.1, 0.0),
         _m("motor_scooter", 1.7, 0.0, 90.0),
     ),
     _g(
@@ -305,8 +308,7 @@ GROUPS: tuple[GroupSpec, ...] = (
         ("street", "parking"),
         _m("armchair"),
         _m("cargo_pallet", 1.25, 0.0),
-        _on(1, "book_stack", -0.25, 0.0),
-        _on(1, "lamp", 0.3, 0.1),
+        _on(1, "lamp"),
         _m("suitcase", 2.35, 0.0),
         _m("floor_lamp", -0.85, 0.0),
     ),
@@ -674,34 +676,6 @@ def _facing(points: np.ndarray, targets: list[BaseGeometry]) -> np.ndarray:
 # Spacing: grids of placed anchors and footprints.
 
 
-class _Grid:
-    """Shapes (or points) by grid cell, for "is anything within d" tests."""
-
-    def __init__(self, cell: float) -> None:
-        self.cell = cell
-        self.cells: dict[tuple[int, int], list[BaseGeometry]] = {}
-
-    def _keys(self, bounds: tuple[float, float, float, float], grow: float) -> list[tuple[int, int]]:
-        c = self.cell
-        x0, y0, x1, y1 = bounds
-        return [
-            (i, j)
-            for i in range(math.floor((x0 - grow) / c), math.floor((x1 + grow) / c) + 1)
-            for j in range(math.floor((y0 - grow) / c), math.floor((y1 + grow) / c) + 1)
-        ]
-
-    def near(self, shape: BaseGeometry, distance: float) -> bool:
-        for key in self._keys(shape.bounds, distance):
-            for other in self.cells.get(key, ()):
-                if shape.distance(other) < distance:
-                    return True
-        return False
-
-    def add(self, shape: BaseGeometry) -> None:
-        for key in self._keys(shape.bounds, 0.0):
-            self.cells.setdefault(key, []).append(shape)
-
-
 @dataclass
 class _Pose:
     category: str
@@ -889,8 +863,8 @@ def plan_groups(
         queues[group.name] = [queue[int(i)] for i in order]
     cursor = dict.fromkeys(queues, 0)
 
-    anchors = _Grid(max(min_spacing, 4.0))
-    shapes = _Grid(max(min_spacing, 4.0))
+    anchors = ShapeGrid(max(min_spacing, 4.0))
+    shapes = ShapeGrid(max(min_spacing, 4.0))
     members: list[GroupMember] = []
     counts: Counter[str] = Counter()
     placed_anchors: dict[str, tuple[float, float, float]] = {}

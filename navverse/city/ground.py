@@ -26,7 +26,6 @@ face and no gap: the curb face between road and curb, the ramp's sides, the bank
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -37,6 +36,7 @@ from shapely.strtree import STRtree
 
 from navverse.city.map import CityMap
 from navverse.city.prisms import HeightFn, polygon_prism, polygons_of
+from navverse.city.shape_grid import ShapeGrid
 from navverse.city.surfaces import crosswalk_polygons
 from navverse.scene.geometry import MeshData, Surface
 
@@ -147,7 +147,7 @@ def _crosswalk_parts(
     edges = _Nearby(carriageway.boundary.difference(window.exterior.buffer(1e-6)))
     crosswalk_plan = _Nearby(plan["crosswalk"])
     ramps: list[tuple[BaseGeometry, float, BaseGeometry]] = []
-    taken = _GrowingIndex()
+    taken = ShapeGrid(25.0)
     raised: list[BaseGeometry] = []
     for kerb, polygon in crosswalk_polygons(city, crosswalk_width=crosswalk_width):
         if kerb == "raised":
@@ -173,36 +173,6 @@ def _crosswalk_parts(
         flat_rest = flat_rest.difference(shapely.union_all([p for p, _, _ in ramps]))
     raised_curb = plan["lowered_curb"].intersection(shapely.union_all(raised)) if raised else Polygon()
     return ramps, flat_rest, raised_curb
-
-
-class _GrowingIndex:
-    """Shapes added one at a time, found by a grid of their envelopes (an STR tree cannot grow)."""
-
-    def __init__(self, cell: float = 25.0) -> None:
-        self.cell = cell
-        self.shapes: list[BaseGeometry] = []
-        self.grid: dict[tuple[int, int], list[int]] = {}
-
-    def _keys(self, shape: BaseGeometry) -> list[tuple[int, int]]:
-        x0, y0, x1, y1 = shape.bounds
-        c = self.cell
-        return [
-            (i, j)
-            for i in range(math.floor(x0 / c), math.floor(x1 / c) + 1)
-            for j in range(math.floor(y0 / c), math.floor(y1 / c) + 1)
-        ]
-
-    def add(self, shape: BaseGeometry) -> None:
-        for key in self._keys(shape):
-            self.grid.setdefault(key, []).append(len(self.shapes))
-        self.shapes.append(shape)
-
-    def meeting(self, shape: BaseGeometry) -> list[BaseGeometry]:
-        """The shapes added so far whose envelopes meet ``shape``'s, in the order they were added."""
-        if shape.is_empty:
-            return []
-        found = sorted({i for key in self._keys(shape) for i in self.grid.get(key, ())})
-        return [self.shapes[i] for i in found if shapely.intersects(self.shapes[i].envelope, shape.envelope)]
 
 
 def ground_surfaces(

@@ -30,6 +30,7 @@ from navverse.city.street_plan import StreetPlan
 from navverse.city.street_zones import StreetZones, ZoneSettings, street_zones, walkway_clearance
 from navverse.scene.compose import ObjectPart, object_parts, replace_parts
 from navverse.scene.geometry import Scene
+from navverse.scene.heights import SurfaceHeights
 
 __all__ = ["CAR_TYPES", "PopulateSettings", "Population", "populate_city"]
 
@@ -98,29 +99,6 @@ class Population:
 
 def _largest(category: str) -> tuple[float, float, float]:
     return asset(category).size_max
-
-
-class _Ground:
-    """Heights of a scene's surfaces under xy points, by vertical ray casts."""
-
-    def __init__(self, scene: Scene) -> None:
-        import open3d as o3d
-
-        mesh = scene.world_mesh(include_objects=False).mesh
-        self._rays = o3d.t.geometry.RaycastingScene()
-        self._rays.add_triangles(
-            o3d.core.Tensor(mesh.vertices.astype(np.float32)), o3d.core.Tensor(mesh.faces.astype(np.uint32))
-        )
-        self._top = float(mesh.vertices[:, 2].max()) + 10.0
-        self._o3d = o3d
-
-    def __call__(self, xy: np.ndarray) -> np.ndarray:
-        """The height of the highest surface under each point (NaN where there is none)."""
-        xy = np.atleast_2d(np.asarray(xy, dtype=np.float64))
-        rays = np.zeros((len(xy), 6), dtype=np.float32)
-        rays[:, :2], rays[:, 2], rays[:, 5] = xy, self._top, -1.0
-        hit = self._rays.cast_rays(self._o3d.core.Tensor(rays))["t_hit"].numpy().astype(np.float64)
-        return np.where(np.isfinite(hit), self._top - hit, np.nan)
 
 
 def _car_size(category: str, slot: Slot, rng: np.random.Generator) -> tuple[float, float, float] | None:
@@ -213,7 +191,7 @@ def populate_city(
         avoid=[slot_polygon(slot) for slot in slots],
     )
 
-    ground = _Ground(scene)
+    ground = SurfaceHeights(scene)
     parts: list[ObjectPart] = []
     counts: dict[str, Counter[str]] = {k: Counter() for k in ("cars", "objects", "zones", "sources")}
     seeds = rng.integers(0, 2**63 - 1, size=len(street.placements) + len(slots))
@@ -287,7 +265,7 @@ def _supports(category: str, size: tuple[float, float, float]) -> list[SupportAr
     return asset(category).support_areas(size)
 
 
-def _group_parts(groups: GroupPlan, ground: _Ground, rng: np.random.Generator) -> list[ObjectPart]:
+def _group_parts(groups: GroupPlan, ground: SurfaceHeights, rng: np.random.Generator) -> list[ObjectPart]:
     """The members of the placed groups, each at its exact size, stacked ones on their supports.
 
     A member's bottom is the ground under its group member of the ground (itself, or the support it

@@ -13,10 +13,18 @@ source), never geometry; :mod:`navverse.city.populate` turns them into objects.
 2. **The zone grammar** then walks every sidewalk's furniture zone and frontage zone
    (:mod:`navverse.city.street_zones`) and proposes objects at the spacings of :data:`GRAMMAR`
    (lamps every ~30 m, street trees every ~10 m on residential streets, a hydrant every ~90 m,
-   parking meters along parking strips, bins and signs near junctions; benches and planters by the
-   facades, A-frame signs and cafe seating in front of shops and cafes). A proposal is kept if its
-   footprint lies wholly inside its zone, clears what is placed, and no object of its category
-   (mapped ones included) stands within ``spacing`` / 2 of it.
+   parking meters and ticket machines along parking strips, bins, signs and bollards by the
+   junctions; benches, planters and drinking fountains by the facades of main roads, recycling
+   bins on residential ones, A-frame signs, bike racks and cafe seating in front of shops and
+   cafes). A proposal is kept if its footprint lies wholly inside its zone, clears what is placed,
+   and no object of its category (mapped ones included) stands within ``spacing`` / 2 of it.
+
+   **Budget.** When the proposals outnumber what the budget leaves after the mapped furniture, the
+   budget is shared among the rules max-min fairly (:func:`fair_shares`: every rule gets an equal
+   share, and what a rule with fewer proposals leaves over is shared by the others), and each rule
+   keeps an evenly spread subset of its proposals. Lamps and trees, which propose the most, then
+   thin out instead of spending the whole budget before the hydrants, signs and benches get any.
+   Budget left by proposals that do not fit is shared again among the rules' remaining proposals.
 
 Footprints are rectangles of the object's width and depth turned to its heading, except for objects
 whose base is smaller than their top (:data:`BASE_FOOTPRINT`: a tree's trunk, a lamp's pole), which
@@ -39,6 +47,7 @@ from shapely.prepared import prep
 from shapely.strtree import STRtree
 
 from navverse.city.map import CityMap
+from navverse.city.shape_grid import ShapeGrid
 from navverse.city.street_plan import StreetPlan
 from navverse.city.street_zones import StreetZones, ZoneSettings, sidewalk_split
 from navverse.city.surfaces import SHARED_SURFACE_HIGHWAYS
@@ -50,6 +59,7 @@ __all__ = [
     "GrammarRule",
     "Placement",
     "StreetObjects",
+    "fair_shares",
     "plan_street_objects",
 ]
 
@@ -105,6 +115,9 @@ class GrammarRule:
         in front of ``places`` (POIs of ``place_categories``).
     place_categories : frozenset of str
         POI categories whose fronts it stands at (``where="places"``).
+    at : float
+        ``ends``: distance from each end of the zone; ``places``: distance to either side of the
+        place's front (m).
     """
 
     category: str
@@ -113,6 +126,7 @@ class GrammarRule:
     roads: frozenset[str] = frozenset()
     where: str = "along"
     place_categories: frozenset[str] = frozenset()
+    at: float = 6.0
 
 
 _BIG = frozenset({"primary", "secondary", "tertiary", "trunk"})
@@ -128,13 +142,20 @@ GRAMMAR: tuple[GrammarRule, ...] = (
     GrammarRule("birch_tree", "furniture", 14.0, roads=_BIG),
     GrammarRule("fire_hydrant", "furniture", 90.0),
     GrammarRule("parking_meter", "furniture", 15.0, where="parking"),
+    GrammarRule("ticket_machine", "furniture", 90.0, where="parking"),
+    GrammarRule("bollard", "furniture", 0.0, where="ends", at=3.0),
     GrammarRule("waste_bin", "furniture", 60.0, where="ends"),
-    GrammarRule("street_sign", "furniture", 80.0, where="ends"),
+    GrammarRule("street_sign", "furniture", 80.0, where="ends", roads=_BIG),
+    GrammarRule("stop_sign", "furniture", 80.0, where="ends", roads=_HOMES, at=4.5),
+    GrammarRule("post_box", "furniture", 300.0),
     GrammarRule("utility_box", "furniture", 150.0, roads=_BIG),
     GrammarRule("park_bench", "frontage", 45.0, roads=_BIG),
     GrammarRule("street_planter", "frontage", 35.0, roads=_BIG),
-    GrammarRule("a_frame_sign", "frontage", 8.0, where="places", place_categories=_SHOPS | _EATING),
-    GrammarRule("bistro_table", "frontage", 3.0, where="places", place_categories=_EATING),
+    GrammarRule("drinking_fountain", "frontage", 400.0, roads=_BIG),
+    GrammarRule("recycling_bin", "frontage", 150.0, roads=_HOMES),
+    GrammarRule("a_frame_sign", "frontage", 8.0, where="places", place_categories=_SHOPS | _EATING, at=1.5),
+    GrammarRule("bike_rack", "frontage", 20.0, where="places", place_categories=_SHOPS | _EATING, at=5.0),
+    GrammarRule("bistro_table", "frontage", 3.0, where="places", place_categories=_EATING, at=1.5),
     GrammarRule("newspaper_box", "frontage", 120.0, roads=_BIG),
 )
 """The zone grammar, in the order its rules are applied (earlier rules take the space first)."""
@@ -173,36 +194,21 @@ def footprint(category: str, size: tuple[float, float, float], x: float, y: floa
 
 
 class _Occupancy:
-    """Footprints placed so far, with a grid index for overlap tests."""
+    """Footprints placed so far (a grid index for overlap tests) and each category's positions."""
 
     def __init__(self, cell: float = 4.0) -> None:
-        self.cell = cell
-        self.grid: dict[tuple[int, int], list[tuple[Polygon, str]]] = {}
+        self.grid = ShapeGrid(cell)
         self.points: dict[str, list[tuple[float, float]]] = {}
-
-    def _cells(self, polygon: Polygon) -> list[tuple[int, int]]:
-        x0, y0, x1, y1 = polygon.bounds
-        c = self.cell
-        return [
-            (i, j)
-            for i in range(math.floor(x0 / c), math.floor(x1 / c) + 1)
-            for j in range(math.floor(y0 / c), math.floor(y1 / c) + 1)
-        ]
 
     def clear(self, polygon: Polygon, gap: float) -> bool:
         grown = polygon.buffer(gap) if gap > 0 else polygon
-        for key in self._cells(grown):
-            for other, _ in self.grid.get(key, ()):
-                if grown.intersects(other):
-                    return False
-        return True
+        return not any(grown.intersects(other) for other in self.grid.candidates(grown))
 
     def near(self, category: str, x: float, y: float, distance: float) -> bool:
         return any(math.hypot(x - px, y - py) < distance for px, py in self.points.get(category, ()))
 
     def add(self, polygon: Polygon, category: str, x: float, y: float) -> None:
-        for key in self._cells(polygon):
-            self.grid.setdefault(key, []).append((polygon, category))
+        self.grid.add(polygon)
         self.points.setdefault(category, []).append((x, y))
 
 
@@ -339,15 +345,52 @@ def plan_street_objects(
                 zone = _zone_of(zones, footprint("bus_shelter", size_of("bus_shelter"), *spot, heading))
                 put("bus_shelter", *spot, heading, zone, source)
 
-    # 2. The zone grammar, rule by rule along every road side.
+    # 2. The zone grammar: every rule's proposals, then a fair share of the budget to each rule.
+    proposals = _proposals(city, zones, grammar, excluded, settings, size_of, rng)
+    left = None if budget is None else max(0, budget - len(placements))
+    pools = [list(range(len(found))) for found in proposals]
+    while any(pools) and (left is None or left > 0):
+        wanted = [len(pool) for pool in pools]
+        shares = wanted if left is None else fair_shares(wanted, left)
+        for rule, found, pool, share in zip(grammar, proposals, pools, shares, strict=True):
+            tried = set(_spread(len(pool), share))
+            for k in sorted(tried):
+                x, y, heading, zone, shape = found[pool[k]]
+                if occupied.near(rule.category, x, y, rule.spacing / 2.0) or not occupied.clear(shape, gap):
+                    continue
+                put(rule.category, x, y, heading, zone, "grammar")
+            pool[:] = [index for k, index in enumerate(pool) if k not in tried]
+        if left is not None:
+            left = max(0, budget - len(placements))  # type: ignore[operator]
+    return StreetObjects(placements=tuple(placements), skipped=dict(sorted(skipped.items())))
+
+
+Proposal = tuple[float, float, float, str, Polygon]
+"""A grammar proposal: position, heading, zone and footprint."""
+
+
+def _proposals(
+    city: CityMap,
+    zones: StreetZones,
+    grammar: tuple[GrammarRule, ...],
+    excluded: frozenset[str],
+    settings: ZoneSettings,
+    size_of: SizeOf,
+    rng: np.random.Generator,
+) -> list[list[Proposal]]:
+    """Each rule's proposals along every road side, whose footprints lie wholly in their zone."""
     zone_shapes = {
         name: prep(getattr(zones, name).buffer(1e-6)) for name in ("furniture", "frontage", "verge")
     }
     parking = prep(zones.parking.buffer(0.5))
     places = [(p.position, p.category) for p in city.pois]
+    proposals: list[list[Proposal]] = []
     for rule in grammar:
+        found: list[Proposal] = []
+        proposals.append(found)
         if rule.category in excluded:
             continue
+        size = size_of(rule.category)
         for road in city.roads:
             if road.highway in SHARED_SURFACE_HIGHWAYS or (rule.roads and road.highway not in rule.roads):
                 continue
@@ -370,16 +413,37 @@ def plan_street_objects(
                     # objects face the street.
                     away = _tangent(middle, along) + sign * math.pi / 2.0
                     heading = math.remainder(away + turn, math.tau)
-                    spacing = rule.spacing / 2.0
-                    if budget is not None and len(placements) >= budget:
-                        break
-                    if occupied.near(rule.category, point.x, point.y, spacing):
-                        continue
-                    shape = footprint(rule.category, size_of(rule.category), point.x, point.y, heading)
-                    if not zone_shapes[zone].contains(shape) or not occupied.clear(shape, gap):
-                        continue
-                    put(rule.category, point.x, point.y, heading, zone, "grammar")
-    return StreetObjects(placements=tuple(placements), skipped=dict(sorted(skipped.items())))
+                    shape = footprint(rule.category, size, point.x, point.y, heading)
+                    if zone_shapes[zone].contains(shape):
+                        found.append((float(point.x), float(point.y), float(heading), zone, shape))
+    return proposals
+
+
+def fair_shares(wanted: list[int], budget: int) -> list[int]:
+    """A max-min fair split of ``budget`` among claims of ``wanted``: claims are met smallest first,
+    each with at most an equal share of what is left, so no claim gets less than an equal split
+    unless it wanted less.
+
+    >>> fair_shares([1000, 30, 5, 300], 100)
+    [32, 30, 5, 33]
+    """
+    shares = [0] * len(wanted)
+    order = sorted(range(len(wanted)), key=lambda k: (wanted[k], k))
+    left = budget
+    for rank, k in enumerate(order):
+        open_claims = len(order) - rank
+        shares[k] = min(wanted[k], left // open_claims + (1 if left % open_claims > 0 else 0))
+        left -= shares[k]
+    return shares
+
+
+def _spread(count: int, share: int) -> list[int]:
+    """``share`` indices spread evenly over ``range(count)``."""
+    if share >= count:
+        return list(range(count))
+    if share <= 0:
+        return []
+    return sorted({int(k * count / share) for k in range(share)})
 
 
 def _shelter_spot(
@@ -434,7 +498,7 @@ def _stations(
     """Where along a zone's middle line a rule proposes its objects."""
     length = middle.length
     if rule.where == "ends":
-        return [s for s in (6.0, length - 6.0) if 0.0 < s < length]
+        return [s for s in (rule.at, length - rule.at) if 0.0 < s < length]
     if rule.where == "places":
         stations = []
         for position, category in places:
@@ -444,7 +508,7 @@ def _stations(
             if middle.distance(point) > 25.0:
                 continue
             along = middle.project(point)
-            stations += [along + d for d in (-1.5, 1.5) if 0.0 < along + d < length]
+            stations += [along + d for d in (-rule.at, rule.at) if 0.0 < along + d < length]
         return stations
     start = float(rng.uniform(0.3, 0.7)) * min(rule.spacing, length)
     stations = [float(s) for s in np.arange(start, length, rule.spacing)]
@@ -454,15 +518,15 @@ def _stations(
 
 
 class _NearestZone:
-    """Nearest points of a zone, its parts pulled ``inset`` inside where they are wide enough."""
+    """Nearest points of a zone at least ``inset`` inside it (the default holds a 0.3 m pole base at
+    any heading); parts too narrow for that are left out."""
 
-    def __init__(self, zone: BaseGeometry, inset: float = 0.15) -> None:
+    def __init__(self, zone: BaseGeometry, inset: float = 0.25) -> None:
         parts = []
         for part in getattr(zone, "geoms", [zone]):
-            if part.is_empty:
-                continue
             inner = part.buffer(-inset)
-            parts.append(inner if not inner.is_empty else part)
+            if not inner.is_empty:
+                parts.append(inner)
         self.parts = parts
         self.tree = STRtree(parts) if parts else None
 

@@ -10,7 +10,8 @@ kind               where
 =================  =============================================================================
 traffic_signals    a pole on each side of every crosswalk of a junction that an arterial reaches
 bus_stop           arterials, about every ``bus_stop_spacing`` m, a stop on each side (the second
-                   15 m on), each with a bench at the building line and a waste basket
+                   15 m on), each with a bench at the building line and a waste basket; a
+                   ``bus_shelter_share`` of the stops are tagged with a shelter
 street_lamp        every ``lamp_spacing`` m, both sides staggered on arterials, one side elsewhere
 tree               every ``tree_spacing`` m on both sides of tree-lined streets (a
                    ``tree_street_share`` of residential streets, twice that of arterials)
@@ -133,11 +134,13 @@ def street_furniture(
     stretches = [
         _Road(road, clear.get((i, True), 1.0), clear.get((i, False), 1.0)) for i, road in enumerate(roads)
     ]
-    candidates: list[tuple[str, XY]] = []
+    candidates: list[tuple[str, XY, bool]] = []
 
-    def put(kind: str, stretch: _Road, station: float, side: int, offset: float | None) -> None:
+    def put(
+        kind: str, stretch: _Road, station: float, side: int, offset: float | None, *, shelter: bool = False
+    ) -> None:
         if offset is not None and stretch.start <= station <= stretch.end:
-            candidates.append((kind, stretch.at(station, side, offset)))
+            candidates.append((kind, stretch.at(station, side, offset), shelter))
 
     # Traffic signals beside the crosswalks of junctions an arterial reaches.
     arterial_nodes = {arm.node for arm in arms if roads[arm.road].highway in ARTERIALS}
@@ -150,7 +153,7 @@ def street_furniture(
         for side in (1, -1):
             offset = stretch.kerb(side)
             if offset is not None:
-                candidates.append(("traffic_signals", stretch.at(station, side, offset)))
+                candidates.append(("traffic_signals", stretch.at(station, side, offset), False))
     # Bus stops (with a bench and a waste basket) along arterials.
     for stretch in stretches:
         if stretch.road.highway not in ARTERIALS or stretch.usable < 20.0:
@@ -158,7 +161,8 @@ def street_furniture(
         for _ in range(int(rng.poisson(stretch.usable / params.bus_stop_spacing))):
             station = float(rng.uniform(stretch.start, stretch.end))
             for side, shift in ((-1, 0.0), (1, 15.0 if station + 15.0 <= stretch.end else -15.0)):
-                put("bus_stop", stretch, station + shift, side, stretch.kerb(side))
+                shelter = float(rng.uniform()) < params.bus_shelter_share
+                put("bus_stop", stretch, station + shift, side, stretch.kerb(side), shelter=shelter)
                 put("bench", stretch, station + shift + 2.0, side, stretch.inner(side))
                 put("waste_basket", stretch, station + shift + 3.5, side, stretch.inner(side))
     # Street lamps and trees at regular spacing.
@@ -214,13 +218,13 @@ def street_furniture(
 
 
 def _kept(
-    candidates: list[tuple[str, XY]], roads: list[Road], water: Polygon | None, window: Window
+    candidates: list[tuple[str, XY, bool]], roads: list[Road], water: Polygon | None, window: Window
 ) -> list[StreetFurniture]:
     """The candidates off every carriageway and curb, off the water (but lamps), in the window,
     at least :data:`MIN_SPACING` from those kept before them."""
     if not candidates:
         return []
-    xy = np.array([p for _, p in candidates])
+    xy = np.array([p for _, p, _ in candidates])
     carriageways = [
         LineString(road.centerline.points).buffer(road.width / 2.0 + CURB_WIDTH + 0.2) for road in roads
     ]
@@ -236,7 +240,7 @@ def _kept(
     )
     kept: list[StreetFurniture] = []
     cells: dict[tuple[int, int], list[XY]] = {}
-    for k, (kind, (x, y)) in enumerate(candidates):
+    for k, (kind, (x, y), shelter) in enumerate(candidates):
         if on_road[k] or not inside[k] or (wet[k] and kind != "street_lamp"):
             continue
         x, y = round(x, 3) + 0.0, round(y, 3) + 0.0
@@ -245,5 +249,7 @@ def _kept(
         if any(math.dist(p, (x, y)) < MIN_SPACING for p in near):
             continue
         cells.setdefault((cx, cy), []).append((x, y))
-        kept.append(StreetFurniture(id=f"furniture-{len(kept) + 1}", position=(x, y), kind=kind))
+        kept.append(
+            StreetFurniture(id=f"furniture-{len(kept) + 1}", position=(x, y), kind=kind, shelter=shelter)
+        )
     return kept

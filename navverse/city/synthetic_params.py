@@ -107,3 +107,5 @@ class SyntheticCityParams(BaseModel):
     """Mean distance between fire hydrants along a street."""
     bus_stop_spacing: Annotated[float, Field(ge=100.0, le=5000.0)] = 350.0
     """Mean distance between bus stops along an arterial (a stop on each side)."""
+    bus_shelter_share: _Share = 0.5
+    """Share of bus stops with a shelter (``shelter=yes``)."""

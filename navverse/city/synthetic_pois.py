@@ -52,6 +52,8 @@ POI_TABLE: tuple[tuple[str, str, int, tuple[str, ...]], ...] = (
     ("shop", "kiosk", 2, ("Kiosk", "News")),
     ("shop", "electronics", 2, ("Electronics", "Digital")),
     ("shop", "furniture", 2, ("Furniture", "Interiors")),
+    ("amenity", "school", 2, ("Primary School", "School", "Academy", "High School")),
+    ("amenity", "kindergarten", 1, ("Kindergarten", "Nursery", "Day Nursery")),
     ("amenity", "post_office", 1, ("Post Office",)),
     ("amenity", "ice_cream", 1, ("Gelateria", "Ice Cream")),
     ("amenity", "veterinary", 1, ("Veterinary Clinic", "Vets")),
@@ -64,7 +66,7 @@ POI_TABLE: tuple[tuple[str, str, int, tuple[str, ...]], ...] = (
     ("shop", "travel_agency", 1, ("Travel", "Holidays")),
 )
 """``(key, value, weight, name labels)`` of each place category; a category is drawn with
-probability weight / sum of weights (restaurant 14 / 124 ≈ 11 %, travel agency 1 / 124)."""
+probability weight / sum of weights (restaurant 14 / 127 ≈ 11 %, travel agency 1 / 127)."""
 
 _WEIGHTS = np.array([row[2] for row in POI_TABLE], dtype=float) / sum(row[2] for row in POI_TABLE)
 

@@ -13,7 +13,7 @@ from shapely.strtree import STRtree
 
 from navverse.city.map import StreetFurniture
 from navverse.city.scene import CityGeometry, geometry_plan
-from navverse.city.street_objects import MAPPED_CATEGORIES, footprint, plan_street_objects
+from navverse.city.street_objects import MAPPED_CATEGORIES, fair_shares, footprint, plan_street_objects
 from navverse.city.street_zones import street_zones
 from navverse.city.synthetic import SyntheticCityParams, synthetic_city
 
@@ -37,6 +37,12 @@ SIZES = {
     "bike_rack": (2.0, 0.6, 0.9),
     "post_box": (0.5, 0.5, 1.3),
     "vending_machine": (0.9, 0.8, 1.9),
+    "ticket_machine": (0.6, 0.5, 1.95),
+    "bollard": (0.4, 0.4, 1.2),
+    "stop_sign": (0.92, 0.1, 3.0),
+    "drinking_fountain": (0.95, 0.65, 1.1),
+    "recycling_bin": (1.6, 0.6, 1.2),
+    "bus_shelter": (3.5, 1.6, 2.6),
 }
 
 
@@ -74,13 +80,20 @@ def test_no_two_objects_overlap(street) -> None:
 def test_mapped_furniture_stands_at_its_node_or_is_skipped_with_a_reason(street) -> None:
     city, _, _, placed = street
     mapped = {f"map:{f.id}": f for f in city.furniture}
-    placed_mapped = [p for p in placed.placements if p.source in mapped]
+    placed_mapped = [p for p in placed.placements if p.source in mapped and p.category != "bus_shelter"]
     for p in placed_mapped:
         item = mapped[p.source]
         assert p.category == MAPPED_CATEGORIES[item.kind]
         if item.kind != "traffic_signals":  # a signal's light moves off the road to the corner
             assert math.dist((p.x, p.y), item.position) <= 0.5 + 1e-9
-    assert len(placed_mapped) + sum(placed.skipped.values()) == len(city.furniture)
+    # Shelters stand beside the stops tagged with one, under the stop's source.
+    shelters = [p for p in placed.placements if p.category == "bus_shelter"]
+    assert all(mapped[p.source].kind == "bus_stop" and mapped[p.source].shelter for p in shelters)
+    stops = [p for p in placed_mapped if mapped[p.source].shelter]
+    unsheltered = placed.skipped.get("bus_shelter: no room beside its stop", 0)
+    assert stops and len(shelters) + unsheltered == len(stops)
+    skipped = sum(n for reason, n in placed.skipped.items() if not reason.startswith("bus_shelter:"))
+    assert len(placed_mapped) + skipped == len(city.furniture)
     assert all(":" in reason for reason in placed.skipped)  # "<category>: <why>"
     kinds = Counter(mapped[p.source].kind for p in placed_mapped)
     assert kinds["tree"] > 50 and kinds["street_lamp"] > 20
@@ -94,6 +107,32 @@ def test_the_grammar_fills_zones_and_the_budget_holds(street) -> None:
     assert again == placed
     capped = plan_street_objects(city, plan, zones, SIZES.__getitem__, np.random.default_rng(4), budget=100)
     assert len(capped.placements) == 100 and capped.skipped["mapped furniture: over the density cap"] > 0
+
+
+def test_fair_shares_meet_small_claims_and_split_the_rest_evenly() -> None:
+    assert fair_shares([1000, 30, 5, 300], 100) == [32, 30, 5, 33]
+    assert fair_shares([4, 2], 10) == [4, 2]
+    assert sum(fair_shares([7, 7, 7], 10)) == 10
+    assert fair_shares([], 5) == []
+
+
+def test_a_tight_budget_is_shared_by_the_rules_not_spent_on_the_first(street) -> None:
+    """Lamps and trees alone would fill a small budget; shared fairly, the rarer rules still place."""
+    city, plan, zones, _ = street
+    bare = city.model_copy(update={"furniture": ()})
+    full = plan_street_objects(bare, plan, zones, SIZES.__getitem__, np.random.default_rng(4))
+    every = Counter(p.category for p in full.placements)
+    budget = every["street_lamp"] // 2
+    capped = plan_street_objects(
+        bare, plan, zones, SIZES.__getitem__, np.random.default_rng(4), budget=budget
+    )
+    got = Counter(p.category for p in capped.placements)
+    assert len(capped.placements) == budget
+    assert set(got) == set(every)  # every category the uncapped grammar places still appears
+    # Uncapped, lamps and trees are most of what stands; capped, no category takes much more than
+    # an equal share.
+    assert every["street_lamp"] + every["deciduous_tree"] > 0.6 * sum(every.values())
+    assert max(got.values()) <= 2 * budget / len(every)
 
 
 def _stops_by_parks(city, plan, count: int):
