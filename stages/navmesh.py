@@ -93,6 +93,10 @@ def navmesh(ctx: StageContext, params: NavmeshParams) -> None:
     statistics = annotations.statistics.model_copy(update={"navigable_area_m2": info.navigable_area_m2})
     annotations = annotations.model_copy(update={"statistics": statistics})
     _link_or_copy(source.usd, files.usd)
+    if source.textures.is_dir():  # the images a textured scene.usdc names beside it
+        files.textures.mkdir(exist_ok=True)
+        for image in sorted(source.textures.glob("*.png")):
+            _link_or_copy(image, files.textures / image.name)
     save_annotations(annotations, files.annotations)
     finder.save(files.navmesh)
     write_navmesh_info(info, files.navmesh_info)

@@ -3,7 +3,9 @@
 A scene directory ``<scene_id>/`` holds :data:`SCENE_USD` (geometry, labels, physics),
 :data:`SCENE_JSON` (annotations) and :data:`BEV_PNG` (a bird's-eye-view picture); the navmesh stage
 adds :data:`NAVMESH_BIN` (the navmesh) and :data:`NAVMESH_JSON` (its settings, area types and
-statistics). File names are defined here and nowhere else.
+statistics). A scene with textured meshes also has :data:`TEXTURES_DIR` ``/<name>.png``, the images
+the USD file refers to (written by :func:`~navverse.scene.usd.export_usd`). File names are defined
+here and nowhere else.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ from navverse.errors import SceneError
 from navverse.scene.annotations import SceneAnnotations, load_annotations, save_annotations
 from navverse.scene.bev import render_bev
 from navverse.scene.geometry import Scene
-from navverse.scene.usd import export_usd, scene_from_usd
+from navverse.scene.usd import TEXTURES_DIR, export_usd, scene_from_usd
 
 __all__ = [
     "BEV_PNG",
@@ -24,6 +26,7 @@ __all__ = [
     "NAVMESH_JSON",
     "SCENE_JSON",
     "SCENE_USD",
+    "TEXTURES_DIR",
     "SceneFiles",
     "read_annotations",
     "read_scene",
@@ -58,6 +61,11 @@ class SceneFiles:
     def bev(self) -> Path:
         """The bird's-eye-view picture."""
         return self.root / BEV_PNG
+
+    @property
+    def textures(self) -> Path:
+        """The directory of the texture images (absent in a scene without textures)."""
+        return self.root / TEXTURES_DIR
 
     @property
     def navmesh(self) -> Path:
@@ -143,11 +151,17 @@ def read_scene(scene_dir: Path) -> Scene:
 
 
 def scene_hash(scene_dir: str | Path) -> str:
-    """SHA-256 over a built scene directory's ``scene.json``, ``navmesh.bin`` and ``scene.usdc``: the
-    ``scene_hashes`` of a dataset manifest."""
+    """SHA-256 over a built scene directory's ``scene.json``, ``navmesh.bin``, ``scene.usdc`` and
+    texture images (``textures/*.png``, in name order): the ``scene_hashes`` of a dataset manifest. A
+    scene without textures hashes as it did before scenes had them."""
+    root = Path(scene_dir)
+    texture_dir = root / TEXTURES_DIR
+    # Hidden names are temporary files of interrupted writes (navverse.files), not textures.
+    textures = sorted(t.name for t in texture_dir.glob("*.png") if not t.name.startswith("."))
+    names = [SCENE_JSON, NAVMESH_BIN, SCENE_USD, *(f"{TEXTURES_DIR}/{t}" for t in textures)]
     digest = hashlib.sha256()
-    for name in (SCENE_JSON, NAVMESH_BIN, SCENE_USD):
-        file = Path(scene_dir) / name
+    for name in names:
+        file = root / name
         if file.is_file():
             digest.update(name.encode())
             digest.update(file.read_bytes())

@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 from navverse.scene.annotations import ObjectAnnotation, SceneAnnotations
 from navverse.scene.naming import is_identifier
 
-__all__ = ["LabeledMesh", "MeshData", "Scene", "SceneObject", "Surface", "yaw_matrix"]
+__all__ = ["LabeledMesh", "MeshData", "Scene", "SceneObject", "Surface", "Texture", "yaw_matrix"]
 
 
 def yaw_matrix(yaw: float) -> np.ndarray:
@@ -32,6 +32,39 @@ def _frozen(array: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
+class Texture:
+    """An sRGB image that textured faces show through their UV coordinates.
+
+    Parameters
+    ----------
+    name : str
+        A USD identifier, unique within a scene: the image is written as ``textures/<name>.png``
+        beside ``scene.usdc``. Two textures of one scene with the same name must hold the same image.
+    image : ndarray of uint8, shape (H, W, 3)
+        Row 0 is the top of the image (``v = 1``), column 0 its left edge (``u = 0``).
+    """
+
+    name: str
+    image: np.ndarray
+
+    def __post_init__(self) -> None:
+        if not is_identifier(self.name):
+            raise ValueError(f"texture name {self.name!r} is not a valid USD identifier")
+        image = np.asarray(self.image)
+        if image.ndim != 3 or image.shape[2] != 3 or image.shape[0] < 1 or image.shape[1] < 1:
+            raise ValueError(f"texture {self.name!r}: image must have shape (H, W, 3), got {image.shape}")
+        if image.dtype != np.uint8:
+            raise ValueError(f"texture {self.name!r}: image must be uint8, got {image.dtype}")
+        object.__setattr__(self, "image", _frozen(np.array(image, dtype=np.uint8)))
+
+    def same_image(self, other: Texture) -> bool:
+        """Whether ``other`` holds the same pixels."""
+        return self.image is other.image or (
+            self.image.shape == other.image.shape and bool(np.array_equal(self.image, other.image))
+        )
+
+
+@dataclass(frozen=True, eq=False)
 class MeshData:
     """A triangle mesh.
 
@@ -42,7 +75,16 @@ class MeshData:
     faces : ndarray, shape (M, 3)
         Vertex indices per triangle (counter-clockwise seen from outside); stored as int64.
     face_colors : ndarray, shape (M, 3), optional
-        sRGB colour per face, 0..255; stored as uint8.
+        sRGB colour per face, 0..255; stored as uint8. A textured face keeps its colour too (what
+        viewers without textures show).
+    face_uvs : ndarray, shape (M, 3, 2), optional
+        Texture coordinates of each face's three corners (``u`` right, ``v`` up, 0..1 over the
+        image; values outside repeat it); stored as float32. Given with ``face_texture``.
+    face_texture : ndarray, shape (M,), optional
+        Index into ``textures`` of each face's texture, ``-1`` for an untextured face; stored as
+        int16.
+    textures : tuple of Texture
+        The textures the faces index.
 
     Notes
     -----
@@ -52,6 +94,9 @@ class MeshData:
     vertices: np.ndarray
     faces: np.ndarray
     face_colors: np.ndarray | None = None
+    face_uvs: np.ndarray | None = None
+    face_texture: np.ndarray | None = None
+    textures: tuple[Texture, ...] = ()
 
     def __post_init__(self) -> None:
         vertices = np.array(self.vertices, dtype=np.float64)
@@ -84,6 +129,38 @@ class MeshData:
             ):
                 raise ValueError("face_colors must hold integers in 0..255")
             object.__setattr__(self, "face_colors", _frozen(np.array(colors_in, dtype=np.uint8)))
+        self._check_textures(len(faces))
+
+    def _check_textures(self, num_faces: int) -> None:
+        if (self.face_uvs is None) != (self.face_texture is None):
+            raise ValueError("face_uvs and face_texture come together: give both or neither")
+        object.__setattr__(self, "textures", tuple(self.textures))
+        if self.face_uvs is None:
+            if self.textures:
+                raise ValueError("textures need face_uvs and face_texture")
+            return
+        uvs = np.array(self.face_uvs, dtype=np.float32)
+        if uvs.shape != (num_faces, 3, 2):
+            raise ValueError(f"face_uvs must have shape ({num_faces}, 3, 2), got {uvs.shape}")
+        if not np.isfinite(uvs).all():
+            raise ValueError("face_uvs must be finite")
+        index = np.asarray(self.face_texture)
+        if index.shape != (num_faces,) or (index.size and not np.issubdtype(index.dtype, np.integer)):
+            raise ValueError(f"face_texture must hold {num_faces} integers, got shape {index.shape}")
+        if index.size and (index.min() < -1 or index.max() >= len(self.textures)):
+            raise ValueError(
+                f"face_texture must be in [-1, {len(self.textures)}), got [{index.min()}, {index.max()}]"
+            )
+        names = [t.name for t in self.textures]
+        if len(set(names)) != len(names):
+            raise ValueError(f"textures of one mesh need distinct names, got {names}")
+        object.__setattr__(self, "face_uvs", _frozen(uvs))
+        object.__setattr__(self, "face_texture", _frozen(np.array(index, dtype=np.int16)))
+
+    @property
+    def textured(self) -> bool:
+        """Whether any face shows a texture."""
+        return self.face_texture is not None and bool((self.face_texture >= 0).any())
 
     @property
     def num_vertices(self) -> int:
@@ -124,14 +201,17 @@ class MeshData:
         """
         offset = np.asarray(translation, dtype=np.float64).reshape(3)
         vertices = self.vertices @ yaw_matrix(yaw).T + offset
-        return MeshData(vertices, self.faces, self.face_colors)
+        return MeshData(
+            vertices, self.faces, self.face_colors, self.face_uvs, self.face_texture, self.textures
+        )
 
     @staticmethod
     def concatenate(meshes: Iterable[MeshData]) -> MeshData:
         """Join meshes into one, re-indexing faces.
 
         Face colours are kept if every mesh has them (or none has); mixing raises ``ValueError``.
-        No meshes give an empty mesh.
+        Textures are merged by name (one name must hold one image, else ``ValueError``); faces of
+        meshes without textures are untextured. No meshes give an empty mesh.
         """
         meshes = list(meshes)
         if not meshes:
@@ -145,7 +225,27 @@ class MeshData:
         vertices = np.concatenate([m.vertices for m in meshes])
         faces = np.concatenate([m.faces + off for m, off in zip(meshes, offsets, strict=True)])
         colors = np.concatenate([m.face_colors for m in meshes]) if all(with_colors) else None
-        return MeshData(vertices, faces, colors)
+        if not any(m.textures for m in meshes):
+            return MeshData(vertices, faces, colors)
+        textures: dict[str, Texture] = {}
+        uvs, index = [], []
+        for m in meshes:
+            if not m.textures:
+                uvs.append(np.zeros((m.num_faces, 3, 2), np.float32))
+                index.append(np.full(m.num_faces, -1, np.int16))
+                continue
+            remap = []
+            for texture in m.textures:
+                known = textures.setdefault(texture.name, texture)
+                if not known.same_image(texture):
+                    raise ValueError(f"two different images are both named {texture.name!r}")
+                remap.append(list(textures).index(texture.name))
+            table = np.array([*remap, -1], dtype=np.int16)  # -1 indexes the last entry: untextured
+            uvs.append(m.face_uvs)
+            index.append(table[m.face_texture])
+        return MeshData(
+            vertices, faces, colors, np.concatenate(uvs), np.concatenate(index), tuple(textures.values())
+        )
 
     @classmethod
     def box(cls, size: ArrayLike, *, center: ArrayLike = (0.0, 0.0, 0.0)) -> MeshData:

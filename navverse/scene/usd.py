@@ -4,6 +4,7 @@ Layout of the stage (z up, meters, default prim ``/World``)::
 
     /World/PhysicsScene           UsdPhysics.Scene, gravity 9.81 m/s^2 along -z
     /World/Looks/<class>          UsdPreviewSurface per terrain class (+ ``objects``)
+    /World/Looks/Textures/<name>  UsdPreviewSurface showing texture <name> (only in textured scenes)
     /World/Physics/<class>        physics material per terrain class (+ ``objects``)
     /World/Terrain/<surface>      Mesh, collider, terrain class, semantic label
     /World/Objects/<name>         Xform (translate, rotateZ) with category, instance id, size, label
@@ -14,22 +15,31 @@ Vertex positions are stored as ``point3f`` (float32, ~0.1 mm at 1 km from the or
 placements use double-precision xform ops. Colours are stored in ``displayColor`` as linear RGB
 (converted from the sRGB values of the annotations) and the look materials read that primvar, so
 per-face colours show in usdview and Isaac Sim.
+
+Textured meshes also hold ``primvars:st`` (faceVarying texture coordinates, one per face corner) and
+one ``GeomSubset`` per texture (family ``materialBind``, its faces) bound to the texture's material,
+a ``UsdUVTexture`` reading ``./textures/<name>.png`` beside the ``.usdc`` file. Faces in no subset
+keep the mesh's own look. Subsets are bound to the mesh's physics material too, so per-subset
+physics resolves to the same friction.
 """
 
 from __future__ import annotations
 
 import math
+import os
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from PIL import Image, UnidentifiedImageError
 from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdPhysics, UsdSemantics, UsdShade, Vt
 
 from navverse.errors import SceneError, rebuild_hint
 from navverse.files import atomic_path
 from navverse.scene.annotations import BuildingAnnotation, SceneAnnotations
 from navverse.scene.colors import default_color
-from navverse.scene.geometry import MeshData, Scene, SceneObject, Surface
+from navverse.scene.geometry import MeshData, Scene, SceneObject, Surface, Texture
 from navverse.scene.naming import LOOKS_ROOT, OBJECTS_ROOT, PHYSICS_ROOT, TERRAIN_ROOT, WORLD_PATH
 from navverse.scene.usd_buildings import read_buildings, write_buildings
 
@@ -42,6 +52,7 @@ __all__ = [
     "OBJECT_FRICTION",
     "OBJECT_MATERIAL",
     "SEMANTIC_TAXONOMY",
+    "TEXTURES_DIR",
     "UsdObject",
     "UsdScene",
     "UsdSurface",
@@ -49,6 +60,7 @@ __all__ = [
     "physics_materials",
     "read_usd",
     "scene_from_usd",
+    "texture_asset_path",
 ]
 
 GRAVITY = 9.81
@@ -61,6 +73,13 @@ ATTR_CATEGORY = "navverse:category"
 ATTR_INSTANCE_ID = "navverse:instanceId"
 ATTR_SIZE = "navverse:size"
 OBJECT_MESH_NAME = "mesh"
+TEXTURES_DIR = "textures"
+TEXTURE_LOOKS = "Textures"
+ST_PRIMVAR = "st"
+_TEXTURE_SUBSET_PREFIX = "texture_"
+_TEXTURE_SHADER = "UsdUVTexture"
+# zlib level of the texture PNGs: fixed, so the same pixels always give the same bytes.
+_PNG_COMPRESS_LEVEL = 6
 
 # float32 storage of friction and positions; comparisons against scene.json use these tolerances.
 _FRICTION_TOL = 1e-6
@@ -106,21 +125,80 @@ def export_usd(scene: Scene, path: Path) -> None:
     ------
     SceneError
         If `path` does not end in ``.usdc`` or its directory does not exist.
+    ValueError
+        If two textures of the scene share a name but not their pixels, or a textured scene has a
+        terrain class named ``Textures`` (the prim that holds the texture materials).
+
+    Notes
+    -----
+    The textures the faces use are written first, as ``textures/<name>.png`` beside `path` (each
+    atomically; the same pixels always give the same bytes), so a reader of the new ``.usdc`` finds
+    them. Other files in ``textures/`` are left alone.
     """
     path = Path(path)
     if path.suffix != ".usdc":
         raise SceneError(f"USD scenes are written as crate files; give a path ending in '.usdc', not {path}")
     if not path.parent.is_dir():
         raise SceneError(f"cannot write {path}: directory {path.parent} does not exist; create it first")
+    textures = _scene_textures(scene)
+    if textures and TEXTURE_LOOKS in scene.annotations.terrain_classes:
+        raise ValueError(f"terrain class name {TEXTURE_LOOKS!r} clashes with the scope of the texture looks")
+    _write_textures(textures.values(), path.parent / TEXTURES_DIR)
     # CreateNew refuses a path whose layer is still open in this process: the temporary name is fresh.
     with atomic_path(path) as tmp:
         stage = Usd.Stage.CreateNew(str(tmp))
-        _populate(stage, scene)
+        _populate(stage, scene, textures)
         stage.Save()
         del stage
 
 
-def _populate(stage: Usd.Stage, scene: Scene) -> None:
+def texture_asset_path(name: str) -> str:
+    """The asset path of texture `name` as a scene file refers to it, relative to the ``.usdc``.
+
+    Parameters
+    ----------
+    name : str
+        The texture's name.
+
+    Returns
+    -------
+    str
+        ``./textures/<name>.png``.
+    """
+    return f"./{TEXTURES_DIR}/{name}.png"
+
+
+def _used_textures(mesh: MeshData) -> list[Texture]:
+    if not mesh.textured:
+        return []
+    used = np.unique(mesh.face_texture[mesh.face_texture >= 0])
+    return [mesh.textures[i] for i in used]
+
+
+def _scene_textures(scene: Scene) -> dict[str, Texture]:
+    """The textures any face of the scene shows, by name, sorted by name."""
+    meshes = [s.mesh for s in scene.surfaces] + [o.mesh for o in scene.objects]
+    found: dict[str, Texture] = {}
+    for texture in (t for mesh in meshes for t in _used_textures(mesh)):
+        known = found.setdefault(texture.name, texture)
+        if not known.same_image(texture):
+            raise ValueError(f"two different images of the scene are both named {texture.name!r}")
+    return dict(sorted(found.items()))
+
+
+def _write_textures(textures: Iterable[Texture], directory: Path) -> None:
+    textures = list(textures)
+    if not textures:
+        return
+    directory.mkdir(exist_ok=True)
+    for texture in textures:
+        with atomic_path(directory / f"{texture.name}.png") as tmp:
+            Image.fromarray(texture.image).save(
+                tmp, format="PNG", compress_level=_PNG_COMPRESS_LEVEL, optimize=False
+            )
+
+
+def _populate(stage: Usd.Stage, scene: Scene, textures: Mapping[str, Texture]) -> None:
     UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
     UsdGeom.SetStageMetersPerUnit(stage, 1.0)
     UsdPhysics.SetStageKilogramsPerUnit(stage, 1.0)
@@ -140,6 +218,7 @@ def _populate(stage: Usd.Stage, scene: Scene) -> None:
         physics[name] = _define_physics_material(stage, name, terrain_class.friction)
     looks[OBJECT_MATERIAL] = _define_look(stage, OBJECT_MATERIAL, (200, 200, 200))
     physics[OBJECT_MATERIAL] = _define_physics_material(stage, OBJECT_MATERIAL, OBJECT_FRICTION)
+    texture_looks = _define_texture_looks(stage, textures)
 
     UsdGeom.Xform.Define(stage, TERRAIN_ROOT)
     for surface in scene.surfaces:
@@ -147,6 +226,7 @@ def _populate(stage: Usd.Stage, scene: Scene) -> None:
         mesh = _define_mesh(stage, f"{TERRAIN_ROOT}/{surface.name}", surface.mesh, color)
         prim = mesh.GetPrim()
         _make_collider(prim, looks[surface.terrain_class], physics[surface.terrain_class])
+        _bind_textures(mesh, surface.mesh, texture_looks, physics[surface.terrain_class])
         prim.CreateAttribute(ATTR_TERRAIN_CLASS, Sdf.ValueTypeNames.String, custom=True).Set(
             surface.terrain_class
         )
@@ -154,7 +234,7 @@ def _populate(stage: Usd.Stage, scene: Scene) -> None:
 
     UsdGeom.Xform.Define(stage, OBJECTS_ROOT)
     for obj in scene.objects:
-        _define_object(stage, obj, looks[OBJECT_MATERIAL], physics[OBJECT_MATERIAL])
+        _define_object(stage, obj, looks[OBJECT_MATERIAL], physics[OBJECT_MATERIAL], texture_looks)
     write_buildings(stage, scene.annotations.buildings)
 
 
@@ -169,6 +249,40 @@ def _define_look(stage: Usd.Stage, name: str, color: tuple[int, int, int]) -> Us
     shader.CreateIdAttr("UsdPreviewSurface")
     shader.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(
         reader.ConnectableAPI(), "result"
+    )
+    shader.CreateInput("roughness", Sdf.ValueTypeNames.Float).Set(0.8)
+    shader.CreateInput("metallic", Sdf.ValueTypeNames.Float).Set(0.0)
+    material.CreateSurfaceOutput().ConnectToSource(shader.ConnectableAPI(), "surface")
+    return material
+
+
+def _define_texture_looks(stage: Usd.Stage, textures: Mapping[str, Texture]) -> dict[str, UsdShade.Material]:
+    if not textures:
+        return {}
+    UsdGeom.Scope.Define(stage, f"{LOOKS_ROOT}/{TEXTURE_LOOKS}")
+    return {name: _define_texture_look(stage, name) for name in sorted(textures)}
+
+
+def _define_texture_look(stage: Usd.Stage, name: str) -> UsdShade.Material:
+    """A material showing ``textures/<name>.png`` through the ``st`` coordinates of the mesh."""
+    root = f"{LOOKS_ROOT}/{TEXTURE_LOOKS}/{name}"
+    material = UsdShade.Material.Define(stage, root)
+    reader = UsdShade.Shader.Define(stage, f"{root}/TexCoords")
+    reader.CreateIdAttr("UsdPrimvarReader_float2")
+    reader.CreateInput("varname", Sdf.ValueTypeNames.String).Set(ST_PRIMVAR)
+    reader.CreateOutput("result", Sdf.ValueTypeNames.Float2)
+    texture = UsdShade.Shader.Define(stage, f"{root}/Texture")
+    texture.CreateIdAttr(_TEXTURE_SHADER)
+    texture.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(Sdf.AssetPath(texture_asset_path(name)))
+    texture.CreateInput("st", Sdf.ValueTypeNames.Float2).ConnectToSource(reader.ConnectableAPI(), "result")
+    texture.CreateInput("wrapS", Sdf.ValueTypeNames.Token).Set("repeat")
+    texture.CreateInput("wrapT", Sdf.ValueTypeNames.Token).Set("repeat")
+    texture.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set("sRGB")
+    texture.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
+    shader = UsdShade.Shader.Define(stage, f"{root}/PreviewSurface")
+    shader.CreateIdAttr("UsdPreviewSurface")
+    shader.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(
+        texture.ConnectableAPI(), "rgb"
     )
     shader.CreateInput("roughness", Sdf.ValueTypeNames.Float).Set(0.8)
     shader.CreateInput("metallic", Sdf.ValueTypeNames.Float).Set(0.0)
@@ -202,7 +316,39 @@ def _define_mesh(stage: Usd.Stage, path: str, mesh: MeshData, color: tuple[int, 
     else:
         primvar = usd_mesh.CreateDisplayColorPrimvar(UsdGeom.Tokens.constant)
         primvar.Set(Vt.Vec3fArray([_vec3f(color)]))
+    if mesh.textured:
+        st = UsdGeom.PrimvarsAPI(usd_mesh).CreatePrimvar(
+            ST_PRIMVAR, Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.faceVarying
+        )
+        st.Set(Vt.Vec2fArray.FromNumpy(np.ascontiguousarray(mesh.face_uvs.reshape(-1, 2), dtype=np.float32)))
     return usd_mesh
+
+
+def _bind_textures(
+    usd_mesh: UsdGeom.Mesh,
+    mesh: MeshData,
+    texture_looks: Mapping[str, UsdShade.Material],
+    physics: UsdShade.Material,
+) -> None:
+    """Bind the faces of each texture, a ``materialBind`` subset, to the texture's look.
+
+    The subsets are named ``texture_<name>`` and made in name order. Each is bound to `physics` for
+    purpose ``physics`` too, so whoever resolves physics materials per subset finds the mesh's.
+    """
+    if not mesh.textured:
+        return
+    binding = UsdShade.MaterialBindingAPI(usd_mesh.GetPrim())
+    for index, texture in sorted(enumerate(mesh.textures), key=lambda item: item[1].name):
+        faces = np.flatnonzero(mesh.face_texture == index).astype(np.int32)
+        if faces.size == 0:
+            continue
+        subset = binding.CreateMaterialBindSubset(
+            f"{_TEXTURE_SUBSET_PREFIX}{texture.name}", Vt.IntArray.FromNumpy(faces), UsdGeom.Tokens.face
+        )
+        subset_binding = UsdShade.MaterialBindingAPI.Apply(subset.GetPrim())
+        subset_binding.Bind(texture_looks[texture.name])
+        subset_binding.Bind(physics, UsdShade.Tokens.fallbackStrength, PHYSICS_PURPOSE)
+    binding.SetMaterialBindSubsetsFamilyType(UsdGeom.Tokens.nonOverlapping)
 
 
 def _make_collider(prim: Usd.Prim, look: UsdShade.Material, physics: UsdShade.Material) -> None:
@@ -219,7 +365,11 @@ def _label(prim: Usd.Prim, label: str) -> None:
 
 
 def _define_object(
-    stage: Usd.Stage, obj: SceneObject, look: UsdShade.Material, physics: UsdShade.Material
+    stage: Usd.Stage,
+    obj: SceneObject,
+    look: UsdShade.Material,
+    physics: UsdShade.Material,
+    texture_looks: Mapping[str, UsdShade.Material],
 ) -> None:
     ann = obj.annotation
     xform = UsdGeom.Xform.Define(stage, ann.prim_path)
@@ -232,6 +382,7 @@ def _define_object(
     _label(prim, ann.category)
     mesh = _define_mesh(stage, f"{ann.prim_path}/{OBJECT_MESH_NAME}", obj.mesh, default_color(ann.category))
     _make_collider(mesh.GetPrim(), look, physics)
+    _bind_textures(mesh, obj.mesh, texture_looks, physics)
 
 
 # -------------------------------------------------------------------------------------------- read
@@ -295,7 +446,27 @@ def _malformed(path: Path, what: str) -> SceneError:
     return SceneError(f"{path} is not a NavVerse scene: {what}; {rebuild_hint()}")
 
 
-def _read_mesh(path: Path, prim: Usd.Prim) -> MeshData:
+def _triangle_corners(path: Path, prim: Usd.Prim, counts: np.ndarray, num_indices: int) -> np.ndarray:
+    """Fan-triangulate polygons: the face-vertex (corner) numbers of each triangle, and its polygon.
+
+    Polygon p with n corners starting at s gives triangles (s, s+k+1, s+k+2) for k in 0..n-3 (a
+    no-op for the triangles this module writes). Returns an (T, 4) array: three corners, polygon.
+    """
+    if (counts.size and counts.min() < 3) or counts.sum() != num_indices:
+        raise _malformed(path, f"mesh {prim.GetPath()} has inconsistent face vertex counts")
+    triangles_per_polygon = counts - 2
+    polygon = np.repeat(np.arange(counts.size), triangles_per_polygon)
+    first_triangle = np.cumsum(triangles_per_polygon) - triangles_per_polygon
+    k = np.arange(polygon.size) - np.repeat(first_triangle, triangles_per_polygon)
+    start = (np.cumsum(counts) - counts)[polygon]
+    return np.stack([start, start + k + 1, start + k + 2, polygon], axis=1)
+
+
+def _read_mesh(path: Path, prim: Usd.Prim, *, cache: dict[Path, Texture] | None = None) -> MeshData:
+    """Read a mesh prim as triangles, with face colours and textures when it has them.
+
+    `cache` maps texture files to textures already read, so meshes sharing a file share its image.
+    """
     mesh = UsdGeom.Mesh(prim)
     points = mesh.GetPointsAttr().Get()
     counts = mesh.GetFaceVertexCountsAttr().Get()
@@ -305,26 +476,122 @@ def _read_mesh(path: Path, prim: Usd.Prim) -> MeshData:
     vertices = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     counts_np = np.asarray(counts, dtype=np.int64)
     indices_np = np.asarray(indices, dtype=np.int64)
-    if (counts_np.size and counts_np.min() < 3) or counts_np.sum() != indices_np.size:
-        raise _malformed(path, f"mesh {prim.GetPath()} has inconsistent face vertex counts")
-    # Fan-triangulate polygons (a no-op for the triangles this module writes): polygon p with
-    # n corners starting at s gives triangles (s, s+k+1, s+k+2) for k in 0..n-3.
-    triangles_per_polygon = counts_np - 2
-    polygon = np.repeat(np.arange(counts_np.size), triangles_per_polygon)
-    first_triangle = np.cumsum(triangles_per_polygon) - triangles_per_polygon
-    k = np.arange(polygon.size) - np.repeat(first_triangle, triangles_per_polygon)
-    start = (np.cumsum(counts_np) - counts_np)[polygon]
-    faces = np.stack([indices_np[start], indices_np[start + k + 1], indices_np[start + k + 2]], axis=1)
+    corners = _triangle_corners(path, prim, counts_np, indices_np.size)
+    polygon = corners[:, 3]
+    faces = indices_np[corners[:, :3]].reshape(-1, 3)
     colors = None
     primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar("displayColor")
     if primvar and primvar.GetInterpolation() == UsdGeom.Tokens.uniform:
         values = primvar.Get()
         if values is not None and len(values) == counts_np.size:
             colors = _linear_to_srgb(np.asarray(values, dtype=np.float64).reshape(-1, 3))[polygon]
+    uvs, face_texture, textures = _read_textures(
+        path, prim, corners, counts_np, {} if cache is None else cache
+    )
     try:
-        return MeshData(vertices, faces.reshape(-1, 3), colors)
+        return MeshData(vertices, faces, colors, uvs, face_texture, textures)
     except ValueError as exc:
         raise _malformed(path, f"mesh {prim.GetPath()}: {exc}") from None
+
+
+def _texture_asset(material: UsdShade.Material) -> Sdf.AssetPath | None:
+    """The file of the ``UsdUVTexture`` feeding the material's diffuse colour, if any."""
+    surface, _, _ = material.ComputeSurfaceSource()
+    diffuse = surface.GetInput("diffuseColor") if surface else None
+    sources = diffuse.GetConnectedSources()[0] if diffuse else []
+    for source in sources:
+        shader = UsdShade.Shader(source.source.GetPrim())
+        if shader and shader.GetIdAttr().Get() == _TEXTURE_SHADER:
+            file = shader.GetInput("file")
+            value = file.Get() if file else None
+            return value if isinstance(value, Sdf.AssetPath) and value.path else None
+    return None
+
+
+def _texture_subsets(prim: Usd.Prim) -> list[tuple[np.ndarray, Sdf.AssetPath, str]]:
+    """``(polygon indices, texture file, material path)`` of each textured ``materialBind`` subset."""
+    found = []
+    for subset in UsdShade.MaterialBindingAPI(prim).GetMaterialBindSubsets():
+        material, _ = UsdShade.MaterialBindingAPI(subset.GetPrim()).ComputeBoundMaterial()
+        asset = _texture_asset(material) if material else None
+        if asset is not None:
+            faces = np.asarray(subset.GetIndicesAttr().Get() or [], dtype=np.int64)
+            found.append((faces, asset, str(material.GetPath())))
+    return found
+
+
+def _texture_file(path: Path, asset: Sdf.AssetPath) -> Path:
+    if asset.resolvedPath:
+        return Path(asset.resolvedPath)
+    return Path(os.path.normpath(path.parent / asset.path))
+
+
+def _load_texture(path: Path, file: Path, material: str) -> Texture:
+    """Read texture ``file`` (used by `material` of scene `path`); its name is the file's stem."""
+    if not file.is_file():
+        raise SceneError(
+            f"{path}: texture file {file} (used by material {material}) is missing; {rebuild_hint()}"
+        )
+    try:
+        with Image.open(file) as image:
+            pixels = np.asarray(image.convert("RGB"), dtype=np.uint8)
+    except (OSError, UnidentifiedImageError) as exc:
+        raise SceneError(f"{path}: cannot read texture file {file}: {exc}; {rebuild_hint()}") from None
+    try:
+        return Texture(file.stem, pixels)
+    except ValueError as exc:
+        raise _malformed(path, str(exc)) from None
+
+
+def _read_st(path: Path, prim: Usd.Prim, num_corners: int) -> np.ndarray:
+    """The faceVarying ``st`` coordinates of every face corner, shape (num_corners, 2)."""
+    primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar(ST_PRIMVAR)
+    values = primvar.ComputeFlattened() if primvar else None
+    if (
+        values is None
+        or primvar.GetInterpolation() != UsdGeom.Tokens.faceVarying
+        or len(values) != num_corners
+    ):
+        raise _malformed(
+            path,
+            f"textured mesh {prim.GetPath()} needs faceVarying primvars:{ST_PRIMVAR} "
+            f"with {num_corners} values",
+        )
+    return np.asarray(values, dtype=np.float32).reshape(-1, 2)
+
+
+def _read_textures(
+    path: Path, prim: Usd.Prim, corners: np.ndarray, counts: np.ndarray, cache: dict[Path, Texture]
+) -> tuple[np.ndarray | None, np.ndarray | None, tuple[Texture, ...]]:
+    """``(face_uvs, face_texture, textures)`` of a mesh's triangles; ``(None, None, ())`` if untextured.
+
+    Textures are ordered by name; triangles of polygons in no textured subset get ``-1``.
+    """
+    subsets = _texture_subsets(prim)
+    if not subsets:
+        return None, None, ()
+    num_polygons, num_corners = counts.size, int(counts.sum())
+    st = _read_st(path, prim, num_corners)
+    by_name: dict[str, Texture] = {}
+    polygon_texture = np.full(num_polygons, -1, dtype=np.int64)
+    assignments = []
+    for faces, asset, material in subsets:
+        file = _texture_file(path, asset)
+        if file not in cache:
+            cache[file] = _load_texture(path, file, material)
+        texture = by_name.setdefault(cache[file].name, cache[file])
+        if not texture.same_image(cache[file]):
+            raise _malformed(path, f"mesh {prim.GetPath()} shows two different images named {texture.name!r}")
+        if faces.size and (faces.min() < 0 or faces.max() >= num_polygons):
+            raise _malformed(
+                path, f"subset of {prim.GetPath()} bound to {material} has face indices out of range"
+            )
+        assignments.append((faces, texture.name))
+    names = sorted(by_name)
+    for faces, name in assignments:
+        polygon_texture[faces] = names.index(name)
+    uvs = st[corners[:, :3]]
+    return uvs, polygon_texture[corners[:, 3]].astype(np.int16), tuple(by_name[n] for n in names)
 
 
 def _physics_binding(path: Path, prim: Usd.Prim) -> tuple[str, float, float]:
@@ -378,6 +645,7 @@ def read_usd(path: Path) -> UsdScene:
     path = Path(path)
     stage = _open(path)
     time = Usd.TimeCode.Default()
+    textures: dict[Path, Texture] = {}
     surfaces: list[UsdSurface] = []
     terrain = stage.GetPrimAtPath(TERRAIN_ROOT)
     for prim in terrain.GetChildren() if terrain else ():
@@ -389,7 +657,7 @@ def read_usd(path: Path) -> UsdScene:
                 name=prim.GetName(),
                 prim_path=str(prim.GetPath()),
                 terrain_class=str(_attr(path, prim, ATTR_TERRAIN_CLASS)),
-                mesh=_read_mesh(path, prim),
+                mesh=_read_mesh(path, prim, cache=textures),
                 labels=_labels(prim),
                 physics_material=material,
                 static_friction=static,
@@ -415,7 +683,7 @@ def read_usd(path: Path) -> UsdScene:
                 # USD matrices act on row vectors: row 0 is the image of the local x axis.
                 yaw=math.atan2(matrix[0][1], matrix[0][0]),
                 size=(float(size[0]), float(size[1]), float(size[2])),
-                mesh=_read_mesh(path, mesh_prim),
+                mesh=_read_mesh(path, mesh_prim, cache=textures),
                 labels=_labels(prim),
                 physics_material=material,
                 static_friction=static,
