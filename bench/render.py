@@ -18,6 +18,10 @@ For an indoor scene (``office-s1``), an outdoor one (``curb-street``) and a popu
    on the instance id. TinyRenderer samples pixel corners (its rays pass through ``(col, row + 1)``
    in our image coordinates), ours pixel centres; a second, untimed render of ours with the principal
    point shifted by that half pixel shows how closely the two cameras agree once that is removed.
+5. Textures: on the city, every terrain surface gets a texture made here (one seeded 256 x 256 image
+   per terrain class, mapped along each face's dominant axis, repeating every 2.5 m), and a handful of
+   poses are rendered with and without them, alternately; the printed ratio of median frame times is
+   the cost of texture sampling (target <= 1.30).
 
 Run ``python bench/render.py`` (what ``make bench`` does). Timings are measurements, never
 assertions; the printed load average shows whether other work shared the machine.
@@ -47,7 +51,7 @@ from navverse.errors import NavverseError
 from navverse.nav.scene_navmesh import load_scene_navmesh
 from navverse.scene.colors import default_color
 from navverse.scene.directory import read_scene
-from navverse.scene.geometry import MeshData, Scene
+from navverse.scene.geometry import MeshData, Scene, Surface, Texture
 from navverse.sim.bullet import pybullet as pb
 from navverse.sim.camera import CameraIntrinsics, look_at
 from navverse.sim.render import Frame, SceneRenderer, Shading
@@ -56,6 +60,8 @@ ROOT = Path(__file__).resolve().parent.parent
 TARGETS = ROOT / "data" / "built" / "targets"
 CAMERA_HEIGHT = 0.6
 NEAR, FAR = 0.1, 100.0
+TEXTURE_TILE_M = 2.5  # world size of one repeat of a bench texture
+TEXTURE_PIXELS = 256
 
 
 @dataclass(frozen=True)
@@ -294,6 +300,81 @@ def bench_scene(scene_id: str, args: argparse.Namespace, console: Console) -> di
     }
 
 
+# ---------------------------------------------------------------------- textures
+
+
+def bench_texture(name: str, rng: np.random.Generator) -> Texture:
+    """A noisy brick-like pattern of random hue: rows of offset bricks with darker mortar."""
+    rows, cols = np.mgrid[0:TEXTURE_PIXELS, 0:TEXTURE_PIXELS]
+    brick_h, brick_w = TEXTURE_PIXELS // 8, TEXTURE_PIXELS // 4
+    shifted = cols + (rows // brick_h % 2) * (brick_w // 2)
+    mortar = (rows % brick_h < 3) | (shifted % brick_w < 3)
+    base = rng.uniform(60.0, 220.0, size=3)
+    image = base + rng.normal(0.0, 14.0, size=(TEXTURE_PIXELS, TEXTURE_PIXELS, 1))
+    image[mortar] *= 0.55
+    return Texture(name, np.clip(image, 0, 255).astype(np.uint8))
+
+
+def planar_uvs(mesh: MeshData) -> np.ndarray:
+    """(M, 3, 2) UVs of each face's corners: world coordinates along the two axes other than the face
+    normal's dominant one, per `TEXTURE_TILE_M`."""
+    corners = mesh.vertices[mesh.faces]  # (M, 3, 3)
+    normal = np.abs(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]))
+    dominant = normal.argmax(axis=1)
+    axes = np.array([[1, 2], [0, 2], [0, 1]])[dominant]  # (M, 2): facades get (horizontal, z)
+    uvs = np.take_along_axis(corners, np.broadcast_to(axes[:, None, :], (len(axes), 3, 2)), axis=2)
+    return (uvs / TEXTURE_TILE_M).astype(np.float32)
+
+
+def textured_scene(scene: Scene, seed: int) -> Scene:
+    """The scene with a texture on every terrain surface (one per terrain class)."""
+    rng = np.random.default_rng(seed)
+    textures = {name: bench_texture(name, rng) for name in scene.annotations.terrain_classes}
+    surfaces = []
+    for surface in scene.surfaces:
+        mesh = surface.mesh
+        textured = MeshData(
+            mesh.vertices, mesh.faces, mesh.face_colors, planar_uvs(mesh),
+            np.zeros(mesh.num_faces, np.int16), (textures[surface.terrain_class],),
+        )  # fmt: skip
+        surfaces.append(Surface(surface.name, surface.terrain_class, textured))
+    return replace(scene, surfaces=tuple(surfaces))
+
+
+def bench_textured(scene_id: str, args: argparse.Namespace, console: Console) -> dict[str, Any]:
+    """Frame times of the scene with textured terrain against the same views untextured."""
+    path = scene_dir(scene_id)
+    scene = read_scene(path)
+    poses = camera_poses(path, args.texture_frames, args.seed)
+    intrinsics = CameraIntrinsics.from_hfov(args.width, args.height, args.hfov)
+    plain = SceneRenderer(scene, intrinsics=intrinsics, depth_range=(NEAR, FAR))
+    textured = SceneRenderer(textured_scene(scene, args.seed), intrinsics=intrinsics, depth_range=(NEAR, FAR))
+    times: dict[str, list[float]] = {"plain": [], "textured": []}
+    share = []
+    for pose in [poses[0], *poses]:  # the first pose warms both up
+        for name, renderer in (("plain", plain), ("textured", textured)):  # alternate: same load
+            t0 = time.perf_counter()
+            frame = renderer.render(pose)
+            times[name].append(time.perf_counter() - t0)
+        share.append(float((frame.terrain >= 0).mean()))
+    plain_ms = 1000 * float(np.median(times["plain"][1:]))
+    textured_ms = 1000 * float(np.median(times["textured"][1:]))
+    result = {
+        "frames": len(poses),
+        "textured_pixels": float(np.mean(share[1:])),
+        "plain_median_ms": plain_ms,
+        "textured_median_ms": textured_ms,
+        "ratio": textured_ms / plain_ms,
+    }
+    console.print(
+        f"[bold]{scene_id}[/bold] textured terrain ({result['textured_pixels']:.0%} of pixels textured, "
+        f"{len(poses)} poses): {plain_ms:.1f} ms untextured, {textured_ms:.1f} ms textured (median), "
+        f"ratio {result['ratio']:.2f} (target <= 1.30)",
+        highlight=False,
+    )
+    return result
+
+
 def speed_table(results: dict[str, dict[str, Any]], args: argparse.Namespace) -> Table:
     """One row per scene: frames/s, median wall time and CPU time per frame of both, and their ratio."""
     table = Table(title=f"{args.width}x{args.height}, hfov {args.hfov:g} deg: RGB + depth + instance ids")
@@ -346,10 +427,13 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--width", type=int, default=640)
     parser.add_argument("--height", type=int, default=480)
     parser.add_argument("--hfov", type=float, default=90.0, help="horizontal field of view, degrees")
+    parser.add_argument(
+        "--texture-frames", type=int, default=8, help="poses of the textured measurement (default 8)"
+    )
     parser.add_argument("--json", type=Path, help="also write the results to this file")
     args = parser.parse_args(argv)
-    if args.frames < 1:
-        parser.error("--frames must be >= 1")
+    if args.frames < 1 or args.texture_frames < 1:
+        parser.error("--frames and --texture-frames must be >= 1")
     return args
 
 
@@ -371,6 +455,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         for scene_id in scenes:
             results[scene_id] = bench_scene(scene_id, args, console)
+        texture_result = bench_textured(args.city, args, console)
     except NavverseError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
@@ -395,6 +480,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             "benchmark": "render",
             "args": {k: str(v) for k, v in vars(args).items()},
             "scenes": results,
+            "textured": {args.city: texture_result},
         }
         args.json.write_text(json.dumps(report, indent=1))
         console.print(f"wrote {args.json}", highlight=False)

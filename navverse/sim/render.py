@@ -8,12 +8,17 @@ computed once; a frame only rotates and translates them. Rays are cast in a loca
 scene, so float32 keeps sub-millimetre precision far from the world origin.
 
 Each hit pixel takes the colour of its face (objects: their per-face colours, or their category colour
-when the mesh has none; terrain: the colour of its class, dark ones lifted a little), shaded by
+when the mesh has none; terrain: the colour of its class, dark ones lifted a little) or, on a textured
+face, the bilinear sample of its texture at the hit's interpolated UV (repeating outside 0..1), shaded by
 :class:`Shading`: an ambient term, Lambert from a fixed key light and a weaker opposite fill light, a
 headlight at the camera, a slight fog towards the background colour with distance, and a darker line
 where depth jumps or the label changes (outlines that make furniture stand out against walls of a
-similar colour). Everything per pixel is vectorised numpy on preallocated tables; there is no global
-state, and rendering is deterministic: the same scene, camera and pose give the same bytes.
+similar colour). Pixels that hit nothing show the background colour or, with ``Shading.sky``, a sky
+graded by the ray's elevation (the default for outdoor and ``i2o`` scenes). Every texture of the scene
+is packed once into one flat texel pool (an atlas without resizing), so sampling is index arithmetic;
+scenes without textures skip it entirely. Everything per pixel is vectorised numpy on preallocated
+tables; there is no global state, and rendering is deterministic: the same scene, camera and pose give
+the same bytes.
 """
 
 from __future__ import annotations
@@ -27,7 +32,7 @@ import open3d as o3d
 from numpy.typing import ArrayLike
 
 from navverse.scene.colors import default_color
-from navverse.scene.geometry import Scene
+from navverse.scene.geometry import MeshData, Scene, Texture
 from navverse.sim.camera import CameraIntrinsics, check_pose
 
 __all__ = ["BACKGROUND_CLASS", "BACKGROUND_ID", "DEFAULT_INTRINSICS", "Frame", "SceneRenderer", "Shading"]
@@ -41,6 +46,7 @@ DEFAULT_INTRINSICS = CameraIntrinsics.from_hfov()
 """640 x 480 pixels, 90 degrees horizontal field of view, square pixels, centred principal point."""
 
 _LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)  # Rec. 709 weights
+_SKY_SCENE_TYPES = ("outdoor", "i2o")  # scene types whose default shading shows a sky
 
 
 @dataclass(frozen=True, eq=False)
@@ -78,7 +84,8 @@ class Frame:
 class Shading:
     """How hit pixels are lit. The shade factor multiplies the face's sRGB colour.
 
-    ``shade = ambient + key * max(0, n . light) + fill * max(0, -n . light) + headlight * |cos a|``,
+    ``shade = ambient + key * max(0, n . light) + fill * max(0, -n . light) + headlight * |cos a|``
+    (on a textured face it multiplies the sampled texel colour instead),
     with the normal ``n`` turned towards the camera (surfaces are two-sided) and ``a`` the angle between
     the ray and ``n``: a key light, a weaker fill light from the opposite direction (so ceilings and
     the far sides of objects are not flat), and a light at the camera. Fog then blends the colour
@@ -99,12 +106,18 @@ class Shading:
     edge_jump : float
         Relative depth jump that counts as an outline (> 0).
     background : tuple of int
-        sRGB colour where nothing is hit, also the fog colour.
+        sRGB colour where nothing is hit (without `sky`), also the fog colour.
     terrain_lighten : float
         Dark terrain class colours are lifted towards white, by ``terrain_lighten * (1 - luma)``
         (luma of the colour in [0, 1]); `terrain_lighten` is in [0, 1]. Class colours are chosen to
         read in bird's-eye views, where walls are dark; seen from inside a room, lighter walls read
         better, while light floors and ceilings stay as they are.
+    sky : bool
+        Pixels that hit nothing show a sky instead of `background`: `sky_horizon` at and below the
+        horizon, blending linearly in the sine of the ray's elevation to `sky_zenith` straight up
+        (world +z). Sky pixels get no fog and no outline.
+    sky_horizon, sky_zenith : tuple of int
+        sRGB colours of the sky at the horizon and at the zenith.
     """
 
     light: tuple[float, float, float] = (0.35, 0.55, 0.76)
@@ -118,6 +131,9 @@ class Shading:
     edge_jump: float = 0.06
     background: tuple[int, int, int] = (206, 220, 236)
     terrain_lighten: float = 0.4
+    sky: bool = False
+    sky_horizon: tuple[int, int, int] = (200, 214, 230)
+    sky_zenith: tuple[int, int, int] = (110, 150, 205)
 
     def __post_init__(self) -> None:
         light = np.asarray(self.light, dtype=np.float64)
@@ -132,8 +148,10 @@ class Shading:
             raise ValueError("edge_shade must be in [0, 1] and edge_jump > 0")
         if not 0.0 <= self.terrain_lighten <= 1.0:
             raise ValueError(f"terrain_lighten must be in [0, 1], got {self.terrain_lighten!r}")
-        if len(self.background) != 3 or not all(0 <= int(c) <= 255 for c in self.background):
-            raise ValueError(f"background must be an sRGB triple in 0..255, got {self.background!r}")
+        for name in ("background", "sky_horizon", "sky_zenith"):
+            color = getattr(self, name)
+            if len(color) != 3 or not all(0 <= int(c) <= 255 for c in color):
+                raise ValueError(f"{name} must be an sRGB triple in 0..255, got {color!r}")
 
 
 def _unit_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -159,8 +177,9 @@ class SceneRenderer:
     hidden_classes : sequence of str
         Terrain classes left out of the images (e.g. ``("ceiling",)`` for a view from above); names
         the scene does not have are ignored, so one list serves every scene.
-    shading : Shading
-        Lighting parameters.
+    shading : Shading, optional
+        Lighting parameters; by default ``Shading()``, with the sky on for ``outdoor`` and ``i2o``
+        scenes.
     threads : int
         Ray-casting threads; 0 uses every core.
 
@@ -182,12 +201,14 @@ class SceneRenderer:
         intrinsics: CameraIntrinsics = DEFAULT_INTRINSICS,
         depth_range: tuple[float, float] = (0.1, 1000.0),
         hidden_classes: Sequence[str] = (),
-        shading: Shading = Shading(),
+        shading: Shading | None = None,
         threads: int = 0,
     ) -> None:
         near, far = (float(v) for v in depth_range)
         if not (math.isfinite(near) and math.isfinite(far) and 0.0 < near < far):
             raise ValueError(f"depth_range must be (near, far) with 0 < near < far, got {depth_range!r}")
+        if shading is None:
+            shading = Shading(sky=scene.annotations.scene_type in _SKY_SCENE_TYPES)
         self._intrinsics = intrinsics
         self._near, self._far = near, far
         self._shading = shading
@@ -210,6 +231,9 @@ class SceneRenderer:
         if len(face_colors) != num_faces:  # both follow Scene.world_mesh's order: surfaces, then objects
             raise AssertionError("face colours and the world mesh disagree on the number of faces")
         self._background = np.asarray(shading.background, dtype=np.float32)
+        self._textures = _texture_tables(scene, hidden_classes)  # None: no textured face
+        if self._textures is not None and len(self._textures.face_texture) != num_faces + 1:
+            raise AssertionError("face textures and the world mesh disagree on the number of faces")
         colors = np.vstack([face_colors, self._background[None]])
         self._channels = [np.ascontiguousarray(colors[:, c]) for c in range(3)]
         self._instance = np.append(labeled.instance_id, np.int32(BACKGROUND_ID)).astype(np.int32)
@@ -295,8 +319,9 @@ class SceneRenderer:
         poses = [check_pose(p) for p in camera_to_world]
         return [self._shade(self._cast(pose)) for pose in poses]
 
-    def _cast(self, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Cast the pixel rays of `pose`; return the ray parameter (z-depth past the near plane) and face."""
+    def _cast(self, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Cast the pixel rays of `pose`; return the ray parameter (z-depth past the near plane), the face
+        and the barycentric ``(u, v)`` of the hit in it (hit = ``(1-u-v) p0 + u p1 + v p2``)."""
         rotation = pose[:3, :3].astype(np.float32)
         eye = (pose[:3, 3] - self._origin).astype(np.float32)
         # World direction of pixel (row, col) = x[col] * R[:, 0] + y[row] * R[:, 1] + R[:, 2].
@@ -309,11 +334,11 @@ class SceneRenderer:
             np.add(per_row[:, k, None], per_col[None, :, k], out=rays[..., 3 + k])
             np.add(origin_row[:, k, None], origin_col[None, :, k], out=rays[..., k])
         result = self._raycaster.cast_rays(o3d.core.Tensor.from_numpy(rays), nthreads=self._threads)
-        return result["t_hit"].numpy(), result["primitive_ids"].numpy()
+        return result["t_hit"].numpy(), result["primitive_ids"].numpy(), result["primitive_uvs"].numpy()
 
-    def _shade(self, hits: tuple[np.ndarray, np.ndarray]) -> Frame:
+    def _shade(self, hits: tuple[np.ndarray, np.ndarray, np.ndarray]) -> Frame:
         """Turn the hits of the last cast (whose rays are still in the buffer) into the four images."""
-        t_hit, face = hits
+        t_hit, face, barycentric = hits
         shading = self._shading
         depth = t_hit + np.float32(self._near)
         missed = ~(depth <= self._far)  # inf (no hit) compares False
@@ -350,10 +375,18 @@ class SceneRenderer:
             fog -= np.float32(1.0)
             fog *= np.float32(-shading.fog)  # fog * (1 - exp(-depth / distance)); 0 where missed
             shade *= np.float32(1.0) - fog
+        # Pixels whose colour is not their face's: textured hits and, with a sky, misses (shade 1, no fog).
+        overrides: list[tuple[np.ndarray, list[np.ndarray]]] = []
+        if self._textures is not None:
+            overrides.append(_sample_textures(self._textures, face, barycentric))
+        if shading.sky:
+            overrides.append(self._sky(missed))
         rgb = np.empty((*face.shape, 3), dtype=np.uint8)
         channel = np.empty(face.shape, dtype=np.float32)
         for c in range(3):  # 2-D operations per channel are faster than (H, W, 3) broadcasts
             self._channels[c].take(face, out=channel)
+            for pixels, colors in overrides:
+                channel.put(pixels, colors[c])
             channel *= shade
             if fog is not None:
                 channel += fog * self._background[c]
@@ -361,6 +394,18 @@ class SceneRenderer:
             np.rint(channel, out=channel)
             rgb[..., c] = channel
         return Frame(rgb=rgb, depth=depth, semantic=semantic, terrain=terrain)
+
+    def _sky(self, missed: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
+        """Flat indices of the missed pixels and their three sky channels, by the elevation of their rays."""
+        pixels = np.flatnonzero(missed)
+        sine = self._rays[..., 5].take(pixels)  # world z of the ray direction
+        sine *= self._inv_length.take(pixels)
+        np.clip(sine, 0.0, 1.0, out=sine)
+        horizon = np.asarray(self._shading.sky_horizon, dtype=np.float32)
+        zenith = np.asarray(self._shading.sky_zenith, dtype=np.float32)
+        return pixels, [
+            np.float32(h) + sine * np.float32(z - h) for h, z in zip(horizon, zenith, strict=True)
+        ]
 
 
 def _outlines(depth: np.ndarray, semantic: np.ndarray, terrain: np.ndarray, *, jump: float) -> np.ndarray:
@@ -380,6 +425,169 @@ def _outlines(depth: np.ndarray, semantic: np.ndarray, terrain: np.ndarray, *, j
         edges[tuple(a)] |= differ & a_nearer
         edges[tuple(b)] |= differ & ~a_nearer
     return edges
+
+
+@dataclass(frozen=True, eq=False)
+class _TextureTables:
+    """Per-face texture references and every texture of a scene packed into one texel pool.
+
+    Attributes
+    ----------
+    face_texture : ndarray of int32, shape (F + 1,)
+        Texture index per face of the world mesh, ``-1`` for untextured faces and for the extra row of
+        pixels that hit nothing.
+    face_texels : ndarray of float32, shape (F, 6)
+        Per face, its texel coordinates ``x = u * width - 0.5`` and ``y = (1 - v) * height - 0.5`` (texel
+        centres at whole numbers, row 0 at ``v = 1``) as ``x0, x1 - x0, x2 - x0, y0, y1 - y0, y2 - y0``
+        over its corners, shifted by whole repeats of the texture to keep them small (zeros on untextured
+        faces): a hit at barycentric ``(a, b)`` is at ``x0 + a (x1 - x0) + b (x2 - x0)``.
+    pool : ndarray of uint8, shape (4 N,)
+        The texels of every texture as RGB plus a pad byte (so one texel is one 32-bit word), each image
+        row-major (row 0 its top) with one more column and row that repeat its first ones (bilinear
+        neighbours across the wrap), after the one before.
+    offset : ndarray of int64, shape (T,)
+        Index in texels of each texture's first texel in `pool`.
+    width, height : ndarray of float32, shape (T,)
+        Size of each texture in texels (without the repeated column and row).
+    """
+
+    face_texture: np.ndarray
+    face_texels: np.ndarray
+    pool: np.ndarray
+    offset: np.ndarray
+    width: np.ndarray
+    height: np.ndarray
+
+
+def _scene_meshes(scene: Scene, hidden_classes: Sequence[str]) -> list[MeshData]:
+    """The meshes in the order of ``Scene.world_mesh``: visible surfaces, then objects (local frame)."""
+    hidden = set(hidden_classes)
+    surfaces = [s.mesh for s in scene.surfaces if s.terrain_class not in hidden]
+    return surfaces + [obj.mesh for obj in scene.objects]
+
+
+def _texture_tables(scene: Scene, hidden_classes: Sequence[str]) -> _TextureTables | None:
+    """Texture tables of the scene's faces in world-mesh order; ``None`` if no face is textured.
+
+    Textures are shared by name across meshes (one name holds one image within a scene).
+    """
+    meshes = _scene_meshes(scene, hidden_classes)
+    if not any(m.textured for m in meshes):
+        return None
+    textures: dict[str, Texture] = {}
+    index_parts: list[np.ndarray] = []
+    uv_parts: list[np.ndarray] = []
+    for mesh in meshes:
+        if mesh.face_texture is None:
+            index_parts.append(np.full(mesh.num_faces, -1, dtype=np.int32))
+            uv_parts.append(np.zeros((mesh.num_faces, 3, 2), dtype=np.float32))
+            continue
+        remap = []
+        for texture in mesh.textures:
+            known = textures.setdefault(texture.name, texture)
+            if not known.same_image(texture):
+                raise ValueError(f"two different images are both named {texture.name!r}")
+            remap.append(list(textures).index(texture.name))
+        table = np.array([*remap, -1], dtype=np.int32)  # -1 indexes the last entry: untextured
+        index_parts.append(table[mesh.face_texture])
+        uv_parts.append(mesh.face_uvs)
+    images = [t.image for t in textures.values()]
+    width = np.array([image.shape[1] for image in images], dtype=np.int64)
+    height = np.array([image.shape[0] for image in images], dtype=np.int64)
+    face_texture = np.concatenate(index_parts)
+    padded = (width.astype(np.int64) + 1) * (height + 1)
+    return _TextureTables(
+        face_texture=np.append(face_texture, np.int32(-1)),
+        face_texels=_face_texels(np.concatenate(uv_parts), face_texture, width, height),
+        pool=np.concatenate([_pool_image(image) for image in images]),
+        offset=np.concatenate([[0], np.cumsum(padded)[:-1]]).astype(np.int64),
+        width=width.astype(np.float32),
+        height=height.astype(np.float32),
+    )
+
+
+def _pool_image(image: np.ndarray) -> np.ndarray:
+    """`image` with its first column and row repeated after its last ones, as flat RGB + pad bytes."""
+    wrapped = np.pad(image, ((0, 1), (0, 1), (0, 0)), mode="wrap")
+    texels = np.zeros((*wrapped.shape[:2], 4), dtype=np.uint8)
+    texels[..., :3] = wrapped
+    return texels.reshape(-1)
+
+
+def _face_texels(uvs: np.ndarray, texture: np.ndarray, width: np.ndarray, height: np.ndarray) -> np.ndarray:
+    """The ``(F, 6)`` texel-coordinate table of :class:`_TextureTables` from (F, 3, 2) UVs."""
+    textured = texture >= 0
+    size_x = np.where(textured, width.take(np.maximum(texture, 0)), 1).astype(np.float64)[:, None]
+    size_y = np.where(textured, height.take(np.maximum(texture, 0)), 1).astype(np.float64)[:, None]
+    x = uvs[..., 0].astype(np.float64) * size_x - 0.5
+    y = (1.0 - uvs[..., 1].astype(np.float64)) * size_y - 0.5
+    x -= size_x * np.floor(x[:, :1] / size_x)  # whole repeats: the same texels, smaller numbers
+    y -= size_y * np.floor(y[:, :1] / size_y)
+    rows = [x[:, 0], x[:, 1] - x[:, 0], x[:, 2] - x[:, 0], y[:, 0], y[:, 1] - y[:, 0], y[:, 2] - y[:, 0]]
+    table = np.array(rows, dtype=np.float32).T.copy()
+    table[~textured] = 0.0
+    return table
+
+
+def _sample_textures(
+    tables: _TextureTables, face: np.ndarray, barycentric: np.ndarray
+) -> tuple[np.ndarray, list[np.ndarray]]:
+    """Bilinear texture samples at the hits on textured faces.
+
+    Parameters
+    ----------
+    tables : _TextureTables
+        The scene's texture tables.
+    face : ndarray of uint32, shape (H, W)
+        Face per pixel (the miss row where nothing was hit).
+    barycentric : ndarray of float32, shape (H, W, 2)
+        Open3D's ``primitive_uvs``: the hit is ``(1-a-b) p0 + a p1 + b p2``.
+
+    Returns
+    -------
+    pixels : ndarray of int64, shape (K,)
+        Flat indices of the pixels on textured faces.
+    colors : list of three ndarray of float32, shape (K,)
+        Their sampled sRGB channels (repeat wrapping).
+    """
+    texture = tables.face_texture.take(face)
+    pixels = np.flatnonzero(texture >= 0)
+    texture = texture.take(pixels)
+    hit_face = face.take(pixels)
+    weights = barycentric.reshape(-1, 2)
+    a, b = weights[:, 0].take(pixels), weights[:, 1].take(pixels)
+    texels = tables.face_texels.take(hit_face, axis=0)
+    x = texels[:, 0] + a * texels[:, 1] + b * texels[:, 2]
+    y = texels[:, 3] + a * texels[:, 4] + b * texels[:, 5]
+    np.floor(x, out=a)
+    np.floor(y, out=b)
+    fx, fy = x - a, y - b  # bilinear weights of the next column and row
+    width = tables.width.take(texture)
+    col = _wrap(a, width)  # the pool's extra column and row hold the texels after the last ones
+    row = _wrap(b, tables.height.take(texture))
+    stride = width.astype(np.int64)
+    stride += 1
+    first = row.astype(np.int64)
+    first *= stride
+    first += tables.offset.take(texture)
+    first += col.astype(np.int64)
+    words = tables.pool.view(np.uint32)
+    colors = [np.zeros(len(pixels), dtype=np.float32) for _ in range(3)]
+    gx = 1.0 - fx
+    gy = 1.0 - fy
+    for step, weight in ((0, gx * gy), (1, fx * gy), (stride, gx * fy), (stride + 1, fx * fy)):
+        texel = words.take(first + step).view(np.uint8).reshape(-1, 4)
+        for channel, color in zip(colors, texel.T[:3], strict=True):
+            channel += color * weight
+    return pixels, colors
+
+
+def _wrap(whole: np.ndarray, size: np.ndarray) -> np.ndarray:
+    """``whole mod size`` of whole numbers in float32 (exact below 2**24; faster than integer modulo)."""
+    repeats = np.divide(whole, size)
+    np.floor(repeats, out=repeats)
+    repeats *= size
+    return np.subtract(whole, repeats, out=repeats)
 
 
 def _face_colors(scene: Scene, hidden_classes: Sequence[str], *, lighten: float) -> np.ndarray:
