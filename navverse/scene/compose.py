@@ -5,8 +5,9 @@ indoor-to-outdoor scenes) builds its :class:`~navverse.scene.geometry.Scene` thr
 :func:`assemble_scene`, which numbers the objects and derives the bounds and the statistics from
 the geometry, so that no producer computes them by hand. :func:`transform_scene` moves a whole
 scene rigidly (geometry and every annotation), :func:`merge_scenes` joins scenes into one
-(renumbering ids, keeping prim names unique, unifying terrain classes) and :func:`remove_inside`
-cuts away the geometry inside a closed volume with manifold3d (openings in facades).
+(renumbering ids, keeping prim names unique, unifying terrain classes), :func:`remove_inside`
+cuts away the geometry inside a closed volume with manifold3d (openings in facades) and
+:func:`carve` subtracts a volume from one solid (a storefront's recess in its building).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import math
 from collections import Counter
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -40,6 +42,7 @@ from navverse.scene_types import SceneType
 __all__ = [
     "ObjectPart",
     "assemble_scene",
+    "carve",
     "merge_scenes",
     "object_parts",
     "remove_inside",
@@ -515,35 +518,81 @@ def merge_scenes(
 # ---------------------------------------------------------------------------------------- cutting
 
 
-def _manifold(mesh: MeshData):
+def _manifold(mesh: MeshData) -> tuple[Any, int] | None:
+    """The mesh as a manifold3d solid, or None if it is not a closed solid, and the original id its
+    triangles carry: each keeps its index as face id, so a boolean's result names the source
+    triangle of each of its faces."""
     import manifold3d
 
+    original = int(manifold3d.Manifold.reserve_ids(1))
     solid = manifold3d.Manifold(
         manifold3d.Mesh(
             vert_properties=np.ascontiguousarray(mesh.vertices, dtype=np.float32),
             tri_verts=np.ascontiguousarray(mesh.faces, dtype=np.uint32),
+            run_index=np.array([0, 3 * mesh.num_faces], dtype=np.uint32),
+            run_original_id=np.array([original], dtype=np.uint32),
+            face_id=np.arange(mesh.num_faces, dtype=np.uint32),
         )
     )
-    return solid.as_original() if solid.status() == manifold3d.Error.NoError else None
+    if solid.status() != manifold3d.Error.NoError or solid.is_empty():
+        return None
+    return solid, original
 
 
-def _mesh_of(solid, colors: np.ndarray | None, original_id: int) -> MeshData:
-    """A manifold's triangles as a mesh; faces that came from the original keep their colour."""
+def _mesh_of(solid, original: MeshData, original_id: int) -> MeshData:
+    """A manifold's triangles as a mesh; faces that came from `original` keep its colour and texture.
+
+    Manifold may split an original triangle: the pieces' corner UVs are interpolated in it
+    (barycentric coordinates of each corner in the original triangle). New faces of a cut take the
+    first face colour and no texture.
+    """
     out = solid.to_mesh()
     vertices = np.asarray(out.vert_properties, dtype=np.float64)[:, :3]
     faces = np.asarray(out.tri_verts, dtype=np.int64).reshape(-1, 3)
-    if colors is None:
+    if original.face_colors is None and not original.textured:
         return MeshData(vertices, faces)
-    face_colors = np.empty((len(faces), 3), dtype=np.uint8)
-    face_colors[:] = colors[0]
     face_ids = np.asarray(out.face_id, dtype=np.int64)
     run_index = np.asarray(out.run_index, dtype=np.int64)
-    run_original = np.asarray(out.run_original_id, dtype=np.int64)
-    for run, original in enumerate(run_original):
-        start, stop = run_index[run] // 3, run_index[run + 1] // 3
-        if original == original_id:
-            face_colors[start:stop] = colors[face_ids[start:stop]]
-    return MeshData(vertices, faces, face_colors)
+    from_original = np.zeros(len(faces), dtype=bool)
+    for run, source in enumerate(np.asarray(out.run_original_id, dtype=np.int64)):
+        if source == original_id:
+            from_original[run_index[run] // 3 : run_index[run + 1] // 3] = True
+    source_face = np.where(from_original, face_ids, -1)
+    colors = None
+    if original.face_colors is not None:
+        colors = np.empty((len(faces), 3), dtype=np.uint8)
+        colors[:] = original.face_colors[0]
+        colors[from_original] = original.face_colors[source_face[from_original]]
+    if not original.textured:
+        return MeshData(vertices, faces, colors)
+    texture = np.full(len(faces), -1, dtype=np.int16)
+    uvs = np.zeros((len(faces), 3, 2), dtype=np.float32)
+    textured = from_original.copy()
+    textured[from_original] = original.face_texture[source_face[from_original]] >= 0
+    if textured.any():
+        src = source_face[textured]
+        texture[textured] = original.face_texture[src]
+        uvs[textured] = _interpolated_uvs(
+            original.vertices[original.faces[src]], original.face_uvs[src], vertices[faces[textured]]
+        )
+    return MeshData(vertices, faces, colors, uvs, texture, original.textures)
+
+
+def _interpolated_uvs(triangles: np.ndarray, uvs: np.ndarray, corners: np.ndarray) -> np.ndarray:
+    """UVs of `corners` (K, 3, 3) inside `triangles` (K, 3, 3) whose corners have `uvs` (K, 3, 2)."""
+    p0 = triangles[:, 0, None, :]
+    e1, e2 = triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]
+    d = corners - p0
+    d11, d12, d22 = (e1 * e1).sum(-1), (e1 * e2).sum(-1), (e2 * e2).sum(-1)
+    d1 = np.einsum("kcj,kj->kc", d, e1)
+    d2 = np.einsum("kcj,kj->kc", d, e2)
+    det = d11 * d22 - d12 * d12
+    det = np.where(np.abs(det) > 1e-18, det, 1.0)[:, None]
+    b1 = (d22[:, None] * d1 - d12[:, None] * d2) / det
+    b2 = (d11[:, None] * d2 - d12[:, None] * d1) / det
+    b0 = 1.0 - b1 - b2
+    weights = np.stack([b0, b1, b2], axis=-1)  # (K, corner, source corner)
+    return np.einsum("kcs,ksj->kcj", weights, uvs.astype(np.float64)).astype(np.float32)
 
 
 def _box_solid(size: Sequence[float], center: Sequence[float], yaw: float):
@@ -552,6 +601,39 @@ def _box_solid(size: Sequence[float], center: Sequence[float], yaw: float):
     box = manifold3d.Manifold.cube(tuple(float(v) for v in size), center=True)
     degrees = math.degrees(yaw)
     return box.rotate((0.0, 0.0, degrees)).translate(tuple(float(v) for v in center))
+
+
+def carve(mesh: MeshData, volume: MeshData) -> tuple[MeshData, float]:
+    """Subtract a closed volume from a closed solid (e.g. a storefront's recess from a building).
+
+    Parameters
+    ----------
+    mesh : MeshData
+        A closed, consistently oriented solid; its faces keep their colours and textures where
+        they survive (pieces of a split textured face get interpolated UVs).
+    volume : MeshData
+        The closed solid to remove.
+
+    Returns
+    -------
+    carved : MeshData
+        The solid without the volume.
+    removed : float
+        The volume taken away (m³): the part of `volume` that was inside `mesh`.
+
+    Raises
+    ------
+    SceneError
+        If either mesh is not a closed solid.
+    """
+    cutter = _manifold(volume)
+    if cutter is None:
+        raise SceneError("the volume to cut must be a closed, consistently oriented solid mesh")
+    solid = _manifold(mesh)
+    if solid is None:
+        raise SceneError("only a closed, consistently oriented solid can be carved")
+    result = solid[0] - cutter[0]
+    return _mesh_of(result, mesh, solid[1]), float(solid[0].volume() - result.volume())
 
 
 def remove_inside(scene: Scene, volume: MeshData) -> Scene:
@@ -579,9 +661,10 @@ def remove_inside(scene: Scene, volume: MeshData) -> Scene:
     SceneError
         If ``volume`` is not a closed solid.
     """
-    cutter = _manifold(volume)
-    if cutter is None or cutter.is_empty():
+    made = _manifold(volume)
+    if made is None:
         raise SceneError("the volume to cut must be a closed, consistently oriented solid mesh")
+    cutter = made[0]
     surfaces: list[Surface] = []
     for surface in scene.surfaces:
         mesh = _cut_surface(surface.mesh, cutter)
@@ -598,19 +681,15 @@ def remove_inside(scene: Scene, volume: MeshData) -> Scene:
 def _cut_surface(mesh: MeshData, cutter) -> MeshData:
     if mesh.num_faces == 0:
         return mesh
-    solid = _manifold(mesh)
-    if solid is not None and not solid.is_empty():
+    made = _manifold(mesh)
+    if made is not None:
+        solid, original = made
         if (solid ^ cutter).is_empty():
             return mesh  # untouched: keep the exact input
-        return _mesh_of(solid - cutter, mesh.face_colors, solid.original_id())
+        return _mesh_of(solid - cutter, mesh, original)
     import trimesh
 
     cut = cutter.to_mesh()
     inside = trimesh.Trimesh(cut.vert_properties[:, :3], cut.tri_verts, process=False)
     corner_inside = inside.contains(mesh.vertices)
-    keep = ~corner_inside[mesh.faces].all(axis=1)
-    used = np.unique(mesh.faces[keep])
-    remap = np.full(mesh.num_vertices, -1, dtype=np.int64)
-    remap[used] = np.arange(len(used))
-    colors = mesh.face_colors[keep] if mesh.face_colors is not None else None
-    return MeshData(mesh.vertices[used], remap[mesh.faces[keep]], colors)
+    return mesh.face_subset(~corner_inside[mesh.faces].all(axis=1))

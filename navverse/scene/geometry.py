@@ -205,6 +205,23 @@ class MeshData:
             vertices, self.faces, self.face_colors, self.face_uvs, self.face_texture, self.textures
         )
 
+    def face_subset(self, keep: ArrayLike) -> MeshData:
+        """The mesh with only the faces `keep` selects (a boolean mask or indices), and their vertices.
+
+        Colours, UVs and texture indices follow their faces; vertices no kept face uses are dropped.
+        """
+        kept = self.faces[np.asarray(keep)]
+        used, faces = np.unique(kept, return_inverse=True)
+        textured = self.face_texture is not None
+        return MeshData(
+            self.vertices[used],
+            faces.reshape(-1, 3),
+            None if self.face_colors is None else self.face_colors[np.asarray(keep)],
+            self.face_uvs[np.asarray(keep)] if textured else None,
+            self.face_texture[np.asarray(keep)] if textured else None,
+            self.textures if textured else (),
+        )
+
     @staticmethod
     def concatenate(meshes: Iterable[MeshData]) -> MeshData:
         """Join meshes into one, re-indexing faces.
