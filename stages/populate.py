@@ -60,8 +60,8 @@ class PopulateParams(Params):
 @stage(
     name="populate",
     inputs=["city_map", "street_geometry"],
-    outputs=["geometry"],
-    passthrough={"geometry": "street_geometry"},
+    outputs=["populated_geometry"],
+    passthrough={"populated_geometry": "street_geometry"},
 )
 def populate(ctx: StageContext, params: PopulateParams) -> None:
     """The city scene with parked cars, mapped street furniture, sidewalk objects by zone and groups."""

@@ -44,13 +44,14 @@ __all__ = [
     "save_annotations",
 ]
 
-SCENE_FORMAT_VERSION = "2.2"
+SCENE_FORMAT_VERSION = "2.3"
 """Version of the ``scene.json`` layout. 1.1 added ``regions.rooms`` and ``regions.doors``; 2.0 holds
 ``buildings`` (footprint, heights, rooms, doors, exits, facades) in place of ``regions``, and
 storefronts name their building and facade; 2.1 adds the map frame of a city (``geo``), the map
 feature a building was made from (``map_id``, ``osm``) and the road each facade faces
 (``road``, ``road_distance``); 2.2 adds where a city's object stands and where it came from
-(``zone``, ``group``, ``source`` of an object). 1.x files are upgraded when read (see
+(``zone``, ``group``, ``source`` of an object); 2.3 adds a storefront's ``name``, ``design``, the map
+place it stands for (``poi``, ``osm``) and its ``door_width``. 1.x files are upgraded when read (see
 :func:`upgrade_annotations`); a newer 2.x file is read without the fields this version does not know;
 another major version cannot be read."""
 
@@ -145,8 +146,14 @@ class ObjectAnnotation(BaseModel):
 
 
 class StorefrontAnnotation(BaseModel):
-    """A storefront on a facade: a PlaceNav goal. ``facing`` is the yaw of the outward normal;
-    ``building`` and ``facade`` are the ids of the building and facade it stands on (when known)."""
+    """A storefront on a facade: a PlaceNav goal.
+
+    ``center`` is the centre of its bounding box and ``size`` its extent (width along the facade,
+    depth out of it, height); ``facing`` is the yaw of the outward normal; ``entrance`` the point on
+    the sidewalk just in front of its door. ``building`` and ``facade`` are the ids of the building
+    and facade it is set into (when known); ``poi`` and ``osm`` the city map place it stands for
+    (None for a storefront the recipe added where the map has none); ``name`` is the text of its
+    sign and ``design`` its design (``<category>/<n>``)."""
 
     model_config = _MODEL_CONFIG
 
@@ -158,6 +165,11 @@ class StorefrontAnnotation(BaseModel):
     entrance: Vec3
     building: Annotated[int, Field(ge=1)] | None = None
     facade: Annotated[int, Field(ge=1)] | None = None
+    name: str | None = None
+    design: str | None = None
+    poi: MapId | None = None
+    osm: Annotated[str, Field(pattern=r"^(node|way|relation)/-?[0-9]+$")] | None = None
+    door_width: PositiveFloat | None = None
 
     @field_validator("place_category")
     @classmethod

@@ -25,11 +25,11 @@ def test_a_populated_city_records_its_objects_and_counts(tmp_path: Path) -> None
     built = build_all(workspace)
     assert not built.report.failed
     scene = read_annotations(built.output("city", "scene"))
-    stats = built.manifest("city", "geometry")["stats"]
+    stats = built.manifest("city", "populated_geometry")["stats"]
     assert sum(stats["cars"].values()) > 5 and sum(stats["objects"].values()) == len(scene.objects)
     assert all(o.zone and o.source for o in scene.objects)
     assert {o.source.split(":")[0] for o in scene.objects} >= {"parking", "map"}
-    assert (built.output("city", "geometry") / "street_plan.json").is_file()
+    assert (built.output("city", "populated_geometry") / "street_plan.json").is_file()
     street = read_annotations(built.output("city", "street_geometry"))
     assert not street.objects  # the bare street is kept as its own artifact
 

@@ -1,0 +1,677 @@
+"""Storefronts set into a city's facades: a place of the map becomes a shop front a robot can find.
+
+For each place of the city map whose tags give a place category
+(:func:`~navverse.assets.storefronts.place_category`), :func:`place_storefronts`
+
+1. finds the nearest road-facing facade by ray casting: horizontal rays from the place (at 1.5 m
+   above the ground) in every direction meet building walls; each hit belongs to the facade of that
+   building whose base segment it lies on, and the nearest hit facade that faces a road (scene
+   format 2.0 ``road``, within ``max_road_distance``) and is wide enough is taken (a place mapped on
+   a building looks only at that building's facades);
+2. builds a procedural storefront of the category (:func:`~navverse.assets.storefronts.storefront`,
+   the place's name on its sign, or a generated one) at the target height, facing out of the facade
+   (so towards the road the facade faces), its base on the sidewalk in front;
+3. finds room on the facade: the storefront's span is shifted sideways from the place's position to
+   the nearest free stretch, away from the facade's corners and from storefronts already placed
+   (on this facade, or reaching over from a neighbouring one), and narrowed down to
+   :data:`~navverse.assets.storefronts.MIN_WIDTH` if the stretch is short;
+4. carves the matching recess into the building with manifold3d
+   (:func:`~navverse.scene.compose.carve`) and accepts it only if the volume removed is the
+   recess's (the facade is where its segment says and the building is deep enough);
+5. requires the sidewalk (or plaza, pedestrian area) in front of its door, clears the street objects
+   its front and its doorway would meet, and
+6. accepts it only if its sign is visible: from some point of the walkable ground within
+   ``view_radius`` in front of it, at the robot's camera height, rays reach most of the sign's face.
+
+A recipe may add storefronts where the map has none (``fill_per_km2``): road-facing facades drawn at
+random get a category drawn from the synthetic cities' place table, and go through the same steps.
+Every rejection is counted by reason.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+from shapely.geometry import LineString, Point, Polygon
+from shapely.geometry.base import BaseGeometry
+
+from navverse.assets.storefronts import MIN_WIDTH, Storefront, place_category, storefront
+from navverse.city.map import CityMap, Poi
+from navverse.city.street_plan import StreetPlan
+from navverse.city.surfaces import union_of
+from navverse.city.synthetic_pois import POI_TABLE
+from navverse.errors import SceneError
+from navverse.scene.annotations import BuildingAnnotation, FacadeAnnotation, StorefrontAnnotation
+from navverse.scene.compose import ObjectPart, carve, object_parts, replace_parts
+from navverse.scene.geometry import MeshData, Scene, Surface, yaw_matrix
+from navverse.scene.heights import SurfaceHeights
+
+__all__ = [
+    "STOREFRONT_CATEGORY",
+    "WALKABLE_FRONT",
+    "StorefrontPlacement",
+    "StorefrontSettings",
+    "place_storefronts",
+]
+
+STOREFRONT_CATEGORY = "storefront"
+"""The object category of a storefront's geometry (its place category is in its annotation)."""
+WALKABLE_FRONT = ("sidewalk", "plaza", "pedestrian")
+"""Street plan classes a storefront's door may open onto."""
+_RAY_HEIGHT = 1.5
+_ENTRANCE_OUT = 0.6  # the entrance point: this far in front of the door (m)
+_CLEAR_OUT = 1.5  # the doorway kept clear of objects: this deep (m)
+_CUT_OUTSIDE = 0.05  # the recess box reaches this far out of the facade, so no face is coplanar
+
+
+@dataclass(frozen=True)
+class StorefrontSettings:
+    """How storefronts are placed (see the module docstring).
+
+    Attributes
+    ----------
+    height : float
+        Height of every storefront (m).
+    max_width : float
+        Widest storefront (m); widths are drawn from ``MIN_WIDTH + 1 .. max_width``.
+    corner_margin : float
+        Distance kept from a facade's ends (m).
+    search_radius : float
+        How far from its place a facade may be (m).
+    max_road_distance : float
+        How far the road a facade faces may be (m).
+    camera_height : float
+        Height of the robot's camera above the ground (m) for the visibility check.
+    view_radius : float
+        How far in front of a storefront (m) the sign may be seen from.
+    fill_per_km2 : float
+        Storefronts added per km² of the window where the map has no place, at most.
+    categories : frozenset of str, optional
+        The place categories placed (all when None).
+    rays : int
+        Horizontal rays cast from a place to find its facade.
+    sidewalk_gap : float
+        How much open ground (a front garden, a forecourt) may lie between a door and the
+        sidewalk, plaza or pedestrian area in front of it (m).
+    """
+
+    height: float = 3.6
+    max_width: float = 8.0
+    corner_margin: float = 0.4
+    search_radius: float = 40.0
+    max_road_distance: float = 30.0
+    camera_height: float = 0.6
+    view_radius: float = 15.0
+    fill_per_km2: float = 0.0
+    categories: frozenset[str] | None = None
+    rays: int = 72
+    sidewalk_gap: float = 4.0
+
+
+@dataclass(frozen=True)
+class StorefrontPlacement:
+    """The city scene with its storefronts, and what happened to every candidate place.
+
+    Attributes
+    ----------
+    scene : Scene
+        Buildings carved; each storefront added as an object of category :data:`STOREFRONT_CATEGORY`
+        (prim ``storefront_<place category>_<id>``, zone ``facade``) and as a storefront annotation;
+        the street objects in their way removed.
+    counts : dict
+        ``places`` (map places with a place category), ``filled`` (candidates added by
+        ``fill_per_km2``), ``placed``, ``rejected`` {reason: n}, ``categories`` {category: n placed},
+        ``objects_cleared``, ``narrowed`` (storefronts made narrower to fit) and ``shifted`` (moved
+        sideways from their place).
+    """
+
+    scene: Scene
+    counts: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class _Candidate:
+    category: str
+    name: str | None
+    poi: Poi | None
+
+
+@dataclass
+class _Placed:
+    annotation: StorefrontAnnotation
+    part: ObjectPart
+    building: int
+    recess: MeshData
+    front: BaseGeometry  # footprint of the part outside the facade, and the doorway kept clear
+    sign_points: np.ndarray  # (9, 3) points on the sign's face, just in front of it
+    normal: np.ndarray
+    facade_point: np.ndarray  # xy on the facade below the storefront's centre
+
+
+# ------------------------------------------------------------------------------------------- helpers
+
+
+def _tags(poi: Poi) -> dict[str, str]:
+    key, _, value = poi.tag.partition("=")
+    return {key: value}
+
+
+def _facade_frame(facade: FacadeAnnotation) -> tuple[np.ndarray, np.ndarray, float]:
+    start, end = np.asarray(facade.segment, dtype=np.float64)
+    length = float(np.hypot(*(end - start)))
+    return start, (end - start) / length, length
+
+
+def _rectangle(origin: np.ndarray, along: np.ndarray, normal: np.ndarray, s0: float, s1: float, depth: float):
+    a, b = origin + along * s0, origin + along * s1
+    return Polygon([a, b, b + normal * depth, a + normal * depth])
+
+
+class _FacadeFinder:
+    """The facades of a city's buildings, hit by horizontal rays (one Open3D scene of the solids)."""
+
+    def __init__(self, scene: Scene) -> None:
+        import open3d as o3d
+
+        self._o3d = o3d
+        self.buildings = {b.id: b for b in scene.annotations.buildings}
+        meshes, owners = [], []
+        for surface in scene.surfaces:
+            number = _building_number(surface.name)
+            if number is not None and number in self.buildings:
+                meshes.append(surface.mesh)
+                owners.append(np.full(surface.mesh.num_faces, number, dtype=np.int64))
+        self._rays = o3d.t.geometry.RaycastingScene()
+        self._owner = np.concatenate(owners) if owners else np.zeros(0, dtype=np.int64)
+        if meshes:
+            mesh = MeshData.concatenate(meshes)
+            self._origin = mesh.vertices[:, :2].min(axis=0)
+            local = mesh.vertices - np.array([*self._origin, 0.0])
+            self._rays.add_triangles(
+                o3d.core.Tensor(local.astype(np.float32)), o3d.core.Tensor(mesh.faces.astype(np.uint32))
+            )
+        else:
+            self._origin = np.zeros(2)
+
+    def hits(self, xy: np.ndarray, z: float, rays: int, reach: float) -> list[tuple[float, int, np.ndarray]]:
+        """(distance, building id, hit xy) of horizontal rays from a point, nearest first."""
+        if not len(self._owner):
+            return []
+        angles = np.arange(rays) * (2.0 * math.pi / rays)
+        directions = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+        cast = np.zeros((rays, 6), dtype=np.float32)
+        cast[:, :2], cast[:, 2], cast[:, 3:5] = xy - self._origin, z, directions
+        result = self._rays.cast_rays(self._o3d.core.Tensor(cast))
+        t = result["t_hit"].numpy().astype(np.float64)
+        ids = result["primitive_ids"].numpy().astype(np.int64)
+        found = [
+            (float(t[k]), int(self._owner[ids[k]]), xy + directions[k] * t[k])
+            for k in np.flatnonzero(np.isfinite(t) & (t <= reach))
+        ]
+        return sorted(found, key=lambda hit: (hit[0], hit[1]))
+
+
+def _building_number(name: str) -> int | None:
+    prefix, _, number = name.rpartition("_")
+    return int(number) if prefix == "building" and number.isdigit() else None
+
+
+def _facade_at(
+    building: BuildingAnnotation, point: np.ndarray, tolerance: float = 0.25
+) -> FacadeAnnotation | None:
+    best, best_distance = None, tolerance
+    for facade in building.facades:
+        distance = LineString(facade.segment).distance(Point(point))
+        if distance < best_distance:
+            best, best_distance = facade, distance
+    return best
+
+
+def _free_span(
+    occupied: Sequence[tuple[float, float]], length: float, margin: float, want: float, at: float
+) -> tuple[float, float] | None:
+    """The span of width up to `want` (at least MIN_WIDTH) nearest `at`, clear of `occupied` and the ends."""
+    edges = sorted((max(margin, a), min(length - margin, b)) for a, b in occupied)
+    gaps, cursor = [], margin
+    for a, b in edges:
+        if a > cursor:
+            gaps.append((cursor, a))
+        cursor = max(cursor, b)
+    if length - margin > cursor:
+        gaps.append((cursor, length - margin))
+    best: tuple[float, float, float] | None = None
+    for g0, g1 in gaps:
+        width = min(want, g1 - g0)
+        if width < MIN_WIDTH - 1e-9:
+            continue
+        centre = float(np.clip(at, g0 + width / 2, g1 - width / 2))
+        key = (abs(centre - at), -width)
+        if best is None or key < (abs(best[0] - at), -best[1]):
+            best = (centre, width, 0.0)
+    if best is None:
+        return None
+    return best[0] - best[1] / 2, best[0] + best[1] / 2
+
+
+# ------------------------------------------------------------------------------------------- placing
+
+
+class _Placer:
+    def __init__(
+        self, scene: Scene, plan: StreetPlan, rng: np.random.Generator, settings: StorefrontSettings
+    ) -> None:
+        self.scene = scene
+        self.rng = rng
+        self.settings = settings
+        self.finder = _FacadeFinder(scene)
+        self.heights = SurfaceHeights(scene)
+        self.walkable = union_of(plan.classes.get(name, Polygon()) for name in WALKABLE_FRONT)
+        shapely.prepare(self.walkable)
+        self.roads = union_of(plan.classes.get(name, Polygon()) for name in ("road", "curb", "water"))
+        shapely.prepare(self.roads)
+        self.meshes = {
+            number: surface.mesh
+            for surface in scene.surfaces
+            if (number := _building_number(surface.name)) is not None
+        }
+        footprints = [Polygon(b.footprint) for b in scene.annotations.buildings]
+        self.footprints = shapely.STRtree(footprints)
+        self.footprint_ids = [b.id for b in scene.annotations.buildings]
+        self.footprint_shapes = footprints
+        self.occupied: dict[int, list[tuple[float, float]]] = {}
+        self.placed: list[_Placed] = []
+        self.rejected: Counter[str] = Counter()
+        self.narrowed = 0
+        self.shifted = 0
+
+    # -- finding the facade
+
+    def facade_of(self, candidate: _Candidate) -> tuple[BuildingAnnotation, FacadeAnnotation, float] | str:
+        poi = candidate.poi
+        assert poi is not None
+        xy = np.asarray(poi.position, dtype=np.float64)
+        own = None
+        if poi.building is not None:
+            own = next((b.id for b in self.finder.buildings.values() if b.map_id == poi.building), None)
+        z = self._ground_under(xy) + _RAY_HEIGHT
+        hits = self.finder.hits(xy, z, self.settings.rays, self.settings.search_radius)
+        if not hits:
+            return "no facade within reach"
+        for _, number, point in hits:
+            if own is not None and number != own:
+                continue
+            building = self.finder.buildings[number]
+            facade = _facade_at(building, point)
+            if facade is None or not self._usable(facade):
+                continue
+            start, along, _ = _facade_frame(facade)
+            return building, facade, float((point - start) @ along)
+        return "no road-facing facade"
+
+    def _ground_under(self, xy: np.ndarray) -> float:
+        """The ground's height at a point: the base of the building it is in, else the surface under it."""
+        for index in self.footprints.query(Point(xy), predicate="intersects"):
+            return float(self.finder.buildings[self.footprint_ids[index]].base_height)
+        height = self.heights(xy)[0]
+        return 0.0 if math.isnan(height) else float(height)
+
+    def _usable(self, facade: FacadeAnnotation) -> bool:
+        s = self.settings
+        return (
+            facade.road is not None
+            and facade.road_distance is not None
+            and facade.road_distance <= s.max_road_distance
+            and facade.width >= MIN_WIDTH + 2 * s.corner_margin
+            and facade.height >= s.height + 0.2
+        )
+
+    def fill_facades(self) -> list[tuple[BuildingAnnotation, FacadeAnnotation]]:
+        """Every usable facade, in a random order."""
+        found = [(b, f) for b in self.scene.annotations.buildings for f in b.facades if self._usable(f)]
+        order = self.rng.permutation(len(found))
+        return [found[k] for k in order]
+
+    # -- placing on a facade
+
+    def place(
+        self, candidate: _Candidate, building: BuildingAnnotation, facade: FacadeAnnotation, at: float
+    ) -> str | None:
+        """Place a storefront on the facade near `at` (m along it); the reason it failed, or None."""
+        s = self.settings
+        start, along, length = _facade_frame(facade)
+        normal = np.asarray(facade.normal, dtype=np.float64)
+        want = float(self.rng.uniform(MIN_WIDTH + 1.0, max(MIN_WIDTH + 1.0, s.max_width)))
+        occupied = list(self.occupied.get(facade.id, []))
+        occupied += self._reaching_over(facade, start, along, normal, length)
+        span = _free_span(occupied, length, s.corner_margin, want, at)
+        if span is None:
+            return "no room on the facade"
+        width = span[1] - span[0]
+        middle = start + along * (0.5 * (span[0] + span[1]))
+        ground = self.heights(middle + normal * 0.5)[0]
+        if math.isnan(ground):
+            return "no ground in front"
+        base = float(ground)
+        if building.base_height > base + 0.3:
+            return "building does not reach the ground"
+        if building.base_height + building.height < base + s.height + 0.2:
+            return "building too low"
+        built = storefront(candidate.category, self.rng, name=candidate.name, width=width, height=s.height)
+        recess = built.entrance[1] + built.size[1] / 2  # depth of the facade panel behind its front
+        yaw = math.atan2(normal[1], normal[0]) - math.pi / 2  # local +y (the front) -> the normal
+        rotation = yaw_matrix(yaw)
+        centre_xy = middle + normal * (built.size[1] / 2 - recess)
+        centre = np.array([*centre_xy, base + built.size[2] / 2])
+        entrance = rotation @ np.asarray(built.entrance) + centre
+        door_xy = entrance[:2]
+        entrance_xy = door_xy + normal * _ENTRANCE_OUT
+        if not self._sidewalk_ahead(door_xy, normal):
+            return "no sidewalk in front"
+        protrusion = built.size[1] - recess
+        s_door = float((door_xy - start) @ along)
+        front = _rectangle(start, along, normal, span[0], span[1], max(protrusion, 0.05)).union(
+            _rectangle(start, along, normal, s_door - 0.8, s_door + 0.8, _CLEAR_OUT)
+        )
+        if self._blocked_by_building(front, building.id):
+            return "blocked by a building"
+        box = MeshData.box((width, recess + _CUT_OUTSIDE, s.height), center=(0.0, 0.0, 0.0)).transformed(
+            (*(middle - normal * (recess - _CUT_OUTSIDE) / 2), base + s.height / 2), yaw
+        )
+        try:
+            carved, removed = carve(self.meshes[building.id], box)
+        except SceneError:
+            return "cut failed: the building is not a closed solid"
+        if removed < 0.9 * width * recess * s.height:
+            return "cut failed: the facade is not there or the building is too shallow"
+        self.meshes[building.id] = carved
+        if span[1] - span[0] < want - 1e-6:
+            self.narrowed += 1
+        if abs(0.5 * (span[0] + span[1]) - at) > 0.5:
+            self.shifted += 1
+        self.occupied.setdefault(facade.id, []).append(span)
+        number = len(self.placed) + 1
+        poi = candidate.poi
+        annotation = StorefrontAnnotation(
+            id=number,
+            place_category=candidate.category,
+            center=tuple(float(v) for v in centre),
+            facing=math.atan2(normal[1], normal[0]),
+            size=(float(width), float(built.size[1]), float(built.size[2])),
+            entrance=(
+                float(entrance_xy[0]),
+                float(entrance_xy[1]),
+                float(self._height_or(entrance_xy, base)),
+            ),
+            building=building.id,
+            facade=facade.id,
+            name=built.name,
+            design=f"{built.category}/{built.design}",
+            poi=poi.id if poi is not None else None,
+            osm=poi.osm if poi is not None else None,
+            door_width=1.05,
+        )
+        self.placed.append(
+            _Placed(
+                annotation=annotation,
+                part=ObjectPart(
+                    category=STOREFRONT_CATEGORY,
+                    mesh=built.mesh,
+                    center=tuple(float(v) for v in centre),
+                    yaw=yaw,
+                    size=built.size,
+                    kind=f"storefront_{candidate.category}",
+                    zone="facade",
+                    source=f"storefront:{poi.id if poi is not None else 'added'}",
+                ),
+                building=building.id,
+                recess=box,
+                front=front,
+                sign_points=_sign_points(built, rotation, centre),
+                normal=normal,
+                facade_point=middle,
+            )
+        )
+        return None
+
+    def _sidewalk_ahead(self, door: np.ndarray, normal: np.ndarray) -> bool:
+        """Whether the walkable front is reached from the door, straight out, within the gap allowed
+        (a front garden or forecourt of open ground may lie between)."""
+        start = Point(door + normal * 0.05)
+        ray = LineString([start, door + normal * (self.settings.sidewalk_gap + _ENTRANCE_OUT)])
+        walk = ray.intersection(self.walkable)
+        if walk.is_empty:
+            return False
+        road = ray.intersection(self.roads)
+        return road.is_empty or start.distance(walk) < start.distance(road)
+
+    def _height_or(self, xy: np.ndarray, default: float) -> float:
+        height = self.heights(xy)[0]
+        return default if math.isnan(height) else float(height)
+
+    def _reaching_over(
+        self,
+        facade: FacadeAnnotation,
+        start: np.ndarray,
+        along: np.ndarray,
+        normal: np.ndarray,
+        length: float,
+    ) -> list[tuple[float, float]]:
+        """Spans of this facade that storefronts of other facades reach over (corners)."""
+        zone = _rectangle(start, along, normal, 0.0, length, 2.0)
+        spans = []
+        for other in self.placed:
+            if other.annotation.facade == facade.id or not other.front.intersects(zone):
+                continue
+            coords = np.asarray(other.front.exterior.coords) if hasattr(other.front, "exterior") else None
+            if coords is None:
+                coords = np.concatenate([np.asarray(g.exterior.coords) for g in other.front.geoms])
+            along_other = (coords - start) @ along
+            spans.append((float(along_other.min()) - 0.3, float(along_other.max()) + 0.3))
+        return spans
+
+    def _blocked_by_building(self, front: BaseGeometry, own: int) -> bool:
+        for index in self.footprints.query(front, predicate="intersects"):
+            if (
+                self.footprint_ids[index] != own
+                and self.footprint_shapes[index].intersection(front).area > 0.01
+            ):
+                return True
+        return False
+
+    def drop(self, numbers: set[int]) -> None:
+        """Forget placed storefronts (they failed a later check); the buildings are re-carved."""
+        keep = [p for p in self.placed if p.annotation.id not in numbers]
+        touched = {p.building for p in self.placed if p.annotation.id in numbers}
+        originals = {
+            number: surface.mesh
+            for surface in self.scene.surfaces
+            if (number := _building_number(surface.name)) in touched
+        }
+        for number, mesh in originals.items():
+            for p in keep:
+                if p.building == number:
+                    mesh, _ = carve(mesh, p.recess)
+            self.meshes[number] = mesh
+        self.placed = keep
+
+    def build(self) -> tuple[Scene, int]:
+        """The scene with the placed storefronts, and how many street objects were cleared."""
+        fronts = union_of(p.front for p in self.placed)
+        parts, kept = object_parts(self.scene), []
+        for part, obj in zip(parts, self.scene.objects, strict=True):
+            if not _object_box(obj.annotation).intersects(fronts):
+                kept.append(part)
+        surfaces = []
+        for surface in self.scene.surfaces:
+            number = _building_number(surface.name)
+            mesh = self.meshes.get(number, surface.mesh) if number is not None else surface.mesh
+            surfaces.append(Surface(surface.name, surface.terrain_class, mesh))
+        renumbered = [p.annotation.model_copy(update={"id": k}) for k, p in enumerate(self.placed, start=1)]
+        scene = replace_parts(
+            self.scene,
+            surfaces=surfaces,
+            objects=kept + [p.part for p in self.placed],
+            storefronts=renumbered,
+        )
+        return scene, len(parts) - len(kept)
+
+
+def _object_box(annotation) -> Polygon:
+    sx, sy = annotation.size[0] / 2, annotation.size[1] / 2
+    corners = np.array([[-sx, -sy], [sx, -sy], [sx, sy], [-sx, sy]])
+    c, s = math.cos(annotation.yaw), math.sin(annotation.yaw)
+    return Polygon(corners @ np.array([[c, s], [-s, c]]) + np.asarray(annotation.center[:2]))
+
+
+def _sign_points(built: Storefront, rotation: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """3 x 3 points spread over the sign's face (80 % of it), 2 cm in front of it, in the world."""
+    cx, cy, cz = built.sign_center
+    width, height = built.sign_size
+    u, v = np.meshgrid(np.linspace(-0.4, 0.4, 3) * width, np.linspace(-0.4, 0.4, 3) * height)
+    local = np.stack([cx + u.ravel(), np.full(9, cy + 0.02), cz + v.ravel()], axis=1)
+    return local @ rotation.T + centre
+
+
+# ------------------------------------------------------------------------------------------ visible
+
+
+def _invisible(
+    scene: Scene, placed: Sequence[_Placed], walkable: BaseGeometry, settings: StorefrontSettings
+) -> set[int]:
+    """Ids of the storefronts whose sign no walkable point in front of them sees (most of it)."""
+    import open3d as o3d
+
+    if not placed:
+        return set()
+    mesh = scene.world_mesh(include_objects=True).mesh
+    origin = mesh.vertices.min(axis=0)
+    rays = o3d.t.geometry.RaycastingScene()
+    rays.add_triangles(
+        o3d.core.Tensor((mesh.vertices - origin).astype(np.float32)),
+        o3d.core.Tensor(mesh.faces.astype(np.uint32)),
+    )
+    heights = SurfaceHeights(scene)
+    hidden = set()
+    for p in placed:
+        along = np.array([-p.normal[1], p.normal[0]])
+        offsets = np.arange(-settings.view_radius, settings.view_radius + 1e-9, 2.0)
+        outs = np.arange(1.0, settings.view_radius + 1e-9, 1.5)
+        grid = np.array([p.facade_point + along * a + p.normal * o for a in offsets for o in outs])
+        grid = grid[np.hypot(*(grid - p.facade_point).T) <= settings.view_radius]
+        inside = shapely.contains_xy(walkable, grid[:, 0], grid[:, 1])
+        views = grid[inside]
+        if not len(views):
+            hidden.add(p.annotation.id)
+            continue
+        ground = heights(views)
+        views = np.column_stack(
+            [views[np.isfinite(ground)], ground[np.isfinite(ground)] + settings.camera_height]
+        )
+        if not len(views):
+            hidden.add(p.annotation.id)
+            continue
+        starts = np.repeat(views, len(p.sign_points), axis=0)
+        targets = np.tile(p.sign_points, (len(views), 1))
+        direction = targets - starts
+        distance = np.linalg.norm(direction, axis=1)
+        cast = np.concatenate([starts - origin, direction / distance[:, None]], axis=1).astype(np.float32)
+        t = rays.cast_rays(o3d.core.Tensor(cast))["t_hit"].numpy()
+        clear = (t >= distance - 0.05).reshape(len(views), len(p.sign_points))
+        if not (clear.sum(axis=1) >= 5).any():
+            hidden.add(p.annotation.id)
+    return hidden
+
+
+# ------------------------------------------------------------------------------------------- public
+
+
+def _candidates(city: CityMap, settings: StorefrontSettings) -> list[_Candidate]:
+    found = []
+    for poi in sorted(city.pois, key=lambda p: p.id):
+        category = place_category(_tags(poi))
+        if category is None or (settings.categories is not None and category not in settings.categories):
+            continue
+        found.append(_Candidate(category=category, name=poi.name, poi=poi))
+    return found
+
+
+def _fill_categories(settings: StorefrontSettings) -> tuple[list[str], np.ndarray]:
+    weights: Counter[str] = Counter()
+    for key, value, weight, _ in POI_TABLE:
+        category = place_category({key: value})
+        if category is not None and (settings.categories is None or category in settings.categories):
+            weights[category] += weight
+    names = sorted(weights)
+    total = float(sum(weights.values()))
+    return names, np.array([weights[n] / total for n in names])
+
+
+def place_storefronts(
+    scene: Scene, city: CityMap, plan: StreetPlan, rng: np.random.Generator, settings: StorefrontSettings
+) -> StorefrontPlacement:
+    """Set storefronts into the facades of a city scene at the map's places (module docstring).
+
+    Parameters
+    ----------
+    scene : Scene
+        The city scene (buildings with facades from the city geometry stage, usually populated).
+    city : CityMap
+        Its map: the places.
+    plan : StreetPlan
+        Its ground plan: where the sidewalks are.
+    rng : numpy.random.Generator
+        Source of all randomness (widths, designs, generated names, filled facades).
+    settings : StorefrontSettings
+        How to place them.
+
+    Returns
+    -------
+    StorefrontPlacement
+    """
+    placer = _Placer(scene, plan, rng, settings)
+    candidates = _candidates(city, settings)
+    for candidate in candidates:
+        found = placer.facade_of(candidate)
+        if isinstance(found, str):
+            placer.rejected[found] += 1
+            continue
+        reason = placer.place(candidate, *found)
+        if reason is not None:
+            placer.rejected[reason] += 1
+    (x0, y0, x1, y1) = city.window
+    wanted = int(settings.fill_per_km2 * (x1 - x0) * (y1 - y0) / 1e6)
+    filled = 0
+    if wanted > len(placer.placed):
+        names, weights = _fill_categories(settings)
+        for building, facade in placer.fill_facades():
+            if len(placer.placed) >= wanted or not names:
+                break
+            category = names[int(rng.choice(len(names), p=weights))]
+            filled += 1
+            _, _, length = _facade_frame(facade)
+            at = float(rng.uniform(0.3, 0.7)) * length
+            reason = placer.place(_Candidate(category, None, None), building, facade, at)
+            if reason is not None:
+                placer.rejected[reason] += 1
+    result, _ = placer.build()
+    hidden = _invisible(result, placer.placed, placer.walkable, settings)
+    if hidden:
+        placer.rejected["sign not visible"] += len(hidden)
+        placer.drop(hidden)
+    result, cleared = placer.build()
+    counts = {
+        "places": len(candidates),
+        "filled": filled,
+        "placed": len(placer.placed),
+        "rejected": dict(sorted(placer.rejected.items())),
+        "categories": dict(sorted(Counter(p.annotation.place_category for p in placer.placed).items())),
+        "objects_cleared": cleared,
+        "narrowed": placer.narrowed,
+        "shifted": placer.shifted,
+    }
+    return StorefrontPlacement(scene=result, counts=counts)
