@@ -277,6 +277,8 @@ def _recipe_options() -> argparse.ArgumentParser:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every sub-command."""
+    from navverse.dataset import INSTRUCTION_TYPES
+
     parser = argparse.ArgumentParser(
         prog="navverse",
         description="Build navigation scenes and episode datasets from recipes, and evaluate agents.",
@@ -362,7 +364,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     evaluate = sub.add_parser("eval", help="score a submission against a dataset split")
     evaluate.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
-    evaluate.add_argument("--submission", required=True, help="JSONL file (optionally .gz)")
+    evaluate.add_argument(
+        "--submission", required=True, action="append",
+        help="JSONL file (optionally .gz). Repeatable: the same agent's runs under different PlaceNav "
+        "instruction types (one each) fill the instruction-type table (instruction_types.md); every "
+        "other output (metrics.json, tables, report) is the first submission's",
+    )  # fmt: skip
     evaluate.add_argument("--split", default="eval", help="split scored (default: eval)")
     evaluate.add_argument("--embodiment", default=None, help="robot scored (default: the dataset's)")
     evaluate.add_argument("--out", default="eval-out", help="output folder (default: eval-out)")
@@ -381,6 +388,12 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--jobs", "-j", type=int, default=None, help="processes (default: cores; 0: in process)")
     run.add_argument("--limit", type=int, default=None, help="run only K episodes, spread over the split")
     run.add_argument("--seed", type=int, default=0, help="seed of the agent's per-episode seeds")
+    run.add_argument(
+        "--instruction-type", choices=INSTRUCTION_TYPES, default="category",
+        help="the instruction PlaceNav episodes give the agent: the place category, a route description "
+        "or an intention (default: category); under route and intention an agent that is not privileged "
+        "is not told the category",
+    )  # fmt: skip
     run.add_argument("--max-steps", type=int, default=None, help="cut an episode after this many actions")
     run.add_argument(
         "--friction", type=float, default=None, help="friction of every terrain class (a diagnostic)"

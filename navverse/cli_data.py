@@ -275,45 +275,110 @@ def _check_out_dir(out: str | os.PathLike[str]) -> Path:
     return out
 
 
-def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
-    """Score a submission: metrics.json, tables (md, csv), report.html, and the headline table."""
+def _submission_paths(args: argparse.Namespace) -> list[str]:
+    """The ``--submission`` files of ``eval`` (a list from the parser; one path is taken too)."""
+    given = args.submission
+    return [os.fspath(given)] if isinstance(given, (str, os.PathLike)) else [os.fspath(p) for p in given]
+
+
+def _read_for_eval(args: argparse.Namespace, dataset, scene_dirs: dict) -> list:
+    """The submissions given to ``eval`` (read against the split), each under its own instruction type
+    when there are several, or a NavverseError saying what to change."""
+    from navverse.errors import NavverseError
+    from navverse.eval.scoring import instruction_type_of
+    from navverse.eval.submission import episode_bounds, read_submission
+
+    ids = _split_of(dataset, args.split)
+    episodes = list(dataset.episodes(split=args.split))
+    bounds = episode_bounds(episodes, scene_dirs)
+    paths = _submission_paths(args)
+    submissions, kinds = [], {}
+    for path in paths:
+        submission = read_submission(path, episode_ids=ids, bounds=bounds)
+        kind = instruction_type_of(submission, episodes)
+        if len(paths) > 1 and kind is None:
+            raise NavverseError(
+                f"several --submission are scored to compare PlaceNav instruction types, but split "
+                f"{args.split!r} has no PlaceNav episodes: give one --submission"
+            )
+        if kind in kinds:
+            raise NavverseError(
+                f"--submission {kinds[kind]} and {path} were both run under instruction type {kind!r}: give "
+                "one submission per instruction type (`navverse run-agent --instruction-type ...`)"
+            )
+        kinds[kind] = path
+        submissions.append(submission)
+    return submissions
+
+
+def _score_for_eval(args: argparse.Namespace, console: Console, dataset, submissions: list, scene_dirs: dict):
+    """Each submission's :class:`~navverse.eval.scoring.EvalResult`, with a progress bar."""
     from rich.progress import Progress
+
+    from navverse.eval.scoring import score
+
+    results = []
+    for submission in submissions:
+        with Progress(console=console, transient=True) as bar:
+            task = bar.add_task(f"scoring {submission.path.name}", total=len(submission.records) or 1)
+            results.append(
+                score(
+                    dataset,
+                    submission,
+                    split=args.split,
+                    scene_dirs=scene_dirs,
+                    embodiment=args.embodiment,
+                    progress=lambda done, total, task=task, bar=bar: bar.update(task, completed=done),
+                )
+            )
+    return results
+
+
+def _print_table(console: Console, header: list[str], rows: list[list[str]], title: str) -> None:
     from rich.table import Table
+
+    table = Table(title=title)
+    for column in header:
+        table.add_column(column, justify="left" if column == header[0] else "right")
+    for row in rows:
+        table.add_row(*row)
+    console.print(table)
+
+
+def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
+    """Score a submission: metrics.json, tables (md, csv), report.html, and the headline table. Several
+    submissions (one per PlaceNav instruction type) add rows to the instruction-type table; the other
+    outputs are the first one's."""
+    from rich.progress import Progress
 
     from navverse import __version__
     from navverse.dataset import Dataset
     from navverse.eval.report import write_report
-    from navverse.eval.scoring import score
-    from navverse.eval.submission import episode_bounds, read_submission
-    from navverse.eval.tables import table_rows, write_outputs
+    from navverse.eval.tables import (
+        instruction_type_entries,
+        instruction_type_table,
+        table_rows,
+        write_outputs,
+    )
     from navverse.scene.locate import built_scene_dirs
 
     _check_out_dir(args.out)
     dataset = Dataset(args.dataset)
     dataset.verify()
-    ids = _split_of(dataset, args.split)
+    _split_of(dataset, args.split)
     scene_dirs = built_scene_dirs(dataset.episodes(split=args.split), built_dir=built_dir())
-    bounds = episode_bounds(dataset.episodes(split=args.split), scene_dirs)
-    submission = read_submission(args.submission, episode_ids=ids, bounds=bounds)
-    with Progress(console=console, transient=True) as bar:
-        task = bar.add_task("scoring", total=len(submission.records) or 1)
-        result = score(
-            dataset,
-            submission,
-            split=args.split,
-            scene_dirs=scene_dirs,
-            embodiment=args.embodiment,
-            progress=lambda done, total: bar.update(task, completed=done),
-        )
+    submissions = _read_for_eval(args, dataset, scene_dirs)
+    results = _score_for_eval(args, console, dataset, submissions, scene_dirs)
+    submission, result = submissions[0], results[0]
     meta = {
         "dataset": str(dataset.root),
         "dataset_version": dataset.manifest.version,
         "split": args.split,
-        "submission": str(args.submission),
+        "submission": _submission_paths(args)[0],
         "embodiment": args.embodiment or dataset.manifest.embodiment,
         "toolkit_version": __version__,
     }
-    out = write_outputs(result, args.out, meta=meta)
+    out = write_outputs(result, args.out, meta=meta, others=results[1:])
     with Progress(console=console, transient=True) as bar:
         task = bar.add_task("report", total=len(result.episodes) or 1)
         report = write_report(
@@ -330,6 +395,14 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
         console.print(f"[yellow]{count} submission problems[/] (listed in metrics.json):")
         for problem in submission.problems[:10]:
             console.print(f"  {problem}", highlight=False, markup=False)
+    for other in submissions[1:]:
+        if other.problems:
+            console.print(
+                f"{_problem_count(other)} problems in {other.path} (see `navverse validate submission`)",
+                style="yellow",
+                highlight=False,
+                markup=False,
+            )
     invalid = [row["episode_id"] for row in result.episodes if row["label"] == "invalid"]
     if invalid:
         console.print(
@@ -339,13 +412,12 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
             highlight=False,
         )
     header, rows = table_rows(result, "task_scene")
-    table = Table(title=f"{dataset.manifest.name} v{dataset.manifest.version} / {args.split}")
-    for column in header:
-        table.add_column(column, justify="left" if column == header[0] else "right")
-    for row in rows:
-        table.add_row(*row)
-    console.print(table)
-    console.print(f"wrote {out}/metrics.json, tables.md, *.csv, {report.name}", highlight=False)
+    _print_table(console, header, rows, f"{dataset.manifest.name} v{dataset.manifest.version} / {args.split}")
+    entries = instruction_type_entries(results) if result.instruction_type is not None else []
+    if entries:
+        _print_table(console, *instruction_type_table(entries), "PlaceNav by instruction type (SR, SPL in %)")
+    written = ", instruction_types.md" if entries else ""
+    console.print(f"wrote {out}/metrics.json, tables.md, *.csv{written}, {report.name}", highlight=False)
     return 0
 
 
@@ -380,6 +452,7 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
             terrain_friction=args.friction,
             step_timeout=STEP_TIMEOUT if args.step_timeout is None else args.step_timeout,
             episode_timeout=EPISODE_TIMEOUT if args.episode_timeout is None else args.episode_timeout,
+            instruction_type=args.instruction_type,
             progress=lambda done, total: bar.update(task, completed=done, total=total),
         )
     for episode_id, reason in summary.timeouts[:10]:
@@ -398,9 +471,10 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
         )
     ended = ", ".join(f"{label} {count}" for label, count in sorted(summary.terminations.items()))
     resumed = f" ({summary.resumed} resumed from an interrupted run)" if summary.resumed else ""
+    kind = f", PlaceNav: {args.instruction_type}" if args.instruction_type != "category" else ""
     console.print(
-        f"{args.agent} ({embodiment}): {summary.episodes} episodes{resumed} in {summary.seconds:.0f} s; "
-        f"ended: {ended}",
+        f"{args.agent} ({embodiment}{kind}): {summary.episodes} episodes{resumed} in "
+        f"{summary.seconds:.0f} s; ended: {ended}",
         highlight=False,
         markup=False,
         soft_wrap=True,

@@ -64,6 +64,7 @@ from navverse.scene_types import SceneType, scene_profile
 
 __all__ = [
     "FORMAT_VERSION",
+    "INSTRUCTION_TYPES",
     "MAX_FILE_BYTES",
     "MAX_MANIFEST_BYTES",
     "TASKS",
@@ -75,6 +76,7 @@ __all__ = [
     "EpisodeInfo",
     "Goal",
     "Instruction",
+    "InstructionType",
     "Landmark",
     "Verification",
     "built_version",
@@ -87,8 +89,9 @@ __all__ = [
     "write_json_gz",
 ]
 
-FORMAT_VERSION = "1.0"
-"""Format of the dataset files (``major.minor``); a reader takes its own major, minors up to its own."""
+FORMAT_VERSION = "1.1"
+"""Format of the dataset files (``major.minor``); a reader takes its own major, minors up to its own.
+1.1 added the PlaceNav episodes' ``instructions`` by instruction type."""
 TASKS = ("objnav", "placenav", "vln")
 MAX_MANIFEST_BYTES = 4 << 20
 """Largest ``manifest.json`` read (bytes)."""
@@ -103,6 +106,12 @@ _REMEDY = (
 
 Vec3 = tuple[float, float, float]
 Task = Literal["objnav", "placenav", "vln"]
+InstructionType = Literal["category", "route", "intention"]
+INSTRUCTION_TYPES: tuple[InstructionType, ...] = ("category", "route", "intention")
+"""The instruction types of a PlaceNav episode (the paper's Store Category, VLN Instruction and
+Intention Driven): ``category`` names the place ("Find a bank."), ``route`` describes the way along
+the reference path, naming landmarks and roads, and ``intention`` states a need the place meets ("I
+need to withdraw some cash.")."""
 _CONFIG = ConfigDict(extra="forbid", frozen=True)
 
 
@@ -134,7 +143,10 @@ class Landmark(BaseModel):
 
 
 class Instruction(BaseModel):
-    """A VLN instruction: the refined text, the template it came from, and the landmarks it names."""
+    """An instruction: the final text, the template it came from, and the landmarks it names.
+
+    A VLN episode's ``instruction_type`` is ``landmark`` or ``refined``; the instructions of a
+    PlaceNav episode are ``category``, ``route`` or ``intention`` (:data:`INSTRUCTION_TYPES`)."""
 
     model_config = _CONFIG
 
@@ -186,6 +198,8 @@ class Episode(BaseModel):
     place_category: str | None = None
     goals: list[Goal]
     instruction: Instruction | None = None
+    instructions: dict[InstructionType, Instruction] = {}
+    """PlaceNav: the episode's instruction of each type (:data:`INSTRUCTION_TYPES`), all three."""
     reference_path: list[Vec3]
     info: EpisodeInfo
 

@@ -10,7 +10,9 @@ world-frame waypoint appended to the path, executed for 0.1 s) and ``NavVerse-Ve
 (``[vx, vy, wz, stop]`` in the body frame for 0.1 s). ``stop > 0.5`` (or the ``stop`` action) ends
 the episode. Observations: ``rgb`` (480x640x3 uint8), ``depth`` (480x640x1 float32, meters, 0 where
 nothing is within [0.1, 1000] m), ``semantic`` (480x640 int32 instance ids), ``pose``
-(``[x, y, z, qx, qy, qz, qw]``) and ``goal`` (the object or place category, or the instruction).
+(``[x, y, z, qx, qy, qz, qw]``) and ``goal`` (the object or place category, or the instruction;
+for a PlaceNav episode with ``instructions``, the text of the ``instruction_type`` the environment
+was made with: :func:`episode_goal`).
 ``sensors`` chooses which camera images are rendered; an agent that needs none (one that follows
 privileged paths) skips rendering altogether and runs at the speed of the physics.
 
@@ -19,7 +21,8 @@ privileged paths) skips rendering altogether and runs at the speed of the physic
 without one, a start is drawn on the navmesh and an object category with instances as the goal. The
 reward is always 0: benchmarks are scored offline by ``navverse eval``. ``info`` holds the
 termination label (``stop``, ``fall``, ``timeout``, ``out_of_bounds``, ``max_steps``), the number of
-actions, the collisions so far, the surface under the robot and the simulated time; with
+actions, the collisions so far, the surface under the robot, the simulated time and, for a PlaceNav
+episode, the ``instruction_type`` its goal text is of; with
 ``privileged=True`` also the geodesic distance to the nearest goal, the goal positions and the
 episode's reference path.
 """
@@ -36,6 +39,7 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
+from navverse.dataset import INSTRUCTION_TYPES
 from navverse.errors import NavverseError
 from navverse.sim.actions import DISCRETE_ACTIONS, ActionRunner, step_size
 from navverse.sim.camera import CameraIntrinsics
@@ -47,7 +51,7 @@ from navverse.sim.simulator import Simulator
 from navverse.sim.terminations import TIMEOUT, TerminationMonitor
 from navverse.sim.world import World
 
-__all__ = ["ACTION_MODES", "SENSORS", "EnvError", "NavVerseEnv"]
+__all__ = ["ACTION_MODES", "SENSORS", "EnvError", "NavVerseEnv", "episode_goal"]
 
 ACTION_MODES = ("discrete", "waypoint", "velocity")
 SENSORS = ("rgb", "depth", "semantic")
@@ -59,6 +63,62 @@ _TEXT = spaces.Text(max_length=2048, charset="".join(chr(c) for c in range(32, 1
 
 class EnvError(NavverseError):
     """The environment was given something it cannot use (a scene, an episode, an action mode)."""
+
+
+def _check_instruction_type(instruction_type: str) -> None:
+    """An EnvError naming the instruction types when ``instruction_type`` is not one of them."""
+    if instruction_type not in INSTRUCTION_TYPES:
+        raise EnvError(
+            f"unknown instruction type {instruction_type!r}; choose from: {', '.join(INSTRUCTION_TYPES)}"
+        )
+
+
+def _instruction_text(instruction: Any) -> str:
+    """The text of an instruction given as a dict (``instruction_text``), "" if it has none."""
+    return str(instruction.get("instruction_text", "")) if isinstance(instruction, Mapping) else ""
+
+
+def episode_goal(episode: Mapping[str, Any], instruction_type: str = "category") -> tuple[str, str | None]:
+    """The goal text of an episode (given as in the dataset's files) and its instruction type.
+
+    Parameters
+    ----------
+    episode : mapping
+        The episode: ``task``, ``object_category`` or ``place_category``, ``instruction``, and for
+        PlaceNav ``instructions`` (by instruction type, dataset format 1.1).
+    instruction_type : str
+        The PlaceNav instruction type to give (:data:`~navverse.dataset.INSTRUCTION_TYPES`).
+
+    Returns
+    -------
+    goal : str
+        The instruction of that type for a PlaceNav episode with ``instructions``; else the VLN
+        instruction when there is one, or the object or place category (at most 2048 characters).
+    instruction_type : str or None
+        For a PlaceNav episode, the type the goal text is of: ``instruction_type``, or ``category``
+        for an episode without ``instructions`` (older datasets, ad-hoc episodes), whose goal is its
+        place category. None for the other tasks.
+
+    Raises
+    ------
+    EnvError
+        If ``instruction_type`` is unknown, or a PlaceNav episode's ``instructions`` lack it.
+    """
+    _check_instruction_type(instruction_type)
+    placenav = episode.get("task") == "placenav"
+    instructions = episode.get("instructions")
+    if placenav and instructions:
+        if not isinstance(instructions, Mapping) or instruction_type not in instructions:
+            have = ", ".join(sorted(instructions)) if isinstance(instructions, Mapping) else "none"
+            raise EnvError(
+                f"PlaceNav episode {episode.get('episode_id')} has no {instruction_type!r} instruction "
+                f"(its instructions: {have})"
+            )
+        return _instruction_text(instructions[instruction_type])[:2048], instruction_type
+    kind = "category" if placenav else None
+    if episode.get("instruction"):
+        return _instruction_text(episode["instruction"])[:2048], kind
+    return str(episode.get("object_category") or episode.get("place_category") or ""), kind
 
 
 def _yaw_of(quaternion) -> float:
@@ -92,6 +152,10 @@ class NavVerseEnv(gymnasium.Env):
         are always there).
     terrain_friction : float, optional
         Friction of every terrain class instead of the scene's own (a diagnostic); None: the scene's.
+    instruction_type : str
+        Which of a PlaceNav episode's ``instructions`` is its goal text, among
+        :data:`~navverse.dataset.INSTRUCTION_TYPES` (``category``, ``route``, ``intention``); a
+        PlaceNav episode without them is given its place category. Other tasks ignore it.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
@@ -109,6 +173,7 @@ class NavVerseEnv(gymnasium.Env):
         collision_cache: str | os.PathLike[str] | None = "default",
         sensors: Sequence[str] = SENSORS,
         terrain_friction: float | None = None,
+        instruction_type: str = "category",
     ) -> None:
         if action_mode not in ACTION_MODES:
             raise EnvError(f"unknown action mode {action_mode!r}; choose from: {', '.join(ACTION_MODES)}")
@@ -119,6 +184,7 @@ class NavVerseEnv(gymnasium.Env):
             raise EnvError(f"max_steps must be at least 1, got {max_steps}")
         if terrain_friction is not None and not (math.isfinite(terrain_friction) and terrain_friction >= 0.0):
             raise EnvError(f"terrain_friction must be a finite number >= 0, got {terrain_friction!r}")
+        _check_instruction_type(instruction_type)
         if render_mode not in (None, "rgb_array"):
             raise EnvError(f"unsupported render mode {render_mode!r}; use 'rgb_array' or None")
         self.scene_dir = Path(scene)
@@ -140,9 +206,11 @@ class NavVerseEnv(gymnasium.Env):
         self.sensors = tuple(s for s in SENSORS if s in sensors)
         self.action_mode = action_mode
         self.privileged = privileged
+        self.instruction_type = instruction_type
         self.render_mode = render_mode
         self._navmesh = None
         self._episode: dict[str, Any] = {}
+        self._goal: tuple[str, str | None] = ("", None)
         self._recorder: RolloutRecorder | None = None
         self._last_rgb: np.ndarray | None = None
         self._done = False
@@ -221,17 +289,6 @@ class NavVerseEnv(gymnasium.Env):
             ],
         }
 
-    def _goal_text(self) -> str:
-        ep = self._episode
-        if ep.get("instruction"):
-            text = (
-                ep["instruction"].get("instruction_text", "")
-                if isinstance(ep["instruction"], Mapping)
-                else ""
-            )
-            return str(text)[:2048]
-        return str(ep.get("object_category") or ep.get("place_category") or "")
-
     # ------------------------------------------------------------------ gymnasium API
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
@@ -239,6 +296,7 @@ class NavVerseEnv(gymnasium.Env):
         super().reset(seed=seed)
         episode = (options or {}).get("episode")
         self._episode = dict(episode) if episode is not None else self._default_episode()
+        self._goal = episode_goal(self._episode, self.instruction_type)
         try:
             start = [float(v) for v in self._episode["start_position"]]
             yaw = _yaw_of(self._episode.get("start_rotation", [0.0, 0.0, 0.0, 1.0]))
@@ -249,7 +307,9 @@ class NavVerseEnv(gymnasium.Env):
         self.sim.spawn(start, yaw)
         self.runner.follower.clear()
         self.monitor.start(self.sim)
-        self._recorder = RolloutRecorder(str(self._episode.get("episode_id", "episode")))
+        self._recorder = RolloutRecorder(
+            str(self._episode.get("episode_id", "episode")), instruction_type=self._goal[1]
+        )
         self._recorder.attach(self.sim)
         self._done = False
         self._steps = 0
@@ -305,7 +365,7 @@ class NavVerseEnv(gymnasium.Env):
             }
             observation = {name: images[name]() for name in self.sensors}
         observation["pose"] = np.concatenate([pose.position, pose.quaternion]).astype(np.float64)
-        observation["goal"] = self._goal_text()
+        observation["goal"] = self._goal[0]
         return observation
 
     def _info(self, label: str | None) -> dict[str, Any]:
@@ -320,6 +380,8 @@ class NavVerseEnv(gymnasium.Env):
             "robot_radius": self.sim.robot.radius,
             "steps": self._steps,
         }
+        if self._goal[1] is not None:
+            info["instruction_type"] = self._goal[1]
         if self.privileged:
             goals = np.array([g["position"] for g in self._episode.get("goals", [])], dtype=float).reshape(
                 -1, 3

@@ -1,4 +1,4 @@
-"""The instructions stage: landmark-grounded VLN instructions for the verified VLN episodes."""
+"""The instructions stage: landmark-grounded VLN instructions, and PlaceNav's three instruction types."""
 
 from __future__ import annotations
 
@@ -19,6 +19,11 @@ class InstructionsParams(Params):
     camera and from its turn. ``refiner`` (``"package.module:function"``) names an optional callable,
     for instance wrapping a vision-language model, that receives the keyframes, the template, the
     landmark text and the episode and returns the final text (None drops the episode).
+
+    Each verified PlaceNav episode gets its three instruction types: ``category`` ("Find a bank."),
+    ``route`` (the same machinery along its reference path, naming the place, and telling the
+    stretches along a road as following the street) and ``intention`` ("I need to withdraw some
+    cash."); one whose route instruction is dropped is dropped.
     """
 
     min_landmarks: Annotated[int, Field(ge=0, le=16)] = 2
@@ -28,14 +33,21 @@ class InstructionsParams(Params):
 
 @stage(name="instructions", inputs=["verified", Input("scene", many=True)], outputs=["instructions"])
 def instructions(ctx: StageContext, params: InstructionsParams) -> None:
-    """instructions.json.gz (instruction per VLN episode id) and dropped.json.gz (episode id -> reason)."""
+    """instructions.json.gz (per VLN episode id its instruction, per PlaceNav one {type: instruction}) and
+    dropped.json.gz (episode id -> reason)."""
     import zlib
     from collections import Counter
 
     import numpy as np
 
-    from navverse.dataset import Episode, read_json_gz, write_json_gz
+    from navverse.dataset import Episode, Instruction, read_json_gz, write_json_gz
     from navverse.episodes import files
+    from navverse.episodes.instructions import (
+        PLACE_NAMES,
+        RoadFollowing,
+        category_instruction,
+        intention_instruction,
+    )
     from navverse.episodes.instructions.settings import InstructionSettings
     from navverse.episodes.instructions.writer import InstructionWriter, load_refiner
     from navverse.scene import read_annotations, read_scene
@@ -47,12 +59,12 @@ def instructions(ctx: StageContext, params: InstructionsParams) -> None:
     by_scene: dict[str, list[Episode]] = {}
     for raw in verified["episodes"]:
         episode = Episode.model_validate(raw)
-        if episode.task == "vln":
+        if episode.task in ("vln", "placenav"):
             by_scene.setdefault(episode.scene_id, []).append(episode)
     scene_dirs = {read_annotations(path).scene_id: path for path in ctx.inputs["scene"]}
     missing = sorted(set(by_scene) - set(scene_dirs))
     if missing:
-        raise RuntimeError(f"VLN episodes of scenes that are not linked: {', '.join(missing)}")
+        raise RuntimeError(f"VLN or PlaceNav episodes of scenes that are not linked: {', '.join(missing)}")
     settings = InstructionSettings(
         min_landmarks=params.min_landmarks, max_distance=params.max_landmark_distance
     )
@@ -61,31 +73,60 @@ def instructions(ctx: StageContext, params: InstructionsParams) -> None:
     total, done = sum(map(len, by_scene.values())), 0
     for scene_id, episodes in sorted(by_scene.items()):
         ctx.progress(done, total, scene_id)
-        writer = InstructionWriter(
-            read_scene(scene_dirs[scene_id]),
-            camera_to_base=camera_to_base,
-            settings=settings,
-            refiner=refiner,
-        )
+        scene = read_scene(scene_dirs[scene_id])
+        writer = InstructionWriter(scene, camera_to_base=camera_to_base, settings=settings, refiner=refiner)
+        roads = RoadFollowing(scene)
         for episode in episodes:
             rng = np.random.default_rng([ctx.seed, zlib.crc32(episode.episode_id.encode())])
-            instruction, reason = writer.write(episode, np.asarray(rollouts[episode.episode_id]), rng)
-            if instruction is None:
+            rollout = np.asarray(rollouts[episode.episode_id])
+            if episode.task == "vln":
+                instruction, reason = writer.write(episode, rollout, rng, roads=roads)
+                if instruction is None:
+                    dropped[episode.episode_id] = reason
+                else:
+                    written[episode.episode_id] = instruction.model_dump(mode="json")
+                continue
+            category = episode.goal_category
+            route, reason = writer.write(episode, rollout, rng, goal=PLACE_NAMES[category], roads=roads)
+            if route is None:
                 dropped[episode.episode_id] = reason
-            else:
-                written[episode.episode_id] = instruction.model_dump(mode="json")
+                continue
+            texts = {
+                "category": category_instruction(category, rng),
+                "intention": intention_instruction(category, rng),
+            }
+            written[episode.episode_id] = {
+                "category": Instruction(
+                    instruction_text=texts["category"],
+                    template_text=texts["category"],
+                    instruction_type="category",
+                ).model_dump(mode="json"),
+                "route": route.model_copy(update={"instruction_type": "route"}).model_dump(mode="json"),
+                "intention": Instruction(
+                    instruction_text=texts["intention"],
+                    template_text=texts["intention"],
+                    instruction_type="intention",
+                ).model_dump(mode="json"),
+            }
         done += len(episodes)
     ctx.progress(total, total, "written")
     write_json_gz(written, ctx.output / files.INSTRUCTIONS)
     write_json_gz(dropped, ctx.output / files.DROPPED)
     why = Counter(reason.split(":")[0] for reason in dropped.values())
     ctx.record(
-        vln_episodes=total,
+        episodes=total,
         written=len(written),
         dropped=len(dropped),
         dropped_by_reason=dict(sorted(why.items())),
         landmarks_per_instruction=round(
-            float(np.mean([len(i["landmarks"]) for i in written.values()])) if written else 0.0, 3
+            float(np.mean([len(_route(i)["landmarks"]) for i in written.values()])) if written else 0.0, 3
         ),
     )
-    ctx.log.info("%d of %d VLN episodes have an instruction; %d dropped", len(written), total, len(dropped))
+    ctx.log.info(
+        "%d of %d VLN and PlaceNav episodes have instructions; %d dropped", len(written), total, len(dropped)
+    )
+
+
+def _route(written: dict) -> dict:
+    """The landmark-bearing instruction of a written record (a VLN one, or a PlaceNav one's route)."""
+    return written.get("route", written)

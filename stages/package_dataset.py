@@ -57,6 +57,11 @@ def package_dataset(ctx: StageContext, params: PackageDatasetParams) -> None:
                 continue  # dropped for want of landmarks
             instruction = Instruction.model_validate(instructions[episode.episode_id])
             episode = episode.model_copy(update={"instruction": instruction})
+        elif episode.task == "placenav":
+            if episode.episode_id not in instructions:
+                continue  # its route instruction was dropped
+            by_type = {k: Instruction.model_validate(v) for k, v in instructions[episode.episode_id].items()}
+            episode = episode.model_copy(update={"instructions": by_type})
         episodes.append(episode)
     scene_dirs = {read_annotations(path).scene_id: path for path in ctx.inputs["scene"]}
     splits = assign_splits(sorted(scene_dirs), params.splits)

@@ -44,6 +44,7 @@ from navverse.sim.terminations import AGENT_TIMEOUT
 
 __all__ = [
     "EPISODE_TIMEOUT",
+    "HIDDEN_CATEGORY_TYPES",
     "KILL_GRACE",
     "STEP_TIMEOUT",
     "Chunk",
@@ -53,6 +54,7 @@ __all__ = [
     "agent_seed",
     "run_here",
     "run_in_pool",
+    "task_for",
 ]
 
 STEP_TIMEOUT = 30.0
@@ -86,6 +88,7 @@ class RunSettings:
     terrain_friction: float | None = None
     step_timeout: float = STEP_TIMEOUT
     episode_timeout: float = EPISODE_TIMEOUT
+    instruction_type: str = "category"
 
 
 def agent_seed(seed: int, episode_id: str) -> int:
@@ -108,23 +111,35 @@ class Chunk:
         return Chunk(self.scene_dir, rest) if rest else None
 
 
-def _task_for(episode: Episode, *, embodiment: str, radius: float, categories: dict[int, str],
-              seed: int, scene_dir: Path):  # fmt: skip
+HIDDEN_CATEGORY_TYPES = frozenset({"route", "intention"})
+"""PlaceNav instruction types under which an agent that is not privileged is not told the category."""
+
+
+def task_for(episode: Episode, *, embodiment: str, radius: float, categories: dict[int, str], seed: int,
+             scene_dir: Path, instruction_type: str = "category", privileged: bool = False):  # fmt: skip
+    """The :class:`~navverse.eval.agents.base.AgentTask` of an episode.
+
+    Its ``goal`` is what the environment observes (:func:`navverse.env.episode_goal`); under the
+    PlaceNav instruction types of :data:`HIDDEN_CATEGORY_TYPES` a non-privileged agent's
+    ``goal_category`` is "".
+    """
+    from navverse.env import episode_goal
     from navverse.eval.agents.base import AgentTask
 
-    instruction = episode.instruction
-    goal = instruction.instruction_text if instruction is not None else episode.goal_category
+    goal, kind = episode_goal(episode.model_dump(mode="json"), instruction_type)
+    hidden = kind in HIDDEN_CATEGORY_TYPES and not privileged
     return AgentTask(
         episode_id=episode.episode_id,
         task=episode.task,
         goal=goal,
-        goal_category=episode.goal_category,
+        goal_category="" if hidden else episode.goal_category,
         scene_type=episode.scene_type,
         embodiment=embodiment,
         robot_radius=radius,
         semantic_categories=categories,
         seed=agent_seed(seed, episode.episode_id),
         scene_dir=str(scene_dir),
+        instruction_type=kind,
     )
 
 
@@ -263,7 +278,7 @@ def _run_episode(
     try:
         observation, info = env.reset(seed=task.seed, options={"episode": data})
         trail = _Trail(env.sim)
-        emit(("begin", episode_id, trail.first))
+        emit(("begin", episode_id, trail.first, info.get("instruction_type")))
         clock.call(agent.reset, task)
         while "submission" not in info:
             action = clock.call(agent.act, observation, info)
@@ -293,22 +308,25 @@ def _run_chunk(settings: RunSettings, chunk: Chunk, emit: Emit, *, alarm: bool, 
     from navverse.eval.agents import load_agent
 
     agent = load_agent(settings.agent)
+    privileged = bool(getattr(agent, "privileged", False))
     env = NavVerseEnv(
         chunk.scene_dir,
         embodiment=settings.embodiment,
         action_mode=agent.action_mode,
-        privileged=bool(getattr(agent, "privileged", False)),
+        privileged=privileged,
         sensors=tuple(getattr(agent, "sensors", SENSORS)),
         max_steps=settings.max_steps,
         terrain_friction=settings.terrain_friction,
+        instruction_type=settings.instruction_type,
     )
     try:
         categories = {o.id: o.category for o in env.scene.annotations.objects if o.category}
         radius = float(env.sim.robot.radius)
         for data in chunk.episodes:
             episode = Episode.model_validate(data)
-            task = _task_for(episode, embodiment=settings.embodiment, radius=radius, categories=categories,
-                             seed=settings.seed, scene_dir=Path(chunk.scene_dir))  # fmt: skip
+            task = task_for(episode, embodiment=settings.embodiment, radius=radius, categories=categories,
+                            seed=settings.seed, scene_dir=Path(chunk.scene_dir),
+                            instruction_type=settings.instruction_type, privileged=privileged)  # fmt: skip
             clock = _AgentClock(settings, alarm=alarm, deadline=deadline)
             if not _run_episode(env, agent, task, data, emit, clock):
                 return
@@ -353,24 +371,29 @@ def _send_output_to(log: str) -> None:
 
 @dataclass
 class _Open:
-    """What the parent knows of an episode in progress: its trajectory so far."""
+    """What the parent knows of an episode in progress: its trajectory so far (and, for PlaceNav, the
+    instruction type its record names)."""
 
     rows: list[list[float]]
     now: list[float]
     collisions: list[float] = field(default_factory=list)
+    instruction_type: str | None = None
 
     def record(self, episode_id: str) -> dict[str, Any]:
         """The submission record of the episode ended here by the agent's time limit."""
         rows = list(self.rows)
         if self.now[0] > rows[-1][0] + 1e-9:
             rows.append(self.now)
-        return {
+        record = {
             "episode_id": episode_id,
             "trajectory": rows,
             "stop": False,
             "collisions": sorted(set(self.collisions)),
             "termination": AGENT_TIMEOUT,
         }
+        if self.instruction_type is not None:
+            record["instruction_type"] = self.instruction_type
+        return record
 
 
 class Results:
@@ -386,9 +409,9 @@ class Results:
     progress : callable
         Called after each new record.
 
-    Messages: ``("begin", id, row)``, ``("step", id, rows, now, collisions)``, ``("record", id,
-    record)``, ``("timeout", id, reason)``, ``("error", id, message)``; the pool adds ``("end",)``
-    and ``("failed", message)``.
+    Messages: ``("begin", id, row, instruction_type)`` (None but for PlaceNav), ``("step", id, rows,
+    now, collisions)``, ``("record", id, record)``, ``("timeout", id, reason)``, ``("error", id,
+    message)``; the pool adds ``("end",)`` and ``("failed", message)``.
     """
 
     def __init__(self, records: dict[str, dict[str, Any]], sink: Any, progress: Callable[[], None]) -> None:
@@ -403,7 +426,8 @@ class Results:
         """Take one message from the episode runner."""
         kind, episode_id = message[0], message[1]
         if kind == "begin":
-            self._open[episode_id] = _Open([message[2]], message[2])
+            kind = message[3] if len(message) > 3 else None
+            self._open[episode_id] = _Open([message[2]], message[2], instruction_type=kind)
         elif kind == "step":
             trail = self._open[episode_id]
             trail.rows.extend(message[2])

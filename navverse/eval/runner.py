@@ -4,11 +4,15 @@
 :class:`~navverse.env.NavVerseEnv` per scene and drives the agent through it), and writes one record
 per episode in the submission format (DESIGN.md §3), in the dataset's order.
 
+PlaceNav episodes are run under one instruction type (``instruction_type``: the agent is given the
+episode's ``category``, ``route`` or ``intention`` instruction, :func:`navverse.env.episode_goal`), which
+their records name.
+
 Every finished episode is appended at once to ``<out>.partial`` (its first line names the run: agent,
-dataset, split, embodiment, seed, limits), so a run that is killed resumes where it stopped when the
-same command is given again; the submission itself is written atomically at the end and the partial
-file removed. An agent gets a seed per episode derived from ``--seed`` and the episode id, so the
-output does not depend on how many processes ran it.
+dataset, split, embodiment, seed, limits, instruction type), so a run that is killed resumes where it
+stopped when the same command is given again; the submission itself is written atomically at the end
+and the partial file removed. An agent gets a seed per episode derived from ``--seed`` and the episode
+id, so the output does not depend on how many processes ran it.
 
 The agent's time is limited per call and per episode (:mod:`navverse.eval.agent_workers`): an
 episode whose agent runs out of time ends with the label ``agent_timeout`` and the run goes on. What
@@ -29,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from navverse.dataset import Dataset, Episode
+from navverse.dataset import INSTRUCTION_TYPES, Dataset, Episode
 from navverse.eval.agent_workers import (
     EPISODE_TIMEOUT,
     STEP_TIMEOUT,
@@ -126,6 +130,24 @@ def _read_partial(path: Path, settings: RunSettings) -> dict[str, dict[str, Any]
     return records
 
 
+def _check_instruction_type(episodes: Sequence[Episode], instruction_type: str) -> None:
+    """A RunError if the instruction type is unknown, or if it is not ``category`` and some PlaceNav
+    episodes have no instructions to give (a dataset of format 1.0)."""
+    if instruction_type not in INSTRUCTION_TYPES:
+        raise RunError(
+            f"unknown --instruction-type {instruction_type!r}; choose from: {', '.join(INSTRUCTION_TYPES)}"
+        )
+    if instruction_type == "category":
+        return
+    bare = [e.episode_id for e in episodes if e.task == "placenav" and not e.instructions]
+    if bare:
+        raise RunError(
+            f"--instruction-type {instruction_type} needs the PlaceNav episodes' instructions, and "
+            f"{len(bare)} have none (e.g. {bare[0]}; datasets of format 1.0 have none): rebuild the "
+            "dataset, or run under --instruction-type category"
+        )
+
+
 def _chunks(episodes: Sequence[Episode], jobs: int) -> list[list[Episode]]:
     """Per-scene groups of episodes, cut so that every worker gets several."""
     by_scene: dict[str, list[Episode]] = {}
@@ -189,6 +211,7 @@ def run_agent(
     terrain_friction: float | None = None,
     step_timeout: float = STEP_TIMEOUT,
     episode_timeout: float = EPISODE_TIMEOUT,
+    instruction_type: str = "category",
     progress: Callable[[int, int], None] | None = None,
 ) -> RunSummary:
     """Run an agent on a split and write its submission.
@@ -220,6 +243,10 @@ def run_agent(
         Wall-clock seconds one call to the agent (``reset`` or ``act``) may take.
     episode_timeout : float
         Wall-clock seconds the agent's calls in one episode may take together.
+    instruction_type : str
+        Which instruction PlaceNav episodes give the agent: ``category`` (the place category),
+        ``route`` or ``intention`` (:data:`~navverse.dataset.INSTRUCTION_TYPES`); their records name it.
+        Under ``route`` and ``intention`` an agent that is not privileged is not told the category.
     progress : callable, optional
         Called with ``(done, total)`` episodes.
 
@@ -230,7 +257,8 @@ def run_agent(
     Raises
     ------
     RunError
-        When the arguments are wrong, the agent cannot be loaded, or it raises during an episode
+        When the arguments are wrong (an unknown instruction type, or one other than ``category`` for
+        PlaceNav episodes without instructions), the agent cannot be loaded, or it raises during an episode
         (the episodes done so far are kept for a resumed run). An agent out of time is not an
         error: its episode ends with the label ``agent_timeout``.
     """
@@ -249,6 +277,7 @@ def run_agent(
     episodes = pick_episodes(list(dataset.episodes(split=split)), limit)
     if not episodes:
         raise RunError(f"split {split!r} of {dataset.root} has no episodes")
+    _check_instruction_type(episodes, instruction_type)
     settings = RunSettings(
         agent=agent,
         dataset=str(Path(dataset.root).resolve()),
@@ -260,6 +289,7 @@ def run_agent(
         terrain_friction=terrain_friction,
         step_timeout=float(step_timeout),
         episode_timeout=float(episode_timeout),
+        instruction_type=instruction_type,
     )
     partial, log = _partial_path(out), _log_path(out)
     wanted = {e.episode_id for e in episodes}

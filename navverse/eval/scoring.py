@@ -5,6 +5,10 @@ missing or invalid one is a failure, labelled ``invalid``), computes the measure
 (:func:`navverse.eval.measures.measure`) and the metrics (:func:`navverse.eval.metrics.compute_metrics`),
 and groups them: overall, per task, per scene type, per task × scene type, per difficulty, and per task
 over the indoor-to-outdoor episodes alone (the transition analysis).
+
+A submission is run under one PlaceNav instruction type (:func:`instruction_type_of`: the
+``instruction_type`` of its valid PlaceNav records, ``category`` when they do not say); records that
+disagree make it a :class:`~navverse.eval.submission.SubmissionError` naming the types and lines.
 """
 
 from __future__ import annotations
@@ -19,10 +23,11 @@ import numpy as np
 from navverse.dataset import Dataset, Episode
 from navverse.eval.measures import MEASURES, TRANSITION_SCENE_TYPES, EpisodeTarget, Robot, measure
 from navverse.eval.metrics import LABELS, METRICS, compute_metrics
-from navverse.eval.submission import Submission
+from navverse.eval.submission import Submission, SubmissionError
 from navverse.scene.fields import SceneFields, load_scene_fields
 
-__all__ = ["EXTRA_SURFACES", "GROUPINGS", "EvalResult", "group_means", "metric_rows", "robot_for", "score"]
+__all__ = ["EXTRA_SURFACES", "GROUPINGS", "EvalResult", "group_means", "instruction_type_of", "metric_rows",
+           "robot_for", "score"]  # fmt: skip
 
 EXTRA_SURFACES = {"spot": frozenset({"curb", "green", "ground"}), "turtlebot": frozenset()}
 """Navigable classes an embodiment also counts as preferred for NSR, beyond the classes the scene marks
@@ -59,12 +64,68 @@ class EvalResult:
         :data:`GROUPINGS` (``i2o_task`` is empty when the split has no indoor-to-outdoor episodes).
     problems : list of str
         The submission's problems.
+    difficulty_thresholds : dict
+        The dataset's geodesic-length thresholds of each task's difficulties.
+    instruction_type : str or None
+        The PlaceNav instruction type the submission was run under (:func:`instruction_type_of`); None
+        when the split has no PlaceNav episodes.
+    submission : str
+        The submission file scored ("" when not known).
     """
 
     episodes: list[dict]
     groups: dict[str, dict[str, dict[str, float]]]
     problems: list[str] = field(default_factory=list)
     difficulty_thresholds: dict[str, tuple[float, float]] = field(default_factory=dict)
+    instruction_type: str | None = None
+    submission: str = ""
+
+
+def instruction_type_of(submission: Submission, episodes: Sequence[Episode]) -> str | None:
+    """The instruction type a submission's PlaceNav episodes were run under.
+
+    Parameters
+    ----------
+    submission : Submission
+        The submission (its valid records are read; a record without ``instruction_type`` counts as
+        ``category``).
+    episodes : sequence of Episode
+        The split scored.
+
+    Returns
+    -------
+    str or None
+        ``category``, ``route`` or ``intention``; ``category`` when no PlaceNav episode has a valid
+        record; None when the split has no PlaceNav episodes.
+
+    Raises
+    ------
+    SubmissionError
+        If its PlaceNav records name different instruction types (a submission is one run, under one).
+    """
+    placenav = [e.episode_id for e in episodes if e.task == "placenav"]
+    if not placenav:
+        return None
+    first_line: dict[str, tuple[int, int]] = {}  # type -> (first line, records)
+    for episode_id in placenav:
+        record = submission.records.get(episode_id)
+        if record is None:
+            continue
+        kind = record.instruction_type or "category"
+        line, count = first_line.get(kind, (record.line, 0))
+        first_line[kind] = (min(line, record.line), count + 1)
+    if len(first_line) > 1:
+        said = "; ".join(
+            f"{count} say {kind!r} (first on line {line})"
+            for kind, (line, count) in sorted(first_line.items())
+        )
+        raise SubmissionError(
+            f"{submission.path}: its PlaceNav records disagree on instruction_type: {said}. A submission "
+            "is one run under one instruction type (a record without it counts as 'category'); write one "
+            "submission per type (`navverse run-agent --instruction-type ...`) and give each to `navverse "
+            "eval --submission`"
+        )
+    return next(iter(first_line), "category")
 
 
 def _target(episode: Episode) -> EpisodeTarget:
@@ -124,8 +185,14 @@ def score(
         The robot scored (r_robot, footprint); the dataset's by default.
     progress : callable, optional
         Called with (episodes scored, episodes).
+
+    Raises
+    ------
+    SubmissionError
+        If the submission's PlaceNav records disagree on their instruction type.
     """
     episodes = list(dataset.episodes(split=split))
+    instruction_type = instruction_type_of(submission, episodes)
     robot = robot_for(embodiment or dataset.manifest.embodiment)
     fields = {}
     preferred = {}
@@ -176,6 +243,8 @@ def score(
         problems=[str(p) for p in submission.problems]
         + ([f"... and {submission.omitted} more problems"] if submission.omitted else []),
         difficulty_thresholds=dict(dataset.manifest.difficulty_thresholds),
+        instruction_type=instruction_type,
+        submission=str(submission.path),
     )
 
 

@@ -6,7 +6,12 @@ One JSON object per line::
      "trajectory": [[t, x, y, z, qx, qy, qz, qw], ...],   # s, world frame, robot base; t increasing
      "stop": true,                                         # the agent called stop at the last row
      "collisions": [12.3, 40.1],                           # optional: times of non-ground contacts
-     "termination": "stop"}                                # optional: what the simulator reported
+     "termination": "stop",                                # optional: what the simulator reported
+     "instruction_type": "route"}                          # optional, PlaceNav: the instruction given
+
+``instruction_type`` is one of :data:`~navverse.dataset.INSTRUCTION_TYPES` (``category``, ``route``,
+``intention``: which of a PlaceNav episode's instructions the agent was given; absent or null means
+``category``). The evaluator reads it on PlaceNav records only; all of a submission's must agree.
 
 :func:`read_submission` keeps every record that is valid and lists a :class:`Problem` (line number,
 episode id, what is wrong) for every one that is not: unreadable JSON, missing or wrongly typed fields
@@ -40,6 +45,7 @@ from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
+from navverse.dataset import INSTRUCTION_TYPES
 from navverse.errors import NavverseError
 
 if TYPE_CHECKING:
@@ -68,7 +74,7 @@ __all__ = [
     "read_submission",
 ]
 
-FIELDS = ("episode_id", "trajectory", "stop", "collisions", "termination")
+FIELDS = ("episode_id", "trajectory", "stop", "collisions", "termination", "instruction_type")
 """Keys a record may have; the first three are required."""
 QUATERNION_TOLERANCE = 1e-3
 """Largest | ||q|| - 1 | accepted."""
@@ -174,6 +180,9 @@ class TrajectoryRecord:
         Times of reported non-ground contacts; None when the submission does not say.
     termination : str or None
     line : int
+    instruction_type : str or None
+        The PlaceNav instruction type the record says its agent was given (one of
+        :data:`~navverse.dataset.INSTRUCTION_TYPES`); None when it does not say.
     """
 
     episode_id: str
@@ -182,6 +191,7 @@ class TrajectoryRecord:
     collisions: np.ndarray | None
     termination: str | None
     line: int
+    instruction_type: str | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -525,6 +535,14 @@ def _check_text(data: dict, key: str, *, required: bool) -> tuple[str | None, st
     return value, None
 
 
+def _check_instruction_type(data: dict) -> tuple[str | None, str | None]:
+    """The record's instruction type (None: not given), or why it is not one of the types."""
+    value, why = _check_text(data, "instruction_type", required=False)
+    if why is None and value is not None and value not in INSTRUCTION_TYPES:
+        why = f"instruction_type must be one of {', '.join(INSTRUCTION_TYPES)} (or null), not {_short(value)}"
+    return (None, why) if why else (value, None)
+
+
 def _check_record(
     data: Any, line: int, *, box_of: Mapping[str, Box] | None, limits: Limits
 ) -> tuple[TrajectoryRecord | None, list[str], str | None]:
@@ -553,9 +571,13 @@ def _check_record(
     termination, why = _check_text(data, "termination", required=False)
     if why:
         messages.append(why)
+    instruction_type, why = _check_instruction_type(data)
+    if why:
+        messages.append(why)
     if messages or episode_id is None or trajectory is None:  # (either None comes with a message)
         return None, messages, episode_id
-    return TrajectoryRecord(episode_id, trajectory, stop, times, termination, line), [], episode_id
+    record = TrajectoryRecord(episode_id, trajectory, stop, times, termination, line, instruction_type)
+    return record, [], episode_id
 
 
 _TOO_DEEP = "JSON nested too deep"

@@ -11,6 +11,11 @@ Tables (Markdown in ``tables.md``, each also as ``<name>.csv``):
   stage-wise transition table); written only when the split has indoor-to-outdoor episodes;
 * ``episodes.csv`` — one row per episode.
 
+``instruction_types.md`` and ``.csv`` (and the ``instruction_types`` key of ``metrics.json``) hold the
+paper's PlaceNav instruction-type table: SR and SPL over all, outdoor and indoor-to-outdoor PlaceNav
+episodes, with their numbers, for each submission scored (one per instruction type: Store Category,
+VLN Instruction, Intention Driven); written only when the split has PlaceNav episodes.
+
 Every table ends with an ``all`` row: the overall means, or for ``transition`` those of the
 indoor-to-outdoor episodes (the ``scene_type`` group ``i2o``).
 """
@@ -24,11 +29,21 @@ import os
 from collections.abc import Sequence
 from pathlib import Path
 
+from navverse.dataset import INSTRUCTION_TYPES
 from navverse.eval.metrics import METRICS
 from navverse.eval.scoring import EvalResult
 from navverse.files import atomic_write
 
-__all__ = ["TABLES", "cell_text", "has_table", "table_rows", "write_outputs"]
+__all__ = [
+    "INSTRUCTION_TYPE_NAMES",
+    "TABLES",
+    "cell_text",
+    "has_table",
+    "instruction_type_entries",
+    "instruction_type_table",
+    "table_rows",
+    "write_outputs",
+]
 
 PERCENT = {"success", "spl", "soft_success", "soft_spl", "os", "cr", "nsr", "sdtw", "ndtw", "ind_only",
            "reach_out", "post_exit_wrong_goal", "post_exit_fall", "post_exit_timeout"}  # fmt: skip
@@ -53,6 +68,19 @@ HEADERS = {
     "post_exit_failures": "#post-exit fail", "post_exit_wrong_goal": "post-exit wrong goal (%)",
     "post_exit_fall": "post-exit fall (%)", "post_exit_timeout": "post-exit timeout (%)",
 }  # fmt: skip
+
+
+INSTRUCTION_TYPE_NAMES = {"category": "Store Category", "route": "VLN Instruction",
+                          "intention": "Intention Driven"}  # fmt: skip
+"""The paper's name of each PlaceNav instruction type (the rows of its instruction-type table)."""
+INSTRUCTION_TYPE_SCENES = (
+    ("all", "All", "task", "placenav"),
+    ("outdoor", "Outdoor", "task_scene_type", "placenav/outdoor"),
+    ("i2o", "Indoor-to-Outdoor", "task_scene_type", "placenav/i2o"),
+)
+"""The column groups of the instruction-type table: key, title, and the grouping and group of
+:attr:`EvalResult.groups <navverse.eval.scoring.EvalResult>` their values are read from."""
+INSTRUCTION_TYPE_METRICS = ("success", "spl")
 
 
 def cell_text(name: str, value: float | None) -> str:
@@ -87,6 +115,56 @@ def table_rows(result: EvalResult, table: str) -> tuple[list[str], list[list[str
     return header, rows
 
 
+def instruction_type_entries(results: Sequence[EvalResult]) -> list[dict]:
+    """The PlaceNav instruction-type table's rows as data, one per result with an instruction type.
+
+    Parameters
+    ----------
+    results : sequence of EvalResult
+        Scorings of submissions of one split, each under its own instruction type
+        (:attr:`EvalResult.instruction_type`; results without one are left out).
+
+    Returns
+    -------
+    list of dict
+        In the order of :data:`~navverse.dataset.INSTRUCTION_TYPES`: ``instruction_type``, ``name``
+        (:data:`INSTRUCTION_TYPE_NAMES`), ``submission``, and for ``all``, ``outdoor`` and ``i2o``
+        PlaceNav episodes ``{"episodes": n, "success": SR, "spl": SPL}`` (rates in 0..1; None when
+        there are no such episodes), read from the results' groups.
+    """
+    chosen = [r for r in results if r.instruction_type in INSTRUCTION_TYPES]
+    chosen.sort(key=lambda r: INSTRUCTION_TYPES.index(r.instruction_type))
+    entries = []
+    for result in chosen:
+        entry: dict = {
+            "instruction_type": result.instruction_type,
+            "name": INSTRUCTION_TYPE_NAMES[result.instruction_type],
+            "submission": result.submission,
+        }
+        for key, _, grouping, group in INSTRUCTION_TYPE_SCENES:
+            values = result.groups.get(grouping, {}).get(group, {})
+            entry[key] = {"episodes": int(values.get("episodes", 0))}
+            entry[key].update({name: values.get(name) for name in INSTRUCTION_TYPE_METRICS})
+        entries.append(entry)
+    return entries
+
+
+def instruction_type_table(entries: Sequence[dict]) -> tuple[list[str], list[list[str]]]:
+    """Header and rows of the instruction-type table (from :func:`instruction_type_entries`): the
+    paper's row names, then N, SR (%) and SPL (%) for all, outdoor and indoor-to-outdoor episodes."""
+    header = ["instruction type"]
+    for _, title, _, _ in INSTRUCTION_TYPE_SCENES:
+        header += [f"{title} N", *(f"{title} {HEADERS[name]}" for name in INSTRUCTION_TYPE_METRICS)]
+    rows = []
+    for entry in entries:
+        row = [entry["name"]]
+        for key, *_ in INSTRUCTION_TYPE_SCENES:
+            cells = entry[key]
+            row += [str(cells["episodes"]), *(cell_text(n, cells[n]) for n in INSTRUCTION_TYPE_METRICS)]
+        rows.append(row)
+    return header, rows
+
+
 def _markdown(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
     lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
     lines += ["| " + " | ".join(row) + " |" for row in rows]
@@ -106,20 +184,40 @@ def _write_text(path: Path, text: str) -> None:
         handle.write(text.encode("utf-8"))
 
 
-def write_outputs(result: EvalResult, out: str | os.PathLike[str], *, meta: dict) -> Path:
+def _write_instruction_types(out: Path, entries: Sequence[dict]) -> None:
+    """``instruction_types.md`` and ``.csv`` of the entries; without entries, removes earlier ones."""
+    if not entries:
+        for suffix in ("md", "csv"):
+            (out / f"instruction_types.{suffix}").unlink(missing_ok=True)
+        return
+    header, rows = instruction_type_table(entries)
+    _write_csv(out / "instruction_types.csv", header, rows)
+    parts = ["# PlaceNav by instruction type", "", _markdown(header, rows), ""]
+    parts += ["SR and SPL in %, over the PlaceNav episodes; N: episodes scored. Submissions:", ""]
+    parts += [f"- {e['name']} ({e['instruction_type']}): {e['submission'] or 'unknown'}" for e in entries]
+    _write_text(out / "instruction_types.md", "\n".join(parts) + "\n")
+
+
+def write_outputs(
+    result: EvalResult, out: str | os.PathLike[str], *, meta: dict, others: Sequence[EvalResult] = ()
+) -> Path:
     """Write ``metrics.json``, ``tables.md``, one CSV per table and ``episodes.csv`` into `out`.
 
     A table without groups (``transition`` for a split without indoor-to-outdoor episodes) is left out,
-    and a CSV of it from an earlier run in `out` is removed.
+    and a CSV of it from an earlier run in `out` is removed. When the split has PlaceNav episodes, the
+    instruction-type table of `result` and `others` (the same split scored under the other instruction
+    types) is written too (:func:`instruction_type_entries`); every other output is `result`'s.
     """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    entries = instruction_type_entries([result, *others]) if result.instruction_type is not None else []
     metrics = {
         "meta": meta,
         "definitions": {n: m.description for n, m in METRICS.items() if not n.startswith("_")},
         "overall": result.groups["overall"]["all"],
         **{k: v for k, v in result.groups.items() if k != "overall"},
         "difficulty_thresholds": {k: list(v) for k, v in result.difficulty_thresholds.items()},
+        **({"instruction_types": entries} if entries else {}),
         "problems": result.problems,
         "episodes": result.episodes,
     }
@@ -141,6 +239,7 @@ def write_outputs(result: EvalResult, out: str | os.PathLike[str], *, meta: dict
             )
         )
     _write_text(out / "tables.md", "\n".join(parts) + "\n")
+    _write_instruction_types(out, entries)
     if result.episodes:
         names = list(result.episodes[0])
         _write_csv(out / "episodes.csv", names, [[row[n] for n in names] for row in result.episodes])

@@ -2,7 +2,8 @@
 
 A :class:`RolloutRecorder` attached to a :class:`~navverse.sim.simulator.Simulator` samples the base
 pose at :data:`RECORD_HZ` (the camera's rate) and at the end, so a trajectory row is
-``[t, x, y, z, qx, qy, qz, qw]`` with ``t`` in seconds since the episode began.
+``[t, x, y, z, qx, qy, qz, qw]`` with ``t`` in seconds since the episode began. A PlaceNav episode's
+record also names the ``instruction_type`` its agent was given.
 """
 
 from __future__ import annotations
@@ -25,10 +26,14 @@ _EVERY = CONTROL_HZ // RECORD_HZ
 
 @dataclass
 class RolloutRecorder:
-    """Collects one episode's trajectory; :meth:`finish` returns its submission record."""
+    """Collects one episode's trajectory; :meth:`finish` returns its submission record.
+
+    ``instruction_type`` (PlaceNav episodes only; None for the other tasks) is written into the record.
+    """
 
     episode_id: str
     rows: list[list[float]] = field(default_factory=list)
+    instruction_type: str | None = None
     _start: float = 0.0
     _ticks: int = 0
     _first_collision: int = 0
@@ -65,13 +70,16 @@ class RolloutRecorder:
         if self._on_tick in sim.observers:
             sim.observers.remove(self._on_tick)
         collisions = sorted({round(c.time - self._start, 3) for c in sim.collisions[self._first_collision :]})
-        return {
+        record = {
             "episode_id": self.episode_id,
             "trajectory": self.rows,
             "stop": bool(stop),
             "collisions": collisions,
             "termination": termination,
         }
+        if self.instruction_type is not None:
+            record["instruction_type"] = self.instruction_type
+        return record
 
 
 def write_submission(records: list[dict[str, Any]], path: str | Path) -> Path:

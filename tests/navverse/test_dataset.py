@@ -123,7 +123,15 @@ def test_other_format_versions_are_refused_with_what_to_do(tmp_path: Path, versi
     (root / "manifest.json").write_text(json.dumps(manifest))
     with pytest.raises(DatasetError, match=message):
         Dataset(root)
-    assert FORMAT_VERSION == "1.0"
+    assert FORMAT_VERSION == "1.1"
+
+
+def test_an_older_minor_format_is_read(tmp_path: Path):
+    root = build(tmp_path / "tiny" / "v1.0")
+    manifest = json.loads((root / "manifest.json").read_text())
+    manifest["format_version"] = "1.0"  # before PlaceNav episodes had their instructions by type
+    (root / "manifest.json").write_text(json.dumps(manifest))
+    assert Dataset(root).manifest.format_version == "1.0"
 
 
 def test_missing_or_malformed_datasets_say_so(tmp_path: Path):

@@ -34,13 +34,27 @@ Example::
 deterministic and the generator only chooses wording, so the same inputs and seed give the same
 instruction.
 
+Outdoors, segments that follow a road (on the walkway beside it, :class:`RoadFollowing`) are told as
+following the street. PlaceNav episodes get this route instruction (naming the place, e.g. "stop at the
+bank") and two more: the category ("Find a bank.") and an intention ("I need to withdraw some cash."),
+from ``places``.
+
 The modules: ``directives`` (steps 1 and 2: simplification, turns, alignment), ``landmarks`` (step 3:
-what the camera sees, colour names), ``wording`` (the template and landmark texts), ``writer`` (the
+what the camera sees, colour names), ``roads`` (segments along a road), ``wording`` (the template and
+landmark texts), ``places`` (PlaceNav's place names, category and intention texts), ``writer`` (the
 records, the refiner plug-in) and ``settings``. This package re-exports their public names.
 """
 
 from navverse.episodes.instructions.directives import Directive, align_directives, plan_directives, turn_class
 from navverse.episodes.instructions.landmarks import PALETTE, color_name, object_color
+from navverse.episodes.instructions.places import (
+    INTENTIONS,
+    PLACE_NAMES,
+    category_instruction,
+    intention_instruction,
+    place_phrase,
+)
+from navverse.episodes.instructions.roads import RoadFollowing
 from navverse.episodes.instructions.settings import InstructionSettings
 from navverse.episodes.instructions.wording import template_text
 from navverse.episodes.instructions.writer import (
@@ -53,16 +67,22 @@ from navverse.episodes.instructions.writer import (
 
 __all__ = [
     "DROP_REASONS",
+    "INTENTIONS",
     "PALETTE",
+    "PLACE_NAMES",
     "Directive",
     "InstructionSettings",
     "InstructionWriter",
     "Refiner",
     "RefinerError",
+    "RoadFollowing",
     "align_directives",
+    "category_instruction",
     "color_name",
+    "intention_instruction",
     "load_refiner",
     "object_color",
+    "place_phrase",
     "plan_directives",
     "template_text",
     "turn_class",

@@ -96,6 +96,13 @@ _PATTERNS = {
                     "stop at the {goal}, close to the {lm}", "the {goal} beside the {lm} is your goal"),
     "arrive+pass": ("walk past the {lm} and stop by the {goal}", "pass the {lm} and stop at the {goal}",
                     "continue past the {lm} to the {goal}"),
+    # the segment follows a road (outdoors): the street is the landmark
+    "start+road": ("walk along the street", "follow the sidewalk along the road",
+                   "keep to the sidewalk and follow the street"),
+    "start_turn+road": ("{verb} and walk along the street", "{verb} and follow the road",
+                        "{verb}, then keep to the sidewalk along the street"),
+    "turn+road": ("{verb} and follow the street", "{verb} and walk along the road",
+                  "{verb} and keep to the sidewalk along the street"),
     # the goal was not seen on the way: the paper's "you will arrive at [target]"
     "arrive_unseen": ("you will arrive at the {goal}",),
     "arrive_unseen+near": ("you will arrive at the {goal} near the {lm}",),
@@ -128,6 +135,7 @@ def landmark_text(
     *,
     goal_seen: bool,
     rng: np.random.Generator,
+    along_road: Sequence[bool] | None = None,
 ) -> str:
     """The landmark-grounded instruction: one pattern per directive, drawn with `rng`; no distances.
 
@@ -143,6 +151,10 @@ def landmark_text(
         Whether the goal was seen before arriving; if not, the arrival says "you will arrive at".
     rng : numpy.random.Generator
         Chooses the patterns, turn verbs and joiners.
+    along_road : sequence of bool, optional
+        For each directive, whether the segment walked after it follows a road; such a segment
+        without a landmark is told as following the street, and with one gets ", following the
+        street" (outdoor routes).
 
     Returns
     -------
@@ -150,13 +162,17 @@ def landmark_text(
         The instruction, sentences capitalised, ending with a full stop.
     """
     clauses = []
-    for d, lm in zip(directives, landmarks, strict=True):
+    roads = list(along_road) if along_road is not None else [False] * len(directives)
+    for d, lm, road in zip(directives, landmarks, roads, strict=True):
         if d.kind == "start":
             situation = "start" if d.turn == "straight" else "start_turn"
         else:
             situation = d.kind if d.kind == "turn" or goal_seen else "arrive_unseen"
+        follows = road and d.kind != "arrive"
         if lm is not None:
             situation += "+lm" if d.kind != "arrive" else "+near" if lm.near_goal else "+pass"
+        elif follows:
+            situation += "+road"
         fields = {
             "verb": "" if d.turn == "straight" else _verb(d.turn, rng),
             "lm": "" if lm is None else lm.phrase,
@@ -164,7 +180,8 @@ def landmark_text(
             "goal": category_words(goal),
         }
         patterns = _PATTERNS[situation]
-        clauses.append(patterns[int(rng.integers(len(patterns)))].format(**fields))
+        clause = patterns[int(rng.integers(len(patterns)))].format(**fields)
+        clauses.append(clause + ", following the street" if follows and lm is not None else clause)
     text = clauses[0]
     for i, clause in enumerate(clauses[1:], start=1):
         joiner = str(rng.choice(_FINAL_JOINERS if i == len(clauses) - 1 else _JOINERS))

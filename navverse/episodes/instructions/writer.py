@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike
 from navverse.dataset import Episode, Instruction, Landmark
 from navverse.episodes.instructions.directives import align_directives, plan_directives
 from navverse.episodes.instructions.landmarks import LandmarkFinder, camera_poses
+from navverse.episodes.instructions.roads import RoadFollowing
 from navverse.episodes.instructions.settings import InstructionSettings
 from navverse.episodes.instructions.wording import landmark_text, template_text
 from navverse.errors import NavverseError
@@ -81,7 +82,13 @@ class InstructionWriter:
         return self._settings
 
     def write(
-        self, episode: Episode, rollout: ArrayLike, rng: np.random.Generator
+        self,
+        episode: Episode,
+        rollout: ArrayLike,
+        rng: np.random.Generator,
+        *,
+        goal: str | None = None,
+        roads: RoadFollowing | None = None,
     ) -> tuple[Instruction | None, str | None]:
         """Write the instruction of one episode.
 
@@ -93,6 +100,10 @@ class InstructionWriter:
             Its verification rollout: ``[t, x, y, z, qx, qy, qz, qw]`` robot base poses.
         rng : numpy.random.Generator
             Chooses the wording (only).
+        goal : str, optional
+            How the goal is named (default: its category's words), e.g. "fast-food restaurant".
+        roads : RoadFollowing, optional
+            Which segments follow a road, told as following the street (outdoor routes).
 
         Returns
         -------
@@ -123,7 +134,8 @@ class InstructionWriter:
         )
         if not directives:
             return None, "no_path: the reference path has no length"
-        template = template_text(directives, episode.goal_category)
+        goal_words = goal if goal is not None else episode.goal_category
+        template = template_text(directives, goal_words)
         rows, errors = align_directives(directives, poses)
         worst = int(np.argmax(errors))
         if errors[worst] > s.max_alignment_error:
@@ -139,7 +151,14 @@ class InstructionWriter:
                 f"too_few_landmarks: {found} distinctive landmark(s) seen along the rollout, fewer than "
                 f"{s.min_landmarks}",
             )
-        text = landmark_text(directives, landmarks, episode.goal_category, goal_seen=goal_seen, rng=rng)
+        text = landmark_text(
+            directives,
+            landmarks,
+            goal_words,
+            goal_seen=goal_seen,
+            rng=rng,
+            along_road=roads.along_road(directives) if roads is not None else None,
+        )
         kind = "landmark"
         if self._refiner is not None:
             refined = self._refiner(self._keyframes(poses[rows]), template, text, episode)

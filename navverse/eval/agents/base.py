@@ -47,9 +47,13 @@ class AgentTask:
     task : str
         ``objnav``, ``placenav`` or ``vln``.
     goal : str
-        The object or place category sought, or the VLN instruction.
+        The object or place category sought, or the VLN instruction; for PlaceNav, the episode's
+        instruction of the run's ``instruction_type`` (the observation's ``goal``).
     goal_category : str
-        The category sought (VLN episodes have one too: the instruction's destination).
+        The category sought (VLN episodes have one too: the instruction's destination). Under the
+        PlaceNav instruction types ``route`` and ``intention`` it is "" for an agent that is not
+        privileged: the instruction, not the place category, is what it is told. Privileged agents
+        (``oracle``, ``gt_goal``) always get it.
     scene_type : str
         ``indoor``, ``outdoor`` or ``i2o``.
     embodiment : str
@@ -64,6 +68,10 @@ class AgentTask:
     scene_dir : str
         The built scene directory. Only privileged agents may use it (to load the navmesh, as the
         ground-truth planners do); an agent that reads scene files is not a benchmark entry.
+    instruction_type : str or None
+        PlaceNav: the type of instruction ``goal`` is, among
+        :data:`~navverse.dataset.INSTRUCTION_TYPES` (``category``, ``route``, ``intention``;
+        ``category`` for an episode without instructions). None for ObjNav and VLN.
     """
 
     episode_id: str
@@ -76,6 +84,7 @@ class AgentTask:
     semantic_categories: dict[int, str] = field(default_factory=dict)
     seed: int = 0
     scene_dir: str = ""
+    instruction_type: str | None = None
 
 
 @runtime_checkable
