@@ -27,9 +27,10 @@ class StorefrontsParams(Params):
 
     Every place of the map whose ``amenity``/``shop`` tag has a place category gets a storefront on
     the nearest road-facing facade (found by ray casting), ``height`` tall and up to ``max_width``
-    wide, shifted sideways to fit and kept ``corner_margin`` from the facade's ends; it is accepted
-    when its recess is carved, its door opens onto the sidewalk and its sign is seen from the
-    sidewalk in front (within ``view_radius``) at ``camera_height``. ``fill_per_km2`` adds storefronts
+    wide (lower on a lower building), shifted sideways to fit and kept ``corner_margin`` from the
+    facade's ends; it is accepted when its recess is carved, its door opens onto the sidewalk (across
+    at most ``sidewalk_gap`` m of open ground) and its sign is seen from the walkable ground in front
+    (within ``view_radius``) at ``camera_height``. ``fill_per_km2`` adds storefronts
     on road-facing facades where the map has fewer places (categories drawn from the synthetic
     cities' place table); ``categories`` limits the place categories placed.
     """
@@ -42,6 +43,7 @@ class StorefrontsParams(Params):
     camera_height: Annotated[float, Field(gt=0.0, le=3.0)] = 0.6
     view_radius: Annotated[float, Field(ge=2.0, le=30.0)] = 15.0
     fill_per_km2: Annotated[float, Field(ge=0.0, le=2000.0)] = 0.0
+    sidewalk_gap: Annotated[float, Field(ge=0.0, le=20.0)] = 6.0
     categories: Annotated[list[str] | None, AfterValidator(_place_categories)] = None
 
 
@@ -72,6 +74,7 @@ def storefronts(ctx: StageContext, params: StorefrontsParams) -> None:
         camera_height=params.camera_height,
         view_radius=params.view_radius,
         fill_per_km2=params.fill_per_km2,
+        sidewalk_gap=params.sidewalk_gap,
         categories=None if params.categories is None else frozenset(params.categories),
     )
     ctx.progress(1, 3, "placing")

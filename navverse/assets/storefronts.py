@@ -162,7 +162,7 @@ DESIGNS_PER_CATEGORY = 6
 
 MIN_WIDTH = 3.0
 """Narrowest storefront (m): a door and one window between piers."""
-MIN_HEIGHT = 3.2
+MIN_HEIGHT = 2.9
 """Lowest storefront (m): openings of 2.3 m, an awning above head height and a sign band."""
 
 _FACADE_DEPTH = 0.4

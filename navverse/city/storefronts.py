@@ -23,8 +23,9 @@ For each place of the city map whose tags give a place category
 6. accepts it only if its sign is visible: from some point of the walkable ground within
    ``view_radius`` in front of it, at the robot's camera height, rays reach most of the sign's face.
 
-A recipe may add storefronts where the map has none (``fill_per_km2``): road-facing facades drawn at
-random get a category drawn from the synthetic cities' place table, and go through the same steps.
+A recipe may add storefronts where the map has none (``fill_per_km2``): road-facing facades with the
+sidewalk in front, drawn at random, get a category drawn from the synthetic cities' place table, and
+go through the same steps.
 Every rejection is counted by reason.
 """
 
@@ -40,7 +41,7 @@ import shapely
 from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 
-from navverse.assets.storefronts import MIN_WIDTH, Storefront, place_category, storefront
+from navverse.assets.storefronts import MIN_HEIGHT, MIN_WIDTH, Storefront, place_category, storefront
 from navverse.city.map import CityMap, Poi
 from navverse.city.street_plan import StreetPlan
 from navverse.city.surfaces import union_of
@@ -67,6 +68,7 @@ _RAY_HEIGHT = 1.5
 _ENTRANCE_OUT = 0.6  # the entrance point: this far in front of the door (m)
 _CLEAR_OUT = 1.5  # the doorway kept clear of objects: this deep (m)
 _CUT_OUTSIDE = 0.05  # the recess box reaches this far out of the facade, so no face is coplanar
+_ROOF_MARGIN = 0.1  # a storefront's top stays this far below its building's roof
 
 
 @dataclass(frozen=True)
@@ -76,7 +78,8 @@ class StorefrontSettings:
     Attributes
     ----------
     height : float
-        Height of every storefront (m).
+        Height of a storefront (m); lower on a lower building, down to
+        :data:`~navverse.assets.storefronts.MIN_HEIGHT`, 0.1 m under its roof.
     max_width : float
         Widest storefront (m); widths are drawn from ``MIN_WIDTH + 1 .. max_width``.
     corner_margin : float
@@ -110,7 +113,7 @@ class StorefrontSettings:
     fill_per_km2: float = 0.0
     categories: frozenset[str] | None = None
     rays: int = 72
-    sidewalk_gap: float = 4.0
+    sidewalk_gap: float = 6.0
 
 
 @dataclass(frozen=True)
@@ -327,12 +330,17 @@ class _Placer:
             and facade.road_distance is not None
             and facade.road_distance <= s.max_road_distance
             and facade.width >= MIN_WIDTH + 2 * s.corner_margin
-            and facade.height >= s.height + 0.2
+            and facade.height >= MIN_HEIGHT + _ROOF_MARGIN
         )
 
     def fill_facades(self) -> list[tuple[BuildingAnnotation, FacadeAnnotation]]:
-        """Every usable facade, in a random order."""
-        found = [(b, f) for b in self.scene.annotations.buildings for f in b.facades if self._usable(f)]
+        """Every usable facade with the sidewalk in front of its middle, in a random order."""
+        found = [
+            (b, f)
+            for b in self.scene.annotations.buildings
+            for f in b.facades
+            if self._usable(f) and self._sidewalk_ahead(np.mean(f.segment, axis=0), np.asarray(f.normal))
+        ]
         order = self.rng.permutation(len(found))
         return [found[k] for k in order]
 
@@ -359,9 +367,10 @@ class _Placer:
         base = float(ground)
         if building.base_height > base + 0.3:
             return "building does not reach the ground"
-        if building.base_height + building.height < base + s.height + 0.2:
+        height = min(s.height, building.base_height + building.height - base - _ROOF_MARGIN)
+        if height < MIN_HEIGHT:
             return "building too low"
-        built = storefront(candidate.category, self.rng, name=candidate.name, width=width, height=s.height)
+        built = storefront(candidate.category, self.rng, name=candidate.name, width=width, height=height)
         recess = built.entrance[1] + built.size[1] / 2  # depth of the facade panel behind its front
         yaw = math.atan2(normal[1], normal[0]) - math.pi / 2  # local +y (the front) -> the normal
         rotation = yaw_matrix(yaw)
@@ -379,14 +388,14 @@ class _Placer:
         )
         if self._blocked_by_building(front, building.id):
             return "blocked by a building"
-        box = MeshData.box((width, recess + _CUT_OUTSIDE, s.height), center=(0.0, 0.0, 0.0)).transformed(
-            (*(middle - normal * (recess - _CUT_OUTSIDE) / 2), base + s.height / 2), yaw
+        box = MeshData.box((width, recess + _CUT_OUTSIDE, height), center=(0.0, 0.0, 0.0)).transformed(
+            (*(middle - normal * (recess - _CUT_OUTSIDE) / 2), base + height / 2), yaw
         )
         try:
             carved, removed = carve(self.meshes[building.id], box)
         except SceneError:
             return "cut failed: the building is not a closed solid"
-        if removed < 0.9 * width * recess * s.height:
+        if removed < 0.9 * width * recess * height:
             return "cut failed: the facade is not there or the building is too shallow"
         self.meshes[building.id] = carved
         if span[1] - span[0] < want - 1e-6:
