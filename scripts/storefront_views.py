@@ -17,7 +17,6 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -39,15 +38,12 @@ SIDE_OFFSET = 1.0
 
 
 def pick(scene: Scene, count: int) -> list[StorefrontAnnotation]:
-    """`count` storefronts of different categories (the most frequent categories first, then by id)."""
-    stores = scene.annotations.storefronts
-    frequent = [c for c, _ in Counter(s.place_category for s in stores).most_common()]
-    chosen = []
-    for category in frequent:
-        chosen.append(min((s for s in stores if s.place_category == category), key=lambda s: s.id))
-        if len(chosen) == count:
-            break
-    return chosen
+    """`count` storefronts of different categories: the widest of each category (the widest signs),
+    the widest first."""
+    widest: dict[str, StorefrontAnnotation] = {}
+    for store in sorted(scene.annotations.storefronts, key=lambda s: (-s.size[0], s.id)):
+        widest.setdefault(store.place_category, store)
+    return list(widest.values())[:count]
 
 
 def camera_pose(store: StorefrontAnnotation, heights: SurfaceHeights) -> np.ndarray:
