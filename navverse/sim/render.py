@@ -47,6 +47,7 @@ DEFAULT_INTRINSICS = CameraIntrinsics.from_hfov()
 
 _LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)  # Rec. 709 weights
 _SKY_SCENE_TYPES = ("outdoor", "i2o")  # scene types whose default shading shows a sky
+_CHUNK = 16384  # textured hits sampled per pass: the per-hit buffers stay in the CPU cache
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,9 +232,12 @@ class SceneRenderer:
         if len(face_colors) != num_faces:  # both follow Scene.world_mesh's order: surfaces, then objects
             raise AssertionError("face colours and the world mesh disagree on the number of faces")
         self._background = np.asarray(shading.background, dtype=np.float32)
-        self._textures = _texture_tables(scene, hidden_classes)  # None: no textured face
-        if self._textures is not None and len(self._textures.face_texture) != num_faces + 1:
-            raise AssertionError("face textures and the world mesh disagree on the number of faces")
+        textures = _texture_tables(scene, hidden_classes)  # None: no textured face
+        self._sampler = None
+        if textures is not None:
+            if len(textures.face_texture) != num_faces + 1:
+                raise AssertionError("face textures and the world mesh disagree on the number of faces")
+            self._sampler = _TextureSampler(textures, intrinsics.width * intrinsics.height)
         colors = np.vstack([face_colors, self._background[None]])
         self._channels = [np.ascontiguousarray(colors[:, c]) for c in range(3)]
         self._instance = np.append(labeled.instance_id, np.int32(BACKGROUND_ID)).astype(np.int32)
@@ -377,8 +381,8 @@ class SceneRenderer:
             shade *= np.float32(1.0) - fog
         # Pixels whose colour is not their face's: textured hits and, with a sky, misses (shade 1, no fog).
         overrides: list[tuple[np.ndarray, list[np.ndarray]]] = []
-        if self._textures is not None:
-            overrides.append(_sample_textures(self._textures, face, barycentric))
+        if self._sampler is not None:
+            overrides.append(self._sampler.sample(face, barycentric))
         if shading.sky:
             overrides.append(self._sky(missed))
         rgb = np.empty((*face.shape, 3), dtype=np.uint8)
@@ -429,34 +433,38 @@ def _outlines(depth: np.ndarray, semantic: np.ndarray, terrain: np.ndarray, *, j
 
 @dataclass(frozen=True, eq=False)
 class _TextureTables:
-    """Per-face texture references and every texture of a scene packed into one texel pool.
+    """Per-face texture references and every texture of a scene packed into one planar texel pool.
+
+    Every table is planar (one contiguous row per quantity) so that the per-pixel gathers from it give
+    contiguous arrays: numpy's arithmetic on strided columns is several times slower.
 
     Attributes
     ----------
     face_texture : ndarray of int32, shape (F + 1,)
         Texture index per face of the world mesh, ``-1`` for untextured faces and for the extra row of
         pixels that hit nothing.
-    face_texels : ndarray of float32, shape (F, 6)
+    face_texels : ndarray of float32, shape (6, F + 1)
         Per face, its texel coordinates ``x = u * width - 0.5`` and ``y = (1 - v) * height - 0.5`` (texel
         centres at whole numbers, row 0 at ``v = 1``) as ``x0, x1 - x0, x2 - x0, y0, y1 - y0, y2 - y0``
         over its corners, shifted by whole repeats of the texture to keep them small (zeros on untextured
-        faces): a hit at barycentric ``(a, b)`` is at ``x0 + a (x1 - x0) + b (x2 - x0)``.
-    pool : ndarray of uint8, shape (4 N,)
-        The texels of every texture as RGB plus a pad byte (so one texel is one 32-bit word), each image
-        row-major (row 0 its top) with one more column and row that repeat its first ones (bilinear
-        neighbours across the wrap), after the one before.
-    offset : ndarray of int64, shape (T,)
-        Index in texels of each texture's first texel in `pool`.
+        faces and the extra row): a hit at barycentric ``(a, b)`` is at ``x0 + a (x1 - x0) + b (x2 - x0)``.
+    pool : ndarray of uint8, shape (3, N)
+        The R, G and B rows of the texels of every texture, each image row-major (row 0 its top) with one
+        more column and row that repeat its first ones (bilinear neighbours across the wrap), after the
+        one before.
     width, height : ndarray of float32, shape (T,)
         Size of each texture in texels (without the repeated column and row).
+    offset : ndarray of float32 or float64, shape (T,)
+        Index in `pool` of each texture's first texel; float64 only if float32 cannot hold every index
+        exactly (a pool of more than 2**24 texels).
     """
 
     face_texture: np.ndarray
     face_texels: np.ndarray
     pool: np.ndarray
-    offset: np.ndarray
     width: np.ndarray
     height: np.ndarray
+    offset: np.ndarray
 
 
 def _scene_meshes(scene: Scene, hidden_classes: Sequence[str]) -> list[MeshData]:
@@ -494,28 +502,27 @@ def _texture_tables(scene: Scene, hidden_classes: Sequence[str]) -> _TextureTabl
     images = [t.image for t in textures.values()]
     width = np.array([image.shape[1] for image in images], dtype=np.int64)
     height = np.array([image.shape[0] for image in images], dtype=np.int64)
-    face_texture = np.concatenate(index_parts)
-    padded = (width.astype(np.int64) + 1) * (height + 1)
+    face_texture = np.append(np.concatenate(index_parts), np.int32(-1))
+    sizes = (width + 1) * (height + 1)
+    offset = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     return _TextureTables(
-        face_texture=np.append(face_texture, np.int32(-1)),
-        face_texels=_face_texels(np.concatenate(uv_parts), face_texture, width, height),
-        pool=np.concatenate([_pool_image(image) for image in images]),
-        offset=np.concatenate([[0], np.cumsum(padded)[:-1]]).astype(np.int64),
+        face_texture=face_texture,
+        face_texels=_face_texels(np.concatenate(uv_parts), face_texture[:-1], width, height),
+        pool=np.concatenate([_pool_image(image) for image in images], axis=1),
         width=width.astype(np.float32),
         height=height.astype(np.float32),
+        offset=offset.astype(np.float32 if sizes.sum() <= 2**24 else np.float64),
     )
 
 
 def _pool_image(image: np.ndarray) -> np.ndarray:
-    """`image` with its first column and row repeated after its last ones, as flat RGB + pad bytes."""
+    """`image` with its first column and row repeated after its last ones, as ``(3, pixels)`` RGB rows."""
     wrapped = np.pad(image, ((0, 1), (0, 1), (0, 0)), mode="wrap")
-    texels = np.zeros((*wrapped.shape[:2], 4), dtype=np.uint8)
-    texels[..., :3] = wrapped
-    return texels.reshape(-1)
+    return np.ascontiguousarray(wrapped.reshape(-1, 3).T)
 
 
 def _face_texels(uvs: np.ndarray, texture: np.ndarray, width: np.ndarray, height: np.ndarray) -> np.ndarray:
-    """The ``(F, 6)`` texel-coordinate table of :class:`_TextureTables` from (F, 3, 2) UVs."""
+    """The ``(6, F + 1)`` texel-coordinate rows of :class:`_TextureTables` from (F, 3, 2) UVs."""
     textured = texture >= 0
     size_x = np.where(textured, width.take(np.maximum(texture, 0)), 1).astype(np.float64)[:, None]
     size_y = np.where(textured, height.take(np.maximum(texture, 0)), 1).astype(np.float64)[:, None]
@@ -523,71 +530,157 @@ def _face_texels(uvs: np.ndarray, texture: np.ndarray, width: np.ndarray, height
     y = (1.0 - uvs[..., 1].astype(np.float64)) * size_y - 0.5
     x -= size_x * np.floor(x[:, :1] / size_x)  # whole repeats: the same texels, smaller numbers
     y -= size_y * np.floor(y[:, :1] / size_y)
-    rows = [x[:, 0], x[:, 1] - x[:, 0], x[:, 2] - x[:, 0], y[:, 0], y[:, 1] - y[:, 0], y[:, 2] - y[:, 0]]
-    table = np.array(rows, dtype=np.float32).T.copy()
-    table[~textured] = 0.0
+    table = np.zeros((6, len(texture) + 1), dtype=np.float32)
+    rows = (x[:, 0], x[:, 1] - x[:, 0], x[:, 2] - x[:, 0], y[:, 0], y[:, 1] - y[:, 0], y[:, 2] - y[:, 0])
+    for k, row in enumerate(rows):
+        table[k, :-1] = np.where(textured, row, 0.0)
     return table
 
 
-def _sample_textures(
-    tables: _TextureTables, face: np.ndarray, barycentric: np.ndarray
-) -> tuple[np.ndarray, list[np.ndarray]]:
-    """Bilinear texture samples at the hits on textured faces.
+class _TextureSampler:
+    """Bilinear texture samples at the hits on textured faces, with scratch buffers reused every frame.
 
     Parameters
     ----------
     tables : _TextureTables
         The scene's texture tables.
-    face : ndarray of uint32, shape (H, W)
-        Face per pixel (the miss row where nothing was hit).
-    barycentric : ndarray of float32, shape (H, W, 2)
-        Open3D's ``primitive_uvs``: the hit is ``(1-a-b) p0 + a p1 + b p2``.
+    num_pixels : int
+        Pixels per frame (the most hits a frame can have).
 
-    Returns
-    -------
-    pixels : ndarray of int64, shape (K,)
-        Flat indices of the pixels on textured faces.
-    colors : list of three ndarray of float32, shape (K,)
-        Their sampled sRGB channels (repeat wrapping).
+    Notes
+    -----
+    Not thread-safe (the buffers are shared between calls), like the renderer that owns it. The hits are
+    sampled in chunks of ``_CHUNK`` so that the two dozen passes over each chunk run in the CPU cache;
+    every per-hit array is contiguous (gathered from planar tables), as numpy's arithmetic on strided
+    arrays is several times slower; gathers into a buffer use ``mode="clip"`` (the indices are valid by
+    construction) because ``mode="raise"`` would copy through a temporary.
     """
-    texture = tables.face_texture.take(face)
-    pixels = np.flatnonzero(texture >= 0)
-    texture = texture.take(pixels)
-    hit_face = face.take(pixels)
-    weights = barycentric.reshape(-1, 2)
-    a, b = weights[:, 0].take(pixels), weights[:, 1].take(pixels)
-    texels = tables.face_texels.take(hit_face, axis=0)
-    x = texels[:, 0] + a * texels[:, 1] + b * texels[:, 2]
-    y = texels[:, 3] + a * texels[:, 4] + b * texels[:, 5]
-    np.floor(x, out=a)
-    np.floor(y, out=b)
-    fx, fy = x - a, y - b  # bilinear weights of the next column and row
-    width = tables.width.take(texture)
-    col = _wrap(a, width)  # the pool's extra column and row hold the texels after the last ones
-    row = _wrap(b, tables.height.take(texture))
-    stride = width.astype(np.int64)
-    stride += 1
-    first = row.astype(np.int64)
-    first *= stride
-    first += tables.offset.take(texture)
-    first += col.astype(np.int64)
-    words = tables.pool.view(np.uint32)
-    colors = [np.zeros(len(pixels), dtype=np.float32) for _ in range(3)]
-    gx = 1.0 - fx
-    gy = 1.0 - fy
-    for step, weight in ((0, gx * gy), (1, fx * gy), (stride, gx * fy), (stride + 1, fx * fy)):
-        texel = words.take(first + step).view(np.uint8).reshape(-1, 4)
-        for channel, color in zip(colors, texel.T[:3], strict=True):
-            channel += color * weight
-    return pixels, colors
+
+    def __init__(self, tables: _TextureTables, num_pixels: int) -> None:
+        self._tables = tables
+        self._texture = np.empty(num_pixels, dtype=np.int32)
+        self._mask = np.empty(num_pixels, dtype=bool)
+        self._colors = np.empty((3, num_pixels), dtype=np.float32)
+        n = min(int(num_pixels), _CHUNK)  # the per-hit buffers hold one chunk
+        self._pairs = np.empty(n, dtype=np.uint64)  # barycentric (a, b) as one 8-byte word
+        self._texels = np.empty((6, n), dtype=np.float32)
+        self._scratch = np.empty((9, n), dtype=np.float32)
+        self._linear = np.empty(n, dtype=tables.offset.dtype)
+        self._index = np.empty((2, n), dtype=np.intp)
+        self._corners = np.empty((12, n), dtype=np.uint8)
+
+    def sample(self, face: np.ndarray, barycentric: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
+        """Sample the textures under every textured hit.
+
+        Parameters
+        ----------
+        face : ndarray of uint32, shape (H, W)
+            Face per pixel (the miss row where nothing was hit).
+        barycentric : ndarray of float32, shape (H, W, 2)
+            Open3D's ``primitive_uvs``: the hit is ``(1-a-b) p0 + a p1 + b p2``.
+
+        Returns
+        -------
+        pixels : ndarray of int64, shape (K,)
+            Flat indices of the pixels on textured faces.
+        colors : list of three ndarray of float32, shape (K,)
+            Their sampled sRGB channels (repeat wrapping); views of a buffer the next call overwrites.
+        """
+        flat_face = face.reshape(-1)
+        texture = np.take(self._tables.face_texture, flat_face, out=self._texture, mode="clip")
+        pixels = np.flatnonzero(np.greater_equal(texture, 0, out=self._mask))
+        pairs = np.ascontiguousarray(barycentric, dtype=np.float32).reshape(-1, 2).view(np.uint64).reshape(-1)
+        colors = self._colors[:, : len(pixels)]
+        for start in range(0, len(pixels), _CHUNK):
+            chunk = slice(start, start + _CHUNK)
+            self._sample_chunk(pixels[chunk], flat_face, texture, pairs, out=colors[:, chunk])
+        return pixels, list(colors)
+
+    def _sample_chunk(
+        self, pixels: np.ndarray, face: np.ndarray, texture: np.ndarray, pairs: np.ndarray, *, out: np.ndarray
+    ) -> None:
+        """The colours of `pixels` (at most one chunk) into the ``(3, K)`` `out`, from the flat `face`
+        and `texture` images and the barycentric `pairs` (one 8-byte word per pixel)."""
+        tables = self._tables
+        k = len(pixels)
+        hit_face = face.take(pixels).astype(np.intp)
+        hit_texture = texture.take(pixels).astype(np.intp)
+        texels = self._texels[:, :k]
+        for source, target in zip(tables.face_texels, texels, strict=True):
+            np.take(source, hit_face, out=target, mode="clip")
+        x, y, col, row, tmp, a, b, width, height = self._scratch[:9, :k]
+        ab = np.take(pairs, pixels, out=self._pairs[:k], mode="clip").view(np.float32).reshape(k, 2)
+        np.copyto(a, ab[:, 0])  # contiguous copies for the arithmetic
+        np.copyto(b, ab[:, 1])
+        _texel_coordinate(a, b, texels[:3], out=x, tmp=tmp)
+        _texel_coordinate(a, b, texels[3:], out=y, tmp=tmp)
+        np.take(tables.width, hit_texture, out=width, mode="clip")
+        np.take(tables.height, hit_texture, out=height, mode="clip")
+        _split_wrap(x, width, whole=col, tmp=tmp)  # x becomes the weight of the next column
+        _split_wrap(y, height, whole=row, tmp=tmp)
+        corners = self._gather_corners(row, col, width, hit_texture)
+        _blend(corners, x, y, out=out, scratch=self._scratch[2:9, :k])
+
+    def _gather_corners(
+        self, row: np.ndarray, col: np.ndarray, width: np.ndarray, texture: np.ndarray
+    ) -> np.ndarray:
+        """The ``(12, K)`` RGB rows (``3 corner + channel``) of texel ``(row, col)`` of `texture` and of its
+        right, lower and lower-right neighbours (the pool's extra column and row hold the wrap)."""
+        k = len(row)
+        linear = self._linear[:k]
+        np.add(width, 1, out=linear, dtype=linear.dtype)  # row stride
+        linear *= row
+        linear += col
+        linear += self._tables.offset.take(texture)
+        index, step = self._index[:, :k]
+        np.copyto(index, linear, casting="unsafe")  # whole numbers: exact
+        np.copyto(step, width, casting="unsafe")  # from the right neighbour to the lower one
+        corners = self._corners[:, :k]
+        for corner in range(4):
+            if corner:
+                index += step if corner == 2 else 1
+            for c in range(3):
+                np.take(self._tables.pool[c], index, out=corners[3 * corner + c], mode="clip")
+        return corners
 
 
-def _wrap(whole: np.ndarray, size: np.ndarray) -> np.ndarray:
-    """``whole mod size`` of whole numbers in float32 (exact below 2**24; faster than integer modulo)."""
-    repeats = np.divide(whole, size)
-    np.floor(repeats, out=repeats)
-    repeats *= size
-    return np.subtract(whole, repeats, out=repeats)
+def _texel_coordinate(
+    a: np.ndarray, b: np.ndarray, rows: np.ndarray, *, out: np.ndarray, tmp: np.ndarray
+) -> None:
+    """``rows[0] + a rows[1] + b rows[2]`` into `out`."""
+    np.multiply(a, rows[1], out=out)
+    out += rows[0]
+    np.multiply(b, rows[2], out=tmp)
+    out += tmp
+
+
+def _split_wrap(coordinate: np.ndarray, size: np.ndarray, *, whole: np.ndarray, tmp: np.ndarray) -> None:
+    """Split `coordinate` into its floor, wrapped to ``0 .. size - 1`` into `whole`, and its fraction (in
+    place). The wrap is ``whole mod size`` in float32, exact below 2**24 and faster than integer modulo."""
+    np.floor(coordinate, out=whole)
+    coordinate -= whole
+    np.divide(whole, size, out=tmp)
+    np.floor(tmp, out=tmp)
+    tmp *= size
+    whole -= tmp
+
+
+def _blend(
+    corners: np.ndarray, fx: np.ndarray, fy: np.ndarray, *, out: np.ndarray, scratch: np.ndarray
+) -> None:
+    """Bilinear blend of the ``(12, K)`` corner rows ``3 corner + channel`` (corners: the texel, its right,
+    lower and lower-right neighbour) with column and row fractions `fx`, `fy` into the
+    ``(3, K)`` channels `out`, using seven ``(K,)`` rows of `scratch`."""
+    gx, gy, tmp, *weights = scratch[:7]
+    np.subtract(np.float32(1.0), fx, out=gx)
+    np.subtract(np.float32(1.0), fy, out=gy)
+    for weight, (first, second) in zip(weights, ((gx, gy), (fx, gy), (gx, fy), (fx, fy)), strict=True):
+        np.multiply(first, second, out=weight)
+    for c in range(3):
+        np.multiply(corners[c], weights[0], out=out[c])
+        for corner in range(1, 4):
+            np.multiply(corners[3 * corner + c], weights[corner], out=tmp)
+            out[c] += tmp
 
 
 def _face_colors(scene: Scene, hidden_classes: Sequence[str], *, lighten: float) -> np.ndarray:

@@ -10,6 +10,7 @@ import pytest
 
 from navverse.scene import MeshData, ObjectPart, Scene, Surface
 from navverse.scene.geometry import Texture
+from navverse.sim import render as render_module
 from navverse.sim.camera import CameraIntrinsics, look_at
 from navverse.sim.render import Frame, SceneRenderer, Shading
 from tests.scenes import box_part, quad, scene_of
@@ -153,6 +154,23 @@ def test_several_textures_share_one_pool(quadrant_frame: Frame) -> None:
     assert frame.terrain[row, col] == 1 and tuple(frame.rgb[row, col]) == RED
     row, col = pixel_of(quad_point(0.25, 0.25))
     assert tuple(frame.rgb[row, col]) == BLUE
+
+
+def test_hits_sampled_in_chunks_give_the_same_frame(monkeypatch: pytest.MonkeyPatch) -> None:
+    # The renderer samples textured hits a chunk at a time; chunks far smaller than the hits (and
+    # spanning both textures) must give the same bytes as one chunk.
+    box = ObjectPart("crate", _textured_box(), (2.0, -0.6, 1.0), yaw=0.4)
+    scene = quad_scene(facing_quad(Texture("quadrants", quadrants())), [box])
+    whole = render(scene)
+    monkeypatch.setattr(render_module, "_CHUNK", 37)
+    chunked = render(scene)
+    textured = (whole.terrain == 1) | (whole.semantic == 1)
+    assert textured.sum() > 1000  # dozens of chunks
+    np.testing.assert_array_equal(chunked.rgb, whole.rgb)
+    assert (chunked.rgb[chunked.semantic == 1] == RED).all()
+    for uv, color in [((0.25, 0.75), RED), ((0.25, 0.25), BLUE)]:  # the quad beside the crate
+        row, col = pixel_of(quad_point(*uv))
+        assert chunked.terrain[row, col] == 1 and tuple(chunked.rgb[row, col]) == color
 
 
 def test_untextured_faces_are_unchanged() -> None:
