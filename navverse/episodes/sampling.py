@@ -282,6 +282,8 @@ def _episode(
     """The episode from ``start`` to the instances of a category; None when no instance is in range."""
     kept: list[tuple[float, GoalRegion, np.ndarray]] = []
     for region in regions:
+        if np.linalg.norm(region.points - start, axis=1).min() > settings.max_length + 1e-6:
+            continue  # a path is never shorter than the straight line: out of range, no search needed
         path = finder.find_path_multi(start, region.points)
         if path.found and settings.min_length <= path.geodesic_distance <= settings.max_length:
             kept.append((path.geodesic_distance, region, path.points))
