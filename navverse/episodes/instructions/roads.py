@@ -42,7 +42,7 @@ class RoadFollowing:
         labeled = scene.world_mesh(include_objects=False)
         self._o3d = o3d
         self._names = labeled.class_names
-        self._class = labeled.face_class
+        self._class = labeled.class_index.astype(np.int64)
         mesh = labeled.mesh
         self._rays = o3d.t.geometry.RaycastingScene()
         self._useful = bool(set(self._names) & _ROAD) and bool(set(self._names) & _WALKWAY)
