@@ -21,6 +21,7 @@ from scipy.spatial.transform import Rotation
 
 from navverse.dataset import Episode
 from navverse.episodes.instructions.directives import Directive, wrap_angle
+from navverse.episodes.instructions.places import PLACE_NAMES
 from navverse.episodes.instructions.settings import InstructionSettings
 from navverse.episodes.instructions.wording import category_words
 from navverse.scene.colors import default_color
@@ -101,17 +102,32 @@ class SeenLandmark:
 
     object_id: int
     category: str
-    color: str
+    color: str | None
     near_goal: bool
 
     @property
     def phrase(self) -> str:
         """Colour and category ("red cabinet"); the category alone when a word of it starts with the
-        colour ("whiteboard")."""
+        colour ("whiteboard") or it has no colour (a storefront, named by its place: "pharmacy")."""
+        if self.color is None:
+            return PLACE_NAMES.get(self.category, category_words(self.category))
         words = category_words(self.category)
         if any(word.lower().startswith(self.color) for word in words.split()):
             return words  # "whiteboard", not "white whiteboard"
         return f"{self.color} {words}"
+
+
+def _storefront_places(scene: Scene) -> dict[int, str]:
+    """The place category of each object that is a storefront's geometry (its box centre is the
+    storefront's), so that landmarks name the place ("the pharmacy"), not "the storefront"."""
+    by_center = {
+        tuple(round(v, 3) for v in s.center): s.place_category for s in scene.annotations.storefronts
+    }
+    return {
+        o.annotation.id: by_center[key]
+        for o in scene.objects
+        if (key := tuple(round(v, 3) for v in o.annotation.center)) in by_center
+    }
 
 
 def camera_poses(rows: np.ndarray, camera_to_base: np.ndarray) -> np.ndarray:
@@ -161,6 +177,7 @@ class LandmarkFinder:
         self._renderer = SceneRenderer(scene, intrinsics=intrinsics)
         self._objects = {o.annotation.id: o for o in scene.objects}
         self._colors: dict[int, str] = {}
+        self._places = _storefront_places(scene)
         self._ids = max(self._objects, default=0) + 1
 
     def find(
@@ -225,8 +242,10 @@ class LandmarkFinder:
 
     # ------------------------------------------------------------------------------------------ internals
 
-    def _describe(self, object_id: int) -> tuple[str, str]:
-        """``(category, colour name)`` of an object."""
+    def _describe(self, object_id: int) -> tuple[str, str | None]:
+        """``(category, colour name)`` of an object; a storefront's is its place category and no colour."""
+        if object_id in self._places:
+            return self._places[object_id], None
         if object_id not in self._colors:
             self._colors[object_id] = object_color(self._objects[object_id])
         return self._objects[object_id].annotation.category, self._colors[object_id]

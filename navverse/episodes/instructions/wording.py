@@ -66,8 +66,11 @@ def template_text(directives: Sequence[Directive], goal: str) -> str:
 
 
 def category_words(category: str) -> str:
-    """A category as read in a sentence: underscores as spaces, "tv" as "TV"."""
-    return " ".join("TV" if w == "tv" else w for w in category.replace("_", " ").split())
+    """A category as read in a sentence: underscores as spaces, initialisms ("tv", "suv") in capitals."""
+    return " ".join(w.upper() if w in _INITIALISMS else w for w in category.replace("_", " ").split())
+
+
+_INITIALISMS = frozenset({"tv", "suv", "atm"})
 
 
 # Sentence patterns of the landmark text, by situation; {verb} is a turn (_VERBS), {lm} a landmark

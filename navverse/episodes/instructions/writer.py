@@ -103,7 +103,8 @@ class InstructionWriter:
         goal : str, optional
             How the goal is named (default: its category's words), e.g. "fast-food restaurant".
         roads : RoadFollowing, optional
-            Which segments follow a road, told as following the street (outdoor routes).
+            Which segments follow a road, told as following the street (outdoor routes); a street
+            followed counts as a landmark towards ``min_landmarks``.
 
         Returns
         -------
@@ -144,20 +145,16 @@ class InstructionWriter:
                 f"{worst} (max_alignment_error {s.max_alignment_error} m)"
             )
         landmarks, goal_seen = self._landmarks.find(episode, directives, poses, rows)
-        found = sum(lm is not None for lm in landmarks)
+        along = roads.along_road(directives) if roads is not None else [False] * len(directives)
+        found = sum(lm is not None or road for lm, road in zip(landmarks, along, strict=True))
         if found < s.min_landmarks:
             return (
                 None,
-                f"too_few_landmarks: {found} distinctive landmark(s) seen along the rollout, fewer than "
-                f"{s.min_landmarks}",
+                f"too_few_landmarks: {found} distinctive landmark(s) seen along the rollout (streets "
+                f"followed included), fewer than {s.min_landmarks}",
             )
         text = landmark_text(
-            directives,
-            landmarks,
-            goal_words,
-            goal_seen=goal_seen,
-            rng=rng,
-            along_road=roads.along_road(directives) if roads is not None else None,
+            directives, landmarks, goal_words, goal_seen=goal_seen, rng=rng, along_road=along
         )
         kind = "landmark"
         if self._refiner is not None:
