@@ -65,17 +65,11 @@ class PopulateParams(Params):
 )
 def populate(ctx: StageContext, params: PopulateParams) -> None:
     """The city scene with parked cars, mapped street furniture, sidewalk objects by zone and groups."""
-    from navverse.city.map import read_city_map
     from navverse.city.populate import PopulateSettings, populate_city
-    from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan, save_street_plan
     from navverse.city.street_zones import ZoneSettings
-    from navverse.scene import read_scene, write_scene_dir
-    from stages.city import CITY_MAP_FILE
+    from stages._city_step import read_city_step, write_city_step
 
-    city = read_city_map(ctx.input("city_map") / CITY_MAP_FILE)
-    ctx.progress(0, 3, "reading")
-    scene = read_scene(ctx.input("street_geometry"))
-    plan = load_street_plan(ctx.input("street_geometry") / STREET_PLAN_FILE)
+    city, scene, plan = read_city_step(ctx, "street_geometry")
     settings = PopulateSettings(
         cars_per_km2=params.cars_per_km2,
         objects_per_km2=params.objects_per_km2,
@@ -86,14 +80,9 @@ def populate(ctx: StageContext, params: PopulateParams) -> None:
         group_spacing=params.group_spacing,
         zones=ZoneSettings(clear_width=params.clear_width, min_clear=params.min_clear),
     )
-    ctx.progress(1, 3, "placing")
     result = populate_city(scene, city, plan, ctx.rng, settings)
-    ctx.progress(2, 3, "writing")
-    write_scene_dir(result.scene, ctx.output)
-    save_street_plan(plan, ctx.output / STREET_PLAN_FILE)
-    ctx.progress(3, 3, "done")
     counts = result.counts
-    ctx.record(**counts)
+    write_city_step(ctx, result.scene, plan, counts)
     ctx.log.info(
         "populated %s: %d cars, %d street objects, %d groups, %d mapped objects skipped",
         ctx.target, sum(counts["cars"].values()),

@@ -55,16 +55,10 @@ class StorefrontsParams(Params):
 )
 def storefronts(ctx: StageContext, params: StorefrontsParams) -> None:
     """The city scene with storefronts carved into its facades at the map's places (scene.json records)."""
-    from navverse.city.map import read_city_map
     from navverse.city.storefronts import StorefrontSettings, place_storefronts
-    from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan, save_street_plan
-    from navverse.scene import read_scene, write_scene_dir
-    from stages.city import CITY_MAP_FILE
+    from stages._city_step import read_city_step, write_city_step
 
-    ctx.progress(0, 3, "reading")
-    city = read_city_map(ctx.input("city_map") / CITY_MAP_FILE)
-    scene = read_scene(ctx.input("populated_geometry"))
-    plan = load_street_plan(ctx.input("populated_geometry") / STREET_PLAN_FILE)
+    city, scene, plan = read_city_step(ctx, "populated_geometry")
     settings = StorefrontSettings(
         height=params.height,
         max_width=params.max_width,
@@ -77,14 +71,9 @@ def storefronts(ctx: StageContext, params: StorefrontsParams) -> None:
         sidewalk_gap=params.sidewalk_gap,
         categories=None if params.categories is None else frozenset(params.categories),
     )
-    ctx.progress(1, 3, "placing")
     result = place_storefronts(scene, city, plan, ctx.rng, settings)
-    ctx.progress(2, 3, "writing")
-    write_scene_dir(result.scene, ctx.output)
-    save_street_plan(plan, ctx.output / STREET_PLAN_FILE)
-    ctx.progress(3, 3, "done")
     counts = result.counts
-    ctx.record(**counts)
+    write_city_step(ctx, result.scene, plan, counts)
     ctx.log.info(
         "%s: %d storefronts placed (%d map places, %d added), %d rejected",
         ctx.target, counts["placed"], counts["places"], counts["filled"], sum(counts["rejected"].values()),

@@ -120,7 +120,7 @@ def test_each_facade_behind_a_storefront_has_its_opening(placed) -> None:
     removed: dict[str, float] = {}
     for store in result.scene.annotations.storefronts:
         name = f"building_{store.building:04d}"
-        removed[name] = removed.get(name, 0.0) + store.size[0] * 0.4 * store.size[2]  # width x panel depth x height
+        removed[name] = removed.get(name, 0.0) + store.size[0] * 0.4 * store.size[2]  # width, depth, height
     for name, expected in removed.items():
         volume = [
             trimesh.Trimesh(m.vertices, m.faces, process=False).volume for m in (before[name], after[name])

@@ -1,0 +1,40 @@
+"""What the stages that change a built city scene share: reading the map, the scene and its street
+plan, and writing the changed scene with the plan beside it."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from pipeline import StageContext
+
+if TYPE_CHECKING:
+    from navverse.city.map import CityMap
+    from navverse.city.street_plan import StreetPlan
+    from navverse.scene.geometry import Scene
+
+
+def read_city_step(ctx: StageContext, scene_artifact: str) -> tuple[CityMap, Scene, StreetPlan]:
+    """The city map (artifact ``city_map``), the scene of `scene_artifact` and its street plan."""
+    from navverse.city.map import read_city_map
+    from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan
+    from navverse.scene import read_scene
+    from stages.city import CITY_MAP_FILE
+
+    ctx.progress(0, 3, "reading")
+    city = read_city_map(ctx.input("city_map") / CITY_MAP_FILE)
+    scene = read_scene(ctx.input(scene_artifact))
+    plan = load_street_plan(ctx.input(scene_artifact) / STREET_PLAN_FILE)
+    ctx.progress(1, 3, "placing")
+    return city, scene, plan
+
+
+def write_city_step(ctx: StageContext, scene: Scene, plan: StreetPlan, counts: dict) -> None:
+    """Write the changed scene and its street plan as the stage's output and record `counts`."""
+    from navverse.city.street_plan import STREET_PLAN_FILE, save_street_plan
+    from navverse.scene import write_scene_dir
+
+    ctx.progress(2, 3, "writing")
+    write_scene_dir(scene, ctx.output)
+    save_street_plan(plan, ctx.output / STREET_PLAN_FILE)
+    ctx.progress(3, 3, "done")
+    ctx.record(**counts)
