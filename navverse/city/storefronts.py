@@ -47,7 +47,12 @@ from navverse.city.street_plan import StreetPlan
 from navverse.city.surfaces import union_of
 from navverse.city.synthetic_pois import POI_TABLE
 from navverse.errors import SceneError
-from navverse.scene.annotations import BuildingAnnotation, FacadeAnnotation, StorefrontAnnotation
+from navverse.scene.annotations import (
+    BuildingAnnotation,
+    FacadeAnnotation,
+    ObjectAnnotation,
+    StorefrontAnnotation,
+)
 from navverse.scene.compose import ObjectPart, carve, object_parts, replace_parts
 from navverse.scene.geometry import MeshData, Scene, Surface, yaw_matrix
 from navverse.scene.heights import SurfaceHeights
@@ -57,6 +62,7 @@ __all__ = [
     "WALKABLE_FRONT",
     "StorefrontPlacement",
     "StorefrontSettings",
+    "object_box",
     "place_storefronts",
 ]
 
@@ -513,7 +519,7 @@ class _Placer:
         fronts = union_of(p.front for p in self.placed)
         parts, kept = object_parts(self.scene), []
         for part, obj in zip(parts, self.scene.objects, strict=True):
-            if not _object_box(obj.annotation).intersects(fronts):
+            if not object_box(obj.annotation).intersects(fronts):
                 kept.append(part)
         surfaces = []
         for surface in self.scene.surfaces:
@@ -530,7 +536,8 @@ class _Placer:
         return scene, len(parts) - len(kept)
 
 
-def _object_box(annotation) -> Polygon:
+def object_box(annotation: ObjectAnnotation) -> Polygon:
+    """The ground footprint of an object's oriented box."""
     sx, sy = annotation.size[0] / 2, annotation.size[1] / 2
     corners = np.array([[-sx, -sy], [sx, -sy], [sx, sy], [-sx, sy]])
     c, s = math.cos(annotation.yaw), math.sin(annotation.yaw)

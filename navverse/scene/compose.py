@@ -687,9 +687,15 @@ def _cut_surface(mesh: MeshData, cutter) -> MeshData:
         if (solid ^ cutter).is_empty():
             return mesh  # untouched: keep the exact input
         return _mesh_of(solid - cutter, mesh, original)
-    import trimesh
+    import open3d as o3d
 
     cut = cutter.to_mesh()
-    inside = trimesh.Trimesh(cut.vert_properties[:, :3], cut.tri_verts, process=False)
-    corner_inside = inside.contains(mesh.vertices)
+    solid = o3d.t.geometry.RaycastingScene()
+    origin = mesh.vertices.min(axis=0)
+    solid.add_triangles(
+        o3d.core.Tensor((np.asarray(cut.vert_properties)[:, :3] - origin).astype(np.float32)),
+        o3d.core.Tensor(np.asarray(cut.tri_verts, dtype=np.uint32)),
+    )
+    occupancy = solid.compute_occupancy(o3d.core.Tensor((mesh.vertices - origin).astype(np.float32)))
+    corner_inside = occupancy.numpy() > 0.5
     return mesh.face_subset(~corner_inside[mesh.faces].all(axis=1))

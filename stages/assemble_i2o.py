@@ -1,0 +1,65 @@
+"""Indoor-to-outdoor assembly: a building joined to a city through a door in a road-facing facade."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from pydantic import Field
+
+from pipeline import Input, Params, StageContext, stage
+
+
+class AssembleI2OParams(Params):
+    """Parameters of :func:`assemble_i2o`.
+
+    The recipe links the pair: ``city`` (the ``geometry`` of a city target, after its storefronts)
+    and ``building`` (the ``geometry`` of an indoor building target). The building's exit (``exit``,
+    by default its first) is set into the road-facing facade chosen (or ``facade``, a city facade id)
+    with ``exit_margin`` of facade on each side and the sidewalk within ``sidewalk_gap`` in front; the
+    building must fit clear of streets and other buildings. ``clear_depth`` of street in front of the
+    exit is cleared of objects.
+    """
+
+    max_road_distance: Annotated[float, Field(gt=0.0, le=50.0)] = 30.0
+    sidewalk_gap: Annotated[float, Field(ge=0.0, le=20.0)] = 6.0
+    exit_margin: Annotated[float, Field(ge=0.0, le=5.0)] = 0.5
+    clear_depth: Annotated[float, Field(ge=0.0, le=10.0)] = 2.0
+    facade: Annotated[int, Field(ge=1, le=10_000_000)] | None = None
+    exit: Annotated[int, Field(ge=1, le=10_000)] | None = None
+
+
+@stage(
+    name="assemble_i2o",
+    inputs=[Input("city", artifact="geometry"), Input("building", artifact="geometry")],
+    outputs=["geometry"],
+)
+def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
+    """An i2o scene: the linked building set into the linked city at a road-facing facade."""
+    from navverse.city.i2o import AssemblySettings
+    from navverse.city.i2o import assemble_i2o as assemble
+    from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan
+    from navverse.scene import read_scene, write_scene_dir
+
+    ctx.progress(0, 3, "reading")
+    city = read_scene(ctx.input("city"))
+    plan = load_street_plan(ctx.input("city") / STREET_PLAN_FILE)
+    building = read_scene(ctx.input("building"))
+    settings = AssemblySettings(
+        max_road_distance=params.max_road_distance,
+        sidewalk_gap=params.sidewalk_gap,
+        exit_margin=params.exit_margin,
+        clear_depth=params.clear_depth,
+        facade=params.facade,
+        exit=params.exit,
+    )
+    ctx.progress(1, 3, "assembling")
+    result = assemble(city, plan, building, scene_id=ctx.target, settings=settings)
+    ctx.progress(2, 3, "writing")
+    write_scene_dir(result.scene, ctx.output)
+    ctx.progress(3, 3, "done")
+    ctx.record(city=city.scene_id, building=building.scene_id, **result.record)
+    ctx.log.info(
+        "%s: %s joined to %s at facade %d (%d placements fit), step %.3f m",
+        ctx.target, building.scene_id, city.scene_id, result.record["facade"], result.record["candidates"],
+        result.record["step"],
+    )  # fmt: skip

@@ -1,0 +1,133 @@
+"""Indoor-to-outdoor assembly: a procedural cafe joined to a synthetic city. The exit faces a road on
+the sidewalk's side, the floor is level with the ground outside, the building covers no street and no
+other building, rooms and street are one navmesh island; refusals name the constraint; the same
+inputs give the same scene."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from shapely.geometry import LineString, Polygon
+
+from navverse.city.i2o import AssemblyError, AssemblySettings, assemble_i2o
+from navverse.city.scene import CityGeometry, city_scene, geometry_plan
+from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.indoor.building import BuildingOptions, generate_building
+from navverse.nav import NavMeshSettings
+from navverse.nav.scene_navmesh import build_scene_navmesh, scene_settings
+from navverse.scene.heights import SurfaceHeights
+
+GEOMETRY = CityGeometry(junction_crosswalks=True)
+
+
+@pytest.fixture(scope="module")
+def city():
+    city_map = synthetic_city(SyntheticCityParams(size=(220.0, 220.0)), seed=4)
+    plan = geometry_plan(city_map, GEOMETRY)
+    return city_scene(city_map, scene_id="town", geometry=GEOMETRY, plan=plan), plan
+
+
+@pytest.fixture(scope="module")
+def cafe():
+    return generate_building(
+        "cafe", np.random.default_rng(3), scene_id="cafe", options=BuildingOptions(length=14.0)
+    )
+
+
+@pytest.fixture(scope="module")
+def assembled(city, cafe):
+    scene, plan = city
+    return assemble_i2o(scene, plan, cafe, scene_id="cafe-town")
+
+
+def test_the_building_joins_the_city_at_a_road_facing_facade(city, cafe, assembled) -> None:
+    scene, plan = city
+    ann = assembled.scene.annotations
+    record = assembled.record
+    assert ann.scene_type == "i2o" and record["candidates"] >= 1
+    indoor = [b for b in ann.buildings if b.indoor]
+    assert len(indoor) == 1 and len(indoor[0].rooms) == len(cafe.annotations.rooms)
+    assert len(ann.buildings) == len(scene.annotations.buildings)  # one city building replaced by the cafe
+    assert record["replaced"]["map_id"] not in {b.map_id for b in ann.buildings}
+    (exit_,) = indoor[0].exits
+    facade = next(f for f in indoor[0].facades if f.id == exit_.facade)
+    assert facade.road is not None  # the exit's facade faces the city's road
+    assert ann.indoor_anchor == pytest.approx(exit_.center)
+    normal = np.array([math.cos(exit_.facing), math.sin(exit_.facing)])
+    out = LineString([exit_.center[:2], np.asarray(exit_.center[:2]) + normal * 6.6])
+    assert out.intersects(plan.classes["sidewalk"])  # the sidewalk lies in front of the door
+    footprint = Polygon(indoor[0].footprint).buffer(-0.1)
+    for name in ("road", "curb", "crosswalk", "sidewalk", "water"):
+        assert footprint.intersection(plan.classes[name]).area < 0.05, name
+    for other in ann.buildings:
+        if not other.indoor:
+            assert footprint.intersection(Polygon(other.footprint)).area < 0.05
+
+
+def _indoor_exit(scene):
+    (building,) = [b for b in scene.annotations.buildings if b.indoor]
+    (exit_,) = building.exits
+    return exit_
+
+
+def test_the_floor_is_level_with_the_ground_outside_the_exit(assembled) -> None:
+    exit_ = _indoor_exit(assembled.scene)
+    normal = np.array([math.cos(exit_.facing), math.sin(exit_.facing)])
+    heights = SurfaceHeights(assembled.scene)  # the highest surface: the ceiling inside
+    (floor,) = [s.mesh for s in assembled.scene.surfaces if s.terrain_class == "floor"]
+    inside = floor.vertices[:, 2].max()
+    outside = heights(np.asarray(exit_.center[:2]) + normal * 1.0)[0]
+    assert abs(inside - outside) < 0.02 and abs(assembled.record["step"]) < 0.02
+    assert not any(s.name == "apron" for s in assembled.scene.surfaces)
+
+
+def test_rooms_and_street_are_one_island(assembled) -> None:
+    scene = assembled.scene
+    settings = scene_settings(NavMeshSettings.preset("i2o"), scene.annotations)
+    assert settings.fine_region is not None
+    finder = build_scene_navmesh(scene, settings)
+    exit_ = _indoor_exit(scene)
+    rooms = [r for b in scene.annotations.buildings if b.indoor for r in b.rooms]
+    normal = np.array([math.cos(exit_.facing), math.sin(exit_.facing)])
+    inside = [(*Polygon(r.polygon).representative_point().coords[0], exit_.center[2]) for r in rooms]
+    street = (*(np.asarray(exit_.center[:2]) + normal * 4.0), exit_.center[2])
+    islands = finder.island_of(np.array([*inside, street]))
+    assert (islands >= 0).all() and len(set(islands.tolist())) == 1
+    assert np.isfinite(finder.geodesic_distance(inside[0], street))
+
+
+def test_a_named_facade_too_narrow_for_the_exit_is_refused(city, cafe) -> None:
+    scene, plan = city
+    (exit_,) = cafe.annotations.exits
+    narrow = min(
+        (f for b in scene.annotations.buildings for f in b.facades if f.road is not None),
+        key=lambda f: f.width,
+    )
+    margin = (narrow.width - exit_.width) / 2 + 0.5  # the exit and its margins need 1 m more than it has
+    settings = AssemblySettings(facade=narrow.id, exit_margin=margin)
+    with pytest.raises(
+        AssemblyError, match=rf"facade {narrow.id} of town is .* m wide; the exit of cafe needs"
+    ):
+        assemble_i2o(scene, plan, cafe, scene_id="x", settings=settings)
+
+
+def test_a_building_that_fits_nowhere_is_refused_with_the_reasons(city) -> None:
+    scene, plan = city
+    huge = generate_building(
+        "office", np.random.default_rng(0), scene_id="office", options=BuildingOptions(length=34.0)
+    )
+    with pytest.raises(AssemblyError, match="no road-facing facade of town holds office") as caught:
+        assemble_i2o(scene, plan, huge, scene_id="x", settings=AssemblySettings(exit_margin=40.0))
+    facing = [f for b in scene.annotations.buildings for f in b.facades if f.road and f.road_distance <= 30.0]
+    assert f"the facade is too narrow for the exit: {len(facing)}" in str(caught.value)  # every one of them
+
+
+def test_the_same_inputs_give_the_same_scene(city, cafe, assembled) -> None:
+    scene, plan = city
+    again = assemble_i2o(scene, plan, cafe, scene_id="cafe-town")
+    assert again.record == assembled.record
+    assert again.scene.annotations.model_dump() == assembled.scene.annotations.model_dump()
+    for a, b in zip(again.scene.surfaces, assembled.scene.surfaces, strict=True):
+        assert a.name == b.name and np.array_equal(a.mesh.vertices, b.mesh.vertices)
