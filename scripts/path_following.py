@@ -4,6 +4,7 @@ Usage::
 
     python scripts/path_following.py [--scene office-s1] [--paths 100] [--seed 0]
                                      [--embodiments spot turtlebot] [--picture docs/img/path_following.png]
+                                     [--out-of-building]
 
 For a built scene (``data/built/targets/<scene>/scene``) it draws seeded start and end points on
 the navmesh's largest island whose shortest path is 5-50 m long, spawns each robot at the start facing
@@ -13,6 +14,10 @@ per robot, the share of paths whose rollout ends within 1.0 + r_robot of the pat
 spot, the paper's success tolerance; 1.2 m for turtlebot), how many arrived within the follower's
 own 3 cm, the terminations, the final distances, the speed and the collisions, and draws the
 executed trajectories over the scene's bird's-eye view.
+
+With ``--out-of-building`` (indoor-to-outdoor scenes) every path starts at a seeded navigable point
+inside the building and ends on the sidewalk in front of its exit (0.8 m into the first sidewalk the
+exit's outward direction meets), so each rollout walks out of a room, through the exit, to the street.
 """
 
 from __future__ import annotations
@@ -62,6 +67,43 @@ def draw_paths(scene_dir: Path, count: int, seed: int) -> list[tuple[np.ndarray,
     return [(path.points, path.geodesic_distance) for path in paths]
 
 
+def exit_paths(scene_dir: Path, count: int, seed: int) -> list[tuple[np.ndarray, float]]:
+    """``count`` seeded paths from inside an i2o scene's building to the sidewalk outside its exit."""
+    from shapely import contains_xy
+    from shapely.geometry import Polygon
+
+    from navverse.episodes.instructions.roads import RoadFollowing
+    from navverse.scene.directory import read_scene
+
+    scene = read_scene(scene_dir)
+    indoor = [b for b in scene.annotations.buildings if b.indoor]
+    if len(indoor) != 1 or not indoor[0].exits:
+        raise NavverseError(f"{scene_dir} has no indoor building with an exit (an i2o scene is needed)")
+    building, exit_ = indoor[0], indoor[0].exits[0]
+    normal = np.array([math.cos(exit_.facing), math.sin(exit_.facing)])
+    classes = RoadFollowing(scene).classes
+    steps = np.asarray(exit_.center[:2]) + np.outer(np.arange(0.5, 12.0, 0.25), normal)
+    on_sidewalk = np.flatnonzero(classes(steps) == "sidewalk")
+    if not len(on_sidewalk):
+        raise NavverseError(f"no sidewalk within 12 m in front of the exit of {scene_dir}")
+    finder = load_scene_navmesh(scene_dir)
+    end = finder.snap_point((*(steps[on_sidewalk[0]] + normal * 0.8), exit_.center[2]))
+    footprint = Polygon(building.footprint)
+    radius = float(np.max(np.linalg.norm(np.asarray(building.footprint) - exit_.center[:2], axis=1)))
+    rng = np.random.default_rng(seed)
+    paths: list[tuple[np.ndarray, float]] = []
+    for _ in range(count * 50):
+        start = finder.get_random_navigable_point_near(exit_.center, radius, rng)
+        if not np.isfinite(start).all() or not contains_xy(footprint, start[0], start[1]):
+            continue
+        path = finder.find_path(start, end)
+        if path.found and path.geodesic_distance >= 2.0:
+            paths.append((path.points, path.geodesic_distance))
+            if len(paths) == count:
+                break
+    return paths
+
+
 def run(world: World, embodiment: str, paths: list[tuple[np.ndarray, float]]) -> list[Trial]:
     """Follow every path with a fresh spawn of the robot."""
     sim = Simulator(world, make_embodiment(embodiment))
@@ -76,7 +118,7 @@ def run(world: World, embodiment: str, paths: list[tuple[np.ndarray, float]]) ->
 
 def report(console: Console, results: dict[str, list[Trial]], scene: str, seconds: dict[str, float]) -> None:
     count = len(next(iter(results.values())))
-    table = Table(title=f"{scene}: {count} navmesh paths of 5-50 m, waypoint interface")
+    table = Table(title=f"{scene}: {count} navmesh paths, waypoint interface")
     for column in (
         "robot",
         "ends within 1 + r",
@@ -138,6 +180,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--embodiments", nargs="+", default=["spot", "turtlebot"])
     parser.add_argument("--picture", type=Path, help="write the trajectories over the BEV to this PNG")
+    parser.add_argument(
+        "--out-of-building",
+        action="store_true",
+        help="paths from inside an i2o scene's building to the street",
+    )
     args = parser.parse_args(argv)
     console = Console(width=max(Console().width, 150))
     scene_dir = TARGETS / args.scene / "scene"
@@ -146,7 +193,8 @@ def main(argv: list[str] | None = None) -> int:
             raise NavverseError(
                 f"{scene_dir} is not built; run `navverse build {args.scene}` (or `make scenes`)"
             )
-        paths = draw_paths(scene_dir, args.paths, args.seed)
+        draw = exit_paths if args.out_of_building else draw_paths
+        paths = draw(scene_dir, args.paths, args.seed)
         results: dict[str, list[Trial]] = {}
         seconds: dict[str, float] = {}
         with World(scene_dir) as world:
