@@ -11,8 +11,9 @@ For a scene:
    is the navmesh points there, found by snapping rings of points around the instance onto the navmesh.
 3. **Episodes.** A goal category is drawn uniformly among those with a reachable instance, a start
    uniformly on the island that holds the goal regions (inside the indoor region for indoor-to-outdoor
-   scenes), and the shortest path from the start to every instance's region is computed; instances
-   whose path is 5-50 m long are kept, and an episode needs one. The reference path is the one to the
+   scenes, drawn near it, whose goals are then the instances outdoors), and the shortest path from the
+   start to every instance's region is computed; instances whose path is 5-50 m long are kept, and an
+   episode needs one. The reference path is the one to the
    closest kept instance; the start faces its next corner, turned by a uniform ±30°.
 """
 
@@ -188,6 +189,22 @@ def _round3(values: Sequence[float]) -> tuple[float, float, float]:
     return (round(float(values[0]), 4), round(float(values[1]), 4), round(float(values[2]), 4))
 
 
+def _indoor_start(
+    finder: PathFinder, annotations: SceneAnnotations, rng: np.random.Generator
+) -> np.ndarray | None:
+    """A navmesh point drawn near the indoor region (a city around it would make a uniform draw over
+    the whole navmesh land inside almost never); None if the scene has no indoor region."""
+    polygons = annotations.indoor_polygons
+    if not polygons:
+        return None
+    corners = np.array([p for polygon in polygons for p in polygon], dtype=np.float64)
+    lo, hi = corners.min(axis=0), corners.max(axis=0)
+    centre = (lo + hi) / 2.0
+    floor = min(b.base_height for b in annotations.buildings if b.indoor)
+    radius = float(np.linalg.norm(hi - lo) / 2.0)
+    return finder.get_random_navigable_point_near((centre[0], centre[1], floor), radius, rng)
+
+
 def _inside_indoor(annotations: SceneAnnotations, point: np.ndarray) -> bool:
     from shapely.geometry import Point, Polygon
 
@@ -248,6 +265,13 @@ def sample_scene_episodes(
     indoor_only = settings.start_region == "indoor" or (
         settings.start_region == "auto" and scene_profile(annotations.scene_type).start_region == "indoor"
     )
+    if indoor_only and annotations.scene_type != "indoor":  # leave the building: the goals are outdoors
+        outdoor = {
+            c: [r for r in rs if not _inside_indoor(annotations, np.asarray(r.goal.position))]
+            for c, rs in regions_by_category.items()
+        }
+        categories = [c for c in categories if any(r.island == island for r in outdoor[c])]
+        regions_by_category = outdoor
     number = id_offset
     for _ in range(count):
         category = categories[int(rng.integers(len(categories)))]
@@ -255,7 +279,9 @@ def sample_scene_episodes(
         episode = None
         for _ in range(settings.attempts):
             sample.attempts += 1
-            start = finder.get_random_navigable_point(rng, island=island)
+            start = _indoor_start(finder, annotations, rng) if indoor_only else None
+            if start is None:
+                start = finder.get_random_navigable_point(rng, island=island)
             if indoor_only and not _inside_indoor(annotations, start):
                 continue
             episode = _episode(finder, annotations, start, regions, task, number, rng, settings)

@@ -111,6 +111,11 @@ _PATTERNS = {
     "arrive_unseen+near": ("you will arrive at the {goal} near the {lm}",),
     "arrive_unseen+pass": ("pass the {lm} and you will arrive at the {goal}",),
 }
+_EXIT_CLAUSES = (
+    ", then leave the building through the front door",
+    " and go out through the exit",
+    ", then step out of the building through the door",
+)
 _JOINERS = (". ", ". Then ", ", then ", ". After that, ", ". Next, ")
 _FINAL_JOINERS = (". ", ". Finally, ")
 # fmt: on
@@ -139,6 +144,7 @@ def landmark_text(
     goal_seen: bool,
     rng: np.random.Generator,
     along_road: Sequence[bool] | None = None,
+    exit_at: int | None = None,
 ) -> str:
     """The landmark-grounded instruction: one pattern per directive, drawn with `rng`; no distances.
 
@@ -158,6 +164,9 @@ def landmark_text(
         For each directive, whether the segment walked after it follows a road; such a segment
         without a landmark is told as following the street, and with one gets ", following the
         street" (outdoor routes).
+    exit_at : int, optional
+        The directive during whose walk the route leaves the building (indoor-to-outdoor routes):
+        its clause goes on with leaving the building through the door.
 
     Returns
     -------
@@ -184,7 +193,10 @@ def landmark_text(
         }
         patterns = _PATTERNS[situation]
         clause = patterns[int(rng.integers(len(patterns)))].format(**fields)
-        clauses.append(clause + ", following the street" if follows and lm is not None else clause)
+        clause += ", following the street" if follows and lm is not None else ""
+        if exit_at is not None and len(clauses) == exit_at:
+            clause += str(rng.choice(_EXIT_CLAUSES))
+        clauses.append(clause)
     text = clauses[0]
     for i, clause in enumerate(clauses[1:], start=1):
         joiner = str(rng.choice(_FINAL_JOINERS if i == len(clauses) - 1 else _JOINERS))

@@ -154,7 +154,13 @@ class InstructionWriter:
                 f"followed included), fewer than {s.min_landmarks}",
             )
         text = landmark_text(
-            directives, landmarks, goal_words, goal_seen=goal_seen, rng=rng, along_road=along
+            directives,
+            landmarks,
+            goal_words,
+            goal_seen=goal_seen,
+            rng=rng,
+            along_road=along,
+            exit_at=self._exit_directive(episode, directives),
         )
         kind = "landmark"
         if self._refiner is not None:
@@ -178,6 +184,26 @@ class InstructionWriter:
             ],
             directive_times=[float(t) for t in poses[rows, 0]],
         ), None
+
+    def _exit_directive(self, episode: Episode, directives: list) -> int | None:
+        """The directive during whose walk a route from inside the building leaves it; None if it
+        starts outdoors (or the scene has no indoor region)."""
+        from shapely.geometry import LineString, Point, Polygon
+        from shapely.ops import unary_union
+
+        polygons = self._scene.annotations.indoor_polygons
+        if not polygons or len(episode.reference_path) < 2:
+            return None
+        inside = unary_union([Polygon(p) for p in polygons])
+        path = LineString([p[:2] for p in episode.reference_path])
+        if not inside.contains(Point(path.coords[0])):
+            return None
+        leaving = path.difference(inside)
+        if leaving.is_empty:
+            return None
+        crossing = min(path.project(Point(c)) for g in getattr(leaving, "geoms", [leaving]) for c in g.coords)
+        walked = [path.project(Point(d.position[:2])) for d in directives]
+        return max(k for k, at in enumerate(walked) if at <= crossing + 1e-6)
 
     def _keyframes(self, rows: np.ndarray) -> list[np.ndarray]:
         """The refiner's keyframes: RGB images from the camera at rollout `rows` (B, 8)."""
