@@ -131,3 +131,17 @@ def test_the_same_inputs_give_the_same_scene(city, cafe, assembled) -> None:
     assert again.scene.annotations.model_dump() == assembled.scene.annotations.model_dump()
     for a, b in zip(again.scene.surfaces, assembled.scene.surfaces, strict=True):
         assert a.name == b.name and np.array_equal(a.mesh.vertices, b.mesh.vertices)
+
+
+def test_the_same_inputs_give_byte_identical_scene_files(city, cafe, assembled, tmp_path) -> None:
+    from navverse.scene import write_scene_dir
+
+    scene, plan = city
+    write_scene_dir(assembled.scene, tmp_path / "a")
+    write_scene_dir(assemble_i2o(scene, plan, cafe, scene_id="cafe-town").scene, tmp_path / "b")
+    names = sorted(p.relative_to(tmp_path / "a") for p in (tmp_path / "a").rglob("*") if p.is_file())
+    assert names and names == sorted(
+        p.relative_to(tmp_path / "b") for p in (tmp_path / "b").rglob("*") if p.is_file()
+    )
+    for name in names:
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name

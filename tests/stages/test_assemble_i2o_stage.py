@@ -1,0 +1,66 @@
+"""The assemble_i2o stage through the engine: a cafe joined to a synthetic city is an i2o scene with
+its navmesh and a record of the facade chosen; a building that fits no facade is refused with the
+constraint named, exit 1, no traceback, and nothing written for that target."""
+
+from __future__ import annotations
+
+import pytest
+
+from navverse.scene import read_annotations
+from tests.stages.conftest import Built, build_all, navverse_command, workspace_with
+
+CITY = """\
+extends: outdoor-city
+stages:
+  synthetic_city: {size: [200, 200]}
+"""
+CAFE = """\
+extends: indoor-building
+stages:
+  indoor_layout: {building_type: cafe, length: 14}
+"""
+I2O = """\
+extends: i2o
+stages:
+  assemble_i2o: {options}
+links:
+  city: {{artifact: geometry, targets: [city]}}
+  building: {{artifact: geometry, targets: [cafe]}}
+"""
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory: pytest.TempPathFactory) -> Built:
+    workspace = workspace_with(
+        tmp_path_factory.mktemp("i2o") / "ws",
+        [],
+        {
+            "scenes/city.yaml": CITY,
+            "scenes/cafe.yaml": CAFE,
+            "scenes/cafe-city.yaml": I2O.format(options="{}"),
+        },
+    )
+    return build_all(workspace)
+
+
+def test_a_cafe_joined_to_a_city_is_an_i2o_scene(built: Built) -> None:
+    assert not built.report.failed
+    scene = read_annotations(built.output("cafe-city", "scene"))
+    assert scene.scene_type == "i2o" and scene.indoor_anchor is not None
+    (cafe,) = [b for b in scene.buildings if b.indoor]
+    assert cafe.rooms and cafe.exits
+    stats = built.manifest("cafe-city", "geometry")["stats"]
+    assert stats["city"] == "city" and stats["building"] == "cafe" and stats["candidates"] >= 1
+    facades = {f.id for b in read_annotations(built.output("city", "geometry")).buildings for f in b.facades}
+    assert stats["facade"] in facades and abs(stats["step"]) < 0.02
+    assert (built.output("cafe-city", "scene") / "navmesh.bin").is_file()
+
+
+def test_a_building_that_fits_no_facade_is_refused_and_nothing_is_written(built: Built) -> None:
+    root = built.workspace.root
+    (root / "recipes" / "scenes" / "cafe-wide.yaml").write_text(I2O.format(options="{max_road_distance: 0.5}"))
+    result = navverse_command(root, "build", "cafe-wide")
+    output = result.stdout + result.stderr
+    assert result.returncode == 1 and "Traceback" not in output, output
+    assert "no road-facing facade of city holds cafe" in output and "the facade faces no road" in output
+    assert not (root / "data" / "built" / "targets" / "cafe-wide").exists()
