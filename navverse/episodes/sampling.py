@@ -24,6 +24,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 
 from navverse.dataset import Episode, EpisodeInfo, Goal, success_distance
 from navverse.nav.pathfinder import PathFinder
@@ -171,7 +172,7 @@ def goal_regions(
         snapped = snapped[np.isfinite(snapped).all(axis=1)]
         if len(snapped) == 0:
             continue
-        base = snapped + (0.0, 0.0, base_height)
+        base = snapped + np.array([0.0, 0.0, base_height])
         distance = np.maximum(np.linalg.norm(base - goal.position, axis=1) - goal.radius, 0.0)
         snapped = snapped[(distance <= success - 0.05) & finder.is_navigable(snapped)]  # not on a border
         if len(snapped) == 0:
@@ -203,6 +204,17 @@ def _indoor_start(
     floor = min(b.base_height for b in annotations.buildings if b.indoor)
     radius = float(np.linalg.norm(hi - lo) / 2.0)
     return finder.get_random_navigable_point_near((centre[0], centre[1], floor), radius, rng)
+
+
+def _indoor_reach(annotations: SceneAnnotations, distance: float):
+    """Where a path of at most `distance` from inside the indoor region can end (a straight line's
+    reach: paths are never shorter)."""
+    from shapely.geometry import Polygon
+    from shapely.ops import unary_union
+
+    reach = unary_union([Polygon(p) for p in annotations.indoor_polygons]).buffer(distance)
+    shapely.prepare(reach)
+    return reach
 
 
 def _inside_indoor(annotations: SceneAnnotations, point: np.ndarray) -> bool:
@@ -266,8 +278,14 @@ def sample_scene_episodes(
         settings.start_region == "auto" and scene_profile(annotations.scene_type).start_region == "indoor"
     )
     if indoor_only and annotations.scene_type != "indoor":  # leave the building: the goals are outdoors
+        reach = _indoor_reach(annotations, settings.max_length)
         outdoor = {
-            c: [r for r in rs if not _inside_indoor(annotations, np.asarray(r.goal.position))]
+            c: [
+                r
+                for r in rs
+                if not _inside_indoor(annotations, np.asarray(r.goal.position))
+                and shapely.intersects_xy(reach, r.points[:, 0], r.points[:, 1]).any()
+            ]
             for c, rs in regions_by_category.items()
         }
         categories = [c for c in categories if any(r.island == island for r in outdoor[c])]

@@ -137,6 +137,8 @@ def test_the_same_inputs_give_byte_identical_scene_files(city, cafe, assembled, 
     from navverse.scene import write_scene_dir
 
     scene, plan = city
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
     write_scene_dir(assembled.scene, tmp_path / "a")
     write_scene_dir(assemble_i2o(scene, plan, cafe, scene_id="cafe-town").scene, tmp_path / "b")
     names = sorted(p.relative_to(tmp_path / "a") for p in (tmp_path / "a").rglob("*") if p.is_file())
