@@ -290,6 +290,9 @@ def sample_scene_episodes(
         }
         categories = [c for c in categories if any(r.island == island for r in outdoor[c])]
         regions_by_category = outdoor
+        sample.categories = {c: len(rs) for c, rs in outdoor.items() if rs}
+        if not categories:  # no goal outdoors within reach of the building
+            return sample
     number = id_offset
     for _ in range(count):
         category = categories[int(rng.integers(len(categories)))]
