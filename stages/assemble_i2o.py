@@ -17,7 +17,9 @@ class AssembleI2OParams(Params):
     by default its first) is set into the road-facing facade chosen (or ``facade``, a city facade id)
     with ``exit_margin`` of facade on each side and the sidewalk within ``sidewalk_gap`` in front; the
     building must fit clear of streets and other buildings. ``clear_depth`` of street in front of the
-    exit is cleared of objects.
+    exit is cleared of objects. Then up to ``storefronts_nearby`` storefronts are added on road-facing
+    facades within ``nearby_radius`` of the exit (the paper densifies the neighbourhood of the
+    anchor), so that PlaceNav has places near the building.
     """
 
     max_road_distance: Annotated[float, Field(gt=0.0, le=50.0)] = 30.0
@@ -26,6 +28,8 @@ class AssembleI2OParams(Params):
     clear_depth: Annotated[float, Field(ge=0.0, le=10.0)] = 2.0
     facade: Annotated[int, Field(ge=1, le=10_000_000)] | None = None
     exit: Annotated[int, Field(ge=1, le=10_000)] | None = None
+    storefronts_nearby: Annotated[int, Field(ge=0, le=200)] = 8
+    nearby_radius: Annotated[float, Field(gt=0.0, le=200.0)] = 50.0
 
 
 @stage(
@@ -35,8 +39,11 @@ class AssembleI2OParams(Params):
 )
 def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
     """An i2o scene: the linked building set into the linked city at a road-facing facade."""
+    from shapely.geometry import Point
+
     from navverse.city.i2o import AssemblySettings
     from navverse.city.i2o import assemble_i2o as assemble
+    from navverse.city.storefronts import StorefrontSettings, densify_storefronts
     from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan
     from navverse.scene import read_scene, write_scene_dir
 
@@ -54,10 +61,22 @@ def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
     )
     ctx.progress(1, 3, "assembling")
     result = assemble(city, plan, building, scene_id=ctx.target, settings=settings)
+    scene, added = result.scene, {}
+    if params.storefronts_nearby:
+        anchor = scene.annotations.indoor_anchor
+        nearby = densify_storefronts(
+            scene,
+            plan,
+            ctx.rng,
+            StorefrontSettings(),
+            region=Point(anchor[0], anchor[1]).buffer(params.nearby_radius),
+            count=params.storefronts_nearby,
+        )
+        scene, added = nearby.scene, nearby.counts
     ctx.progress(2, 3, "writing")
-    write_scene_dir(result.scene, ctx.output)
+    write_scene_dir(scene, ctx.output)
     ctx.progress(3, 3, "done")
-    ctx.record(city=city.scene_id, building=building.scene_id, **result.record)
+    ctx.record(city=city.scene_id, building=building.scene_id, storefronts_added=added, **result.record)
     ctx.log.info(
         "%s: %s joined to %s at facade %d (%d placements fit), step %.3f m",
         ctx.target, building.scene_id, city.scene_id, result.record["facade"], result.record["candidates"],

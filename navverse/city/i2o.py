@@ -44,7 +44,7 @@ from navverse.city.surfaces import union_of
 from navverse.errors import NavverseError
 from navverse.scene.annotations import BuildingAnnotation, ExitAnnotation, FacadeAnnotation
 from navverse.scene.compose import merge_scenes, object_parts, remove_inside, replace_parts, transform_scene
-from navverse.scene.geometry import MeshData, Scene
+from navverse.scene.geometry import MeshData, Scene, Surface
 from navverse.scene.heights import SurfaceHeights
 
 __all__ = ["AssemblyError", "AssemblySettings", "I2OAssembly", "assemble_i2o"]
@@ -335,7 +335,16 @@ def assemble_i2o(
         and not object_box(obj.annotation).intersects(doorway)
     ]
     removed_objects = len(city.objects) - len(objects)
-    surfaces = [s for s in city.surfaces if s.name != f"building_{gone:04d}"]
+    # the merge numbers the remaining buildings 1, 2, ... in order: their solids' names follow
+    renamed = {
+        f"building_{b.id:04d}": f"building_{k:04d}"
+        for k, b in enumerate((b for b in city.annotations.buildings if b.id != gone), start=1)
+    }
+    surfaces = [
+        Surface(renamed.get(s.name, s.name), s.terrain_class, s.mesh)
+        for s in city.surfaces
+        if s.name != f"building_{gone:04d}"
+    ]
     street = replace_parts(
         city,
         surfaces=surfaces,

@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 from collections import Counter
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import shapely
@@ -62,6 +62,7 @@ __all__ = [
     "WALKABLE_FRONT",
     "StorefrontPlacement",
     "StorefrontSettings",
+    "densify_storefronts",
     "object_box",
     "place_storefronts",
 ]
@@ -107,6 +108,8 @@ class StorefrontSettings:
     sidewalk_gap : float
         How much open ground (a front garden, a forecourt) may lie between a door and the
         sidewalk, plaza or pedestrian area in front of it (m).
+    region : shapely geometry, optional
+        Where added storefronts may go (the middle of their facade inside it); anywhere when None.
     """
 
     height: float = 3.6
@@ -120,6 +123,7 @@ class StorefrontSettings:
     categories: frozenset[str] | None = None
     rays: int = 72
     sidewalk_gap: float = 6.0
+    region: BaseGeometry | None = None
 
 
 @dataclass(frozen=True)
@@ -241,6 +245,21 @@ def _facade_at(
     return best
 
 
+def _spans(
+    stores: Sequence[StorefrontAnnotation], buildings: Sequence[BuildingAnnotation]
+) -> dict[int, list[tuple[float, float]]]:
+    """The stretch of its facade each storefront already there covers, by facade id."""
+    facades = {f.id: f for b in buildings for f in b.facades}
+    spans: dict[int, list[tuple[float, float]]] = {}
+    for store in stores:
+        if store.facade is None or store.facade not in facades:
+            continue
+        start, along, _ = _facade_frame(facades[store.facade])
+        at = float((np.asarray(store.center[:2]) - start) @ along)
+        spans.setdefault(store.facade, []).append((at - store.size[0] / 2, at + store.size[0] / 2))
+    return spans
+
+
 def _free_span(
     occupied: Sequence[tuple[float, float]], length: float, margin: float, want: float, at: float
 ) -> tuple[float, float] | None:
@@ -292,7 +311,10 @@ class _Placer:
         self.footprints = shapely.STRtree(footprints)
         self.footprint_ids = [b.id for b in scene.annotations.buildings]
         self.footprint_shapes = footprints
-        self.occupied: dict[int, list[tuple[float, float]]] = {}
+        self.existing = list(scene.annotations.storefronts)
+        self.occupied: dict[int, list[tuple[float, float]]] = _spans(
+            self.existing, scene.annotations.buildings
+        )
         self.placed: list[_Placed] = []
         self.rejected: Counter[str] = Counter()
         self.narrowed = 0
@@ -341,11 +363,15 @@ class _Placer:
 
     def fill_facades(self) -> list[tuple[BuildingAnnotation, FacadeAnnotation]]:
         """Every usable facade with the sidewalk in front of its middle, in a random order."""
+        region = self.settings.region
         found = [
             (b, f)
             for b in self.scene.annotations.buildings
+            if not b.indoor
             for f in b.facades
-            if self._usable(f) and self._sidewalk_ahead(np.mean(f.segment, axis=0), np.asarray(f.normal))
+            if self._usable(f)
+            and (region is None or region.contains(Point(np.mean(f.segment, axis=0))))
+            and self._sidewalk_ahead(np.mean(f.segment, axis=0), np.asarray(f.normal))
         ]
         order = self.rng.permutation(len(found))
         return [found[k] for k in order]
@@ -409,7 +435,7 @@ class _Placer:
         if abs(0.5 * (span[0] + span[1]) - at) > 0.5:
             self.shifted += 1
         self.occupied.setdefault(facade.id, []).append(span)
-        number = len(self.placed) + 1
+        number = len(self.existing) + len(self.placed) + 1
         poi = candidate.poi
         annotation = StorefrontAnnotation(
             id=number,
@@ -526,7 +552,10 @@ class _Placer:
             number = _building_number(surface.name)
             mesh = self.meshes.get(number, surface.mesh) if number is not None else surface.mesh
             surfaces.append(Surface(surface.name, surface.terrain_class, mesh))
-        renumbered = [p.annotation.model_copy(update={"id": k}) for k, p in enumerate(self.placed, start=1)]
+        first = len(self.existing) + 1
+        renumbered = self.existing + [
+            p.annotation.model_copy(update={"id": k}) for k, p in enumerate(self.placed, start=first)
+        ]
         scene = replace_parts(
             self.scene,
             surfaces=surfaces,
@@ -660,20 +689,52 @@ def place_storefronts(
         if reason is not None:
             placer.rejected[reason] += 1
     (x0, y0, x1, y1) = city.window
-    wanted = int(settings.fill_per_km2 * (x1 - x0) * (y1 - y0) / 1e6)
+    filled = _fill(placer, int(settings.fill_per_km2 * (x1 - x0) * (y1 - y0) / 1e6), rng, settings)
+    return _finish(placer, settings, places=len(candidates), filled=filled)
+
+
+def densify_storefronts(
+    scene: Scene,
+    plan: StreetPlan,
+    rng: np.random.Generator,
+    settings: StorefrontSettings,
+    *,
+    region: BaseGeometry,
+    count: int,
+) -> StorefrontPlacement:
+    """Add up to `count` storefronts on road-facing facades inside `region` (its storefronts kept).
+
+    Categories are drawn from the synthetic cities' place table; the steps and checks are those of
+    :func:`place_storefronts` (an indoor-to-outdoor scene's neighbourhood of its exit, for instance).
+    """
+    placer = _Placer(scene, plan, rng, replace(settings, region=region))
+    filled = _fill(placer, count, rng, placer.settings)
+    return _finish(placer, placer.settings, places=0, filled=filled)
+
+
+def _fill(placer: _Placer, wanted: int, rng: np.random.Generator, settings: StorefrontSettings) -> int:
+    """Add storefronts on random usable facades until `wanted` are placed; returns the facades tried."""
     filled = 0
-    if wanted > len(placer.placed):
-        names, weights = _fill_categories(settings)
-        for building, facade in placer.fill_facades():
-            if len(placer.placed) >= wanted or not names:
-                break
-            category = names[int(rng.choice(len(names), p=weights))]
-            filled += 1
-            _, _, length = _facade_frame(facade)
-            at = float(rng.uniform(0.3, 0.7)) * length
-            reason = placer.place(_Candidate(category, None, None), building, facade, at)
-            if reason is not None:
-                placer.rejected[reason] += 1
+    if wanted <= len(placer.placed):
+        return filled
+    names, weights = _fill_categories(settings)
+    for building, facade in placer.fill_facades():
+        if len(placer.placed) >= wanted or not names:
+            break
+        category = names[int(rng.choice(len(names), p=weights))]
+        filled += 1
+        _, _, length = _facade_frame(facade)
+        at = float(rng.uniform(0.3, 0.7)) * length
+        reason = placer.place(_Candidate(category, None, None), building, facade, at)
+        if reason is not None:
+            placer.rejected[reason] += 1
+    return filled
+
+
+def _finish(
+    placer: _Placer, settings: StorefrontSettings, *, places: int, filled: int
+) -> StorefrontPlacement:
+    """Check the signs of the placed storefronts, drop the hidden ones, and build the scene."""
     result, _ = placer.build()
     hidden = _invisible(result, placer.placed, placer.walkable, settings)
     if hidden:
@@ -681,7 +742,7 @@ def place_storefronts(
         placer.drop(hidden)
     result, cleared = placer.build()
     counts = {
-        "places": len(candidates),
+        "places": places,
         "filled": filled,
         "placed": len(placer.placed),
         "rejected": dict(sorted(placer.rejected.items())),

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 import pytest
-from shapely.geometry import LineString, Polygon
+from shapely.geometry import LineString, Point, Polygon
 
 from navverse.city.i2o import AssemblyError, AssemblySettings, assemble_i2o
 from navverse.city.scene import CityGeometry, city_scene, geometry_plan
@@ -51,6 +51,8 @@ def test_the_building_joins_the_city_at_a_road_facing_facade(city, cafe, assembl
     assert len(indoor) == 1 and len(indoor[0].rooms) == len(cafe.annotations.rooms)
     assert len(ann.buildings) == len(scene.annotations.buildings)  # one city building replaced by the cafe
     assert record["replaced"]["map_id"] not in {b.map_id for b in ann.buildings}
+    solids = {s.name for s in assembled.scene.surfaces if s.name.startswith("building_")}
+    assert solids == {f"building_{b.id:04d}" for b in ann.buildings if not b.indoor}  # names follow ids
     (exit_,) = indoor[0].exits
     facade = next(f for f in indoor[0].facades if f.id == exit_.facade)
     assert facade.road is not None  # the exit's facade faces the city's road
@@ -147,3 +149,40 @@ def test_the_same_inputs_give_byte_identical_scene_files(city, cafe, assembled, 
     )
     for name in names:
         assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
+
+
+def test_storefronts_are_added_near_the_exit_and_never_on_the_building(city, assembled) -> None:
+    from navverse.city.storefronts import StorefrontSettings, densify_storefronts
+
+    _, plan = city
+    anchor = np.asarray(assembled.scene.annotations.indoor_anchor[:2])
+    region = Point(*anchor).buffer(50.0)
+    first = densify_storefronts(
+        assembled.scene, plan, np.random.default_rng(0), StorefrontSettings(), region=region, count=3
+    )
+    stores = first.scene.annotations.storefronts
+    assert 1 <= len(stores) <= 3 and first.counts["placed"] == len(stores)
+    (indoor,) = [b.id for b in first.scene.annotations.buildings if b.indoor]
+    for store in stores:
+        assert store.building != indoor
+        assert (
+            np.hypot(*(np.asarray(store.center[:2]) - anchor)) < 50.0 + 10.0
+        )  # its facade's middle is inside
+    # a second pass keeps them, numbers the new ones after them and never overlaps them
+    second = densify_storefronts(
+        first.scene, plan, np.random.default_rng(1), StorefrontSettings(), region=region, count=3
+    )
+    again = second.scene.annotations.storefronts
+    assert again[: len(stores)] == stores and len({s.id for s in again}) == len(again)
+    boxes = [Polygon(_corners(s)) for s in again]
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1 :]:
+            assert a.intersection(b).area < 1e-6
+
+
+def _corners(store) -> list[tuple[float, float]]:
+    normal = np.array([math.cos(store.facing), math.sin(store.facing)])
+    along = np.array([-normal[1], normal[0]])
+    c = np.asarray(store.center[:2])
+    w, d = store.size[0] / 2, store.size[1] / 2
+    return [tuple(c + along * a * w + normal * b * d) for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
