@@ -13,13 +13,15 @@ class AssembleI2OParams(Params):
     """Parameters of :func:`assemble_i2o`.
 
     The recipe links the pair: ``city`` (the ``geometry`` of a city target, after its storefronts)
-    and ``building`` (the ``geometry`` of an indoor building target). The building's exit (``exit``,
-    by default its first) is set into the road-facing facade chosen (or ``facade``, a city facade id)
-    with ``exit_margin`` of facade on each side and the sidewalk within ``sidewalk_gap`` in front; the
-    building must fit clear of streets and other buildings. ``clear_depth`` of street in front of the
-    exit is cleared of objects. Then up to ``storefronts_nearby`` storefronts are added on road-facing
-    facades within ``nearby_radius`` of the exit (the paper densifies the neighbourhood of the
-    anchor), so that PlaceNav has places near the building.
+    and ``building`` (the ``geometry`` of an indoor building target); when a link's globs match
+    several targets, the target's seed draws one of each (``seeds: [0, 1, 2]`` makes three pairs).
+    The building's exit (``exit``, by default its first) is set into the road-facing facade chosen
+    (or ``facade``, a city facade id) with ``exit_margin`` of facade on each side and the sidewalk
+    within ``sidewalk_gap`` in front; the building must fit clear of streets and other buildings.
+    ``clear_depth`` of street in front of the exit is cleared of objects. Then up to
+    ``storefronts_nearby`` storefronts are added on road-facing facades within ``nearby_radius`` of
+    the exit (the paper densifies the neighbourhood of the anchor), so that PlaceNav has places near
+    the building.
     """
 
     max_road_distance: Annotated[float, Field(gt=0.0, le=50.0)] = 30.0
@@ -34,7 +36,7 @@ class AssembleI2OParams(Params):
 
 @stage(
     name="assemble_i2o",
-    inputs=[Input("city", artifact="geometry"), Input("building", artifact="geometry")],
+    inputs=[Input("city", artifact="geometry", many=True), Input("building", artifact="geometry", many=True)],
     outputs=["geometry"],
 )
 def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
@@ -48,9 +50,10 @@ def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
     from navverse.scene import read_scene, write_scene_dir
 
     ctx.progress(0, 3, "reading")
-    city = read_scene(ctx.input("city"))
-    plan = load_street_plan(ctx.input("city") / STREET_PLAN_FILE)
-    building = read_scene(ctx.input("building"))
+    city_dir = _draw(ctx, "city")
+    city = read_scene(city_dir)
+    plan = load_street_plan(city_dir / STREET_PLAN_FILE)
+    building = read_scene(_draw(ctx, "building"))
     settings = AssemblySettings(
         max_road_distance=params.max_road_distance,
         sidewalk_gap=params.sidewalk_gap,
@@ -82,3 +85,12 @@ def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
         ctx.target, building.scene_id, city.scene_id, result.record["facade"], result.record["candidates"],
         result.record["step"],
     )  # fmt: skip
+
+
+def _draw(ctx: StageContext, name: str):
+    """The linked scene directory of input `name`: the only one, or one drawn with the target's seed
+    among several (ordered by scene id, so the draw does not depend on where artifacts are stored)."""
+    from navverse.scene import read_annotations
+
+    linked = sorted(ctx.inputs[name], key=lambda path: read_annotations(path).scene_id)
+    return linked[int(ctx.rng.integers(len(linked)))] if len(linked) > 1 else linked[0]
