@@ -58,7 +58,8 @@ def test_a_cafe_joined_to_a_city_is_an_i2o_scene(built: Built) -> None:
 
 def test_a_building_that_fits_no_facade_is_refused_and_nothing_is_written(built: Built) -> None:
     root = built.workspace.root
-    (root / "recipes" / "scenes" / "cafe-wide.yaml").write_text(I2O.format(options="{max_road_distance: 0.5}"))
+    recipe = I2O.format(options="{max_road_distance: 0.5}")  # no facade faces a road that near
+    (root / "recipes" / "scenes" / "cafe-wide.yaml").write_text(recipe)
     result = navverse_command(root, "build", "cafe-wide")
     output = result.stdout + result.stderr
     assert result.returncode == 1 and "Traceback" not in output, output
