@@ -23,7 +23,7 @@ from PIL import Image, ImageDraw
 
 from navverse.errors import NavverseError
 from navverse.scene.annotations import ExitAnnotation
-from navverse.scene.bev import raster_bev
+from navverse.scene.bev import bev_window
 from navverse.scene.directory import read_scene
 from navverse.scene.geometry import Scene
 from navverse.sim.camera import CameraIntrinsics, look_at
@@ -47,22 +47,11 @@ def indoor_exit(scene: Scene) -> ExitAnnotation:
 
 def bev(scene: Scene, exit_: ExitAnnotation, out: Path, *, pixels: int = 900) -> Path:
     """The BEV of the square around the exit, the doorway marked with an arrow pointing out."""
-    lo, hi = np.asarray(scene.annotations.bounds.min[:2]), np.asarray(scene.annotations.bounds.max[:2])
-    raster = raster_bev(scene, meters_per_pixel=max(0.06, float((hi - lo).max()) / 3900))
-    info = raster.info
     centre = np.asarray(exit_.center[:2])
-    (r0, c0), (r1, c1) = info.world_to_raster(
-        np.array([centre + np.array([-SIDE / 2, SIDE / 2]), centre + np.array([SIDE / 2, -SIDE / 2])])
-    )
-    r0, c0 = max(int(r0), 0), max(int(c0), 0)
-    image = Image.fromarray(raster.rgb[r0 : int(r1), c0 : int(c1)])
-    factor = pixels / image.width
-    image = image.resize((pixels, round(image.height * factor)), Image.Resampling.LANCZOS)
+    window = bev_window(scene, centre, SIDE, pixels=pixels)
+    image = Image.fromarray(window.image)
     draw = ImageDraw.Draw(image)
-
-    def pixel(xy: np.ndarray) -> tuple[float, float]:
-        row, col = info.world_to_raster(xy)
-        return ((col - c0) * factor, (row - r0) * factor)
+    pixel = window.pixel
 
     normal = np.array([math.cos(exit_.facing), math.sin(exit_.facing)])
     along = np.array([-normal[1], normal[0]])

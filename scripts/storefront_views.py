@@ -80,26 +80,16 @@ def views(scene: Scene, stores: list[StorefrontAnnotation]) -> Image.Image:
 def street_bev(scene: Scene, out: Path, *, side: float = 70.0, pixels: int = 900) -> Path:
     """The BEV of the `side` m square around the densest group of storefronts, each one outlined in
     yellow with an arrow out of its door and labelled with its category."""
-    from navverse.scene.bev import raster_bev
+    from navverse.scene.bev import bev_window
 
     stores = scene.annotations.storefronts
     centres = np.array([s.center[:2] for s in stores])
     near = ((centres[:, None] - centres[None]) ** 2).sum(-1) < (side / 2) ** 2
     middle = centres[int(near.sum(1).argmax())]
-    lo, hi = np.asarray(scene.annotations.bounds.min[:2]), np.asarray(scene.annotations.bounds.max[:2])
-    raster = raster_bev(scene, meters_per_pixel=max(0.1, float((hi - lo).max()) / 3900))
-    info = raster.info
-    r0, c0 = info.world_to_raster(middle + np.array([-side / 2, side / 2]))
-    r1, c1 = info.world_to_raster(middle + np.array([side / 2, -side / 2]))
-    r0, c0 = max(int(r0), 0), max(int(c0), 0)
-    crop = Image.fromarray(raster.rgb[r0 : int(r1), c0 : int(c1)])
-    factor = pixels / crop.width
-    crop = crop.resize((pixels, round(crop.height * factor)), Image.Resampling.LANCZOS)
+    window = bev_window(scene, middle, side, pixels=pixels)
+    crop = Image.fromarray(window.image)
     draw = ImageDraw.Draw(crop)
-
-    def pixel(xy: np.ndarray) -> tuple[float, float]:
-        row, col = info.world_to_raster(xy)
-        return ((col - c0) * factor, (row - r0) * factor)
+    pixel = window.pixel
 
     for store in stores:
         if np.abs(np.asarray(store.center[:2]) - middle).max() > side / 2:

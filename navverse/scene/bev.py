@@ -36,7 +36,9 @@ __all__ = [
     "BevInfo",
     "BevOverlay",
     "BevRaster",
+    "BevWindow",
     "auto_meters_per_pixel",
+    "bev_window",
     "raster_bev",
     "render_bev",
 ]
@@ -516,3 +518,53 @@ def render_bev(
         raster_offset=(_MARGIN_TOP, _MARGIN_LEFT),
         image_shape=(height, width),
     )
+
+
+@dataclass(frozen=True, eq=False)
+class BevWindow:
+    """A square of a scene's top-down raster around a point, resized to a picture, and where world
+    points fall in it.
+
+    Parameters
+    ----------
+    image : ndarray of uint8, shape (H, W, 3)
+        The picture (row 0 at the square's largest y).
+    info : BevInfo
+        The placement of the whole raster the square was cut from.
+    corner : tuple of int
+        ``(row, col)`` of the square's top-left pixel in that raster.
+    scale : float
+        Picture pixels per raster pixel.
+    """
+
+    image: np.ndarray
+    info: BevInfo
+    corner: tuple[int, int]
+    scale: float
+
+    def pixel(self, xy: ArrayLike) -> tuple[float, float]:
+        """Picture ``(x, y)`` of a world point ``(x, y)`` (for drawing on the picture with Pillow)."""
+        row, col = self.info.world_to_raster(np.asarray(xy, dtype=np.float64))
+        return ((col - self.corner[1]) * self.scale, (row - self.corner[0]) * self.scale)
+
+
+def bev_window(scene: Scene, centre: ArrayLike, side: float, *, pixels: int = 900) -> BevWindow:
+    """The top-down raster of the `side` m square around `centre`, resized to `pixels` wide.
+
+    The whole scene is ray cast at the finest resolution :func:`raster_bev` allows (at least
+    6 cm per pixel), then the square is cut out and resized (Lanczos).
+    """
+    from PIL import Image
+
+    lo, hi = np.asarray(scene.annotations.bounds.min[:2]), np.asarray(scene.annotations.bounds.max[:2])
+    extent = float((hi - lo).max())
+    raster = raster_bev(scene, meters_per_pixel=max(0.06, extent / (MAX_PIXELS - 100)))
+    middle = np.asarray(centre, dtype=np.float64)[:2]
+    (r0, c0), (r1, c1) = raster.info.world_to_raster(
+        middle + np.array([[-side / 2, side / 2], [side / 2, -side / 2]])
+    )
+    r0, c0 = max(int(r0), 0), max(int(c0), 0)
+    crop = Image.fromarray(raster.rgb[r0 : int(r1), c0 : int(c1)])
+    scale = pixels / crop.width
+    crop = crop.resize((pixels, round(crop.height * scale)), Image.Resampling.LANCZOS)
+    return BevWindow(np.asarray(crop), raster.info, (r0, c0), scale)
