@@ -1,12 +1,21 @@
-"""Indoor-to-outdoor assembly: a building joined to a city through a door in a road-facing facade."""
+"""Indoor-to-outdoor assembly: a building (linked, or generated to fit) joined to a city through a door
+in a road-facing facade."""
 
 from __future__ import annotations
 
 from typing import Annotated
 
-from pydantic import Field
+from pydantic import AfterValidator, Field
 
 from pipeline import Input, Params, StageContext, stage
+
+
+def _building_type(name: str) -> str:
+    from navverse.indoor.programs import PROGRAMS
+
+    if name not in PROGRAMS:
+        raise ValueError(f"unknown building type {name!r}; choose from: {', '.join(PROGRAMS)}")
+    return name
 
 
 class AssembleI2OParams(Params):
@@ -41,20 +50,49 @@ class AssembleI2OParams(Params):
 )
 def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
     """An i2o scene: the linked building set into the linked city at a road-facing facade."""
-    from shapely.geometry import Point
-
-    from navverse.city.i2o import AssemblySettings
     from navverse.city.i2o import assemble_i2o as assemble
-    from navverse.city.storefronts import StorefrontSettings, densify_storefronts
+    from navverse.scene import read_scene
+
+    city, plan = _read_city(ctx)
+    building = read_scene(_draw(ctx, "building"))
+    ctx.progress(1, 3, "assembling")
+    result = assemble(city, plan, building, scene_id=ctx.target, settings=_settings(params))
+    _finish(ctx, params, result, plan, city=city.scene_id, building=building.scene_id)
+
+
+class GenerateI2OParams(AssembleI2OParams):
+    """Parameters of :func:`generate_i2o`: those of :func:`assemble_i2o` and the ``building_type`` of
+    the procedural building generated to fit the city (``exit`` and ``facade`` are chosen with it)."""
+
+    building_type: Annotated[str, AfterValidator(_building_type)]
+
+
+@stage(name="generate_i2o", inputs=[Input("city", artifact="geometry", many=True)], outputs=["geometry"])
+def generate_i2o(ctx: StageContext, params: GenerateI2OParams) -> None:
+    """An i2o scene: a procedural building sized to a road-facing city building, set in its place."""
+    from navverse.city.i2o import generate_i2o as generate
+
+    city, plan = _read_city(ctx)
+    ctx.progress(1, 3, "generating")
+    result = generate(
+        city, plan, params.building_type, ctx.rng, scene_id=ctx.target, settings=_settings(params)
+    )
+    _finish(ctx, params, result, plan, city=city.scene_id, building=params.building_type)
+
+
+def _read_city(ctx: StageContext):
     from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan
-    from navverse.scene import read_scene, write_scene_dir
+    from navverse.scene import read_scene
 
     ctx.progress(0, 3, "reading")
     city_dir = _draw(ctx, "city")
-    city = read_scene(city_dir)
-    plan = load_street_plan(city_dir / STREET_PLAN_FILE)
-    building = read_scene(_draw(ctx, "building"))
-    settings = AssemblySettings(
+    return read_scene(city_dir), load_street_plan(city_dir / STREET_PLAN_FILE)
+
+
+def _settings(params: AssembleI2OParams):
+    from navverse.city.i2o import AssemblySettings
+
+    return AssemblySettings(
         max_road_distance=params.max_road_distance,
         sidewalk_gap=params.sidewalk_gap,
         exit_margin=params.exit_margin,
@@ -62,8 +100,15 @@ def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
         facade=params.facade,
         exit=params.exit,
     )
-    ctx.progress(1, 3, "assembling")
-    result = assemble(city, plan, building, scene_id=ctx.target, settings=settings)
+
+
+def _finish(ctx: StageContext, params: AssembleI2OParams, result, plan, *, city: str, building: str) -> None:
+    """Add the storefronts near the exit, write the scene and record how it was made."""
+    from shapely.geometry import Point
+
+    from navverse.city.storefronts import StorefrontSettings, densify_storefronts
+    from navverse.scene import write_scene_dir
+
     scene, added = result.scene, {}
     if params.storefronts_nearby:
         anchor = scene.annotations.indoor_anchor
@@ -79,10 +124,10 @@ def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
     ctx.progress(2, 3, "writing")
     write_scene_dir(scene, ctx.output)
     ctx.progress(3, 3, "done")
-    ctx.record(city=city.scene_id, building=building.scene_id, storefronts_added=added, **result.record)
+    ctx.record(city=city, building=building, storefronts_added=added, **result.record)
     ctx.log.info(
         "%s: %s joined to %s at facade %d (%d placements fit), step %.3f m",
-        ctx.target, building.scene_id, city.scene_id, result.record["facade"], result.record["candidates"],
+        ctx.target, building, city, result.record["facade"], result.record["candidates"],
         result.record["step"],
     )  # fmt: skip
 

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import shapely
@@ -41,13 +41,13 @@ from shapely.geometry import LineString, Point, Polygon
 from navverse.city.storefronts import WALKABLE_FRONT, object_box
 from navverse.city.street_plan import StreetPlan
 from navverse.city.surfaces import union_of
-from navverse.errors import NavverseError
+from navverse.errors import NavverseError, SceneError
 from navverse.scene.annotations import BuildingAnnotation, ExitAnnotation, FacadeAnnotation
 from navverse.scene.compose import merge_scenes, object_parts, remove_inside, replace_parts, transform_scene
 from navverse.scene.geometry import MeshData, Scene, Surface
 from navverse.scene.heights import SurfaceHeights
 
-__all__ = ["AssemblyError", "AssemblySettings", "I2OAssembly", "assemble_i2o"]
+__all__ = ["AssemblyError", "AssemblySettings", "I2OAssembly", "assemble_i2o", "generate_i2o"]
 
 _BLOCKING = ("road", "curb", "lowered_curb", "crosswalk", "sidewalk", "water", "shared")
 """Street plan classes a building's footprint may not cover."""
@@ -390,3 +390,87 @@ def assemble_i2o(
         "objects_removed": removed_objects,
     }
     return I2OAssembly(scene=scene, record=record)
+
+
+def _building_depth(building: BuildingAnnotation, facade: FacadeAnnotation) -> float:
+    """How deep a city building reaches behind one of its facades (m)."""
+    start = np.asarray(facade.segment[0], dtype=np.float64)
+    normal = np.asarray(facade.normal, dtype=np.float64)
+    return float(np.max((start - np.asarray(building.footprint)) @ normal))
+
+
+def generate_i2o(
+    city: Scene,
+    plan: StreetPlan,
+    building_type: str,
+    rng: np.random.Generator,
+    *,
+    scene_id: str,
+    settings: AssemblySettings = AssemblySettings(),
+    tries: int = 6,
+) -> I2OAssembly:
+    """Generate a procedural building sized to a road-facing city building and join it there.
+
+    The city's road-facing facades are ranked by how much of the building type's footprint ranges
+    (length along its spine, depth across it) the city building behind them can hold: a type whose
+    exit is in its long front wall (``sides: back``) turns that wall to the facade, one whose exits
+    end its spine turns its depth to the facade. For the best `tries`, a building of that footprint
+    is generated (from `rng`) and joined with :func:`assemble_i2o` at that facade; the first that fits
+    is kept, and its record names the footprint asked for.
+
+    Raises
+    ------
+    AssemblyError
+        If no facade has room for the building type, or none of the tried ones takes it.
+    """
+    from navverse.indoor.building import BuildingOptions, generate_building
+    from navverse.indoor.floorplan import depth_range
+    from navverse.indoor.programs import PROGRAMS
+
+    if building_type not in PROGRAMS:
+        raise AssemblyError(f"unknown building type {building_type!r}; choose from: {', '.join(PROGRAMS)}")
+    program = PROGRAMS[building_type]
+    lengths, depths = program.length, depth_range(program)
+    front = program.spine.sides == "back"  # the exit is in the long front wall
+    ranked = []
+    for building in city.annotations.buildings:
+        for facade in building.facades:
+            if _facade_refusal(facade, 2.5 + 2 * settings.exit_margin, settings) is not None:
+                continue
+            across, behind = facade.width, _building_depth(building, facade)
+            along_range, back_range = (lengths, depths) if front else (depths, lengths)
+            if across < along_range[0]:
+                continue
+            size_along = min(across, along_range[1])
+            size_back = float(np.clip(behind, *back_range))
+            overflow = max(0.0, size_back - behind)
+            ranked.append((overflow, -size_along * size_back, facade.id, size_along, size_back))
+    if not ranked:
+        raise AssemblyError(
+            f"no road-facing facade of {city.scene_id} is {lengths[0] if front else depths[0]:.1f} m wide, "
+            f"as a {building_type} needs: link a building or another city"
+        )
+    refused = []
+    for _, _, facade_id, size_along, size_back in sorted(ranked)[:tries]:
+        length, depth = (size_along, size_back) if front else (size_back, size_along)
+        options = BuildingOptions(length=round(length, 2), depth=round(depth, 2))
+        seed = int(rng.integers(0, 2**63 - 1))
+        try:
+            building = generate_building(
+                building_type, np.random.default_rng(seed), scene_id=f"{scene_id}-building", options=options
+            )
+            result = assemble_i2o(
+                city, plan, building, scene_id=scene_id, settings=replace(settings, facade=facade_id)
+            )
+        except (AssemblyError, SceneError) as exc:
+            refused.append(f"facade {facade_id}: {exc}")
+            continue
+        record = dict(
+            result.record,
+            generated={"building_type": building_type, "length": options.length, "depth": options.depth},
+        )
+        return I2OAssembly(scene=result.scene, record=record)
+    raise AssemblyError(
+        f"none of the {len(refused)} facades of {city.scene_id} with the most room takes a generated "
+        f"{building_type}: " + "; ".join(refused[:3])
+    )

@@ -50,6 +50,9 @@ class BuildingOptions:
     ----------
     length : float or None
         Footprint length along the spine (m); sampled from the program when None.
+    depth : float or None
+        Footprint depth across the spine (m), within the program's range
+        (:func:`~navverse.indoor.floorplan.depth_range`); sampled when None.
     density : float
         Multiplies furniture counts.
     exclude : tuple of str
@@ -61,6 +64,7 @@ class BuildingOptions:
     """
 
     length: float | None = None
+    depth: float | None = None
     density: float = 1.0
     exclude: tuple[str, ...] = ()
     extra: tuple[ExtraFurniture, ...] = ()
@@ -120,7 +124,9 @@ def generate_building(
     """
     if building_type not in PROGRAMS:
         raise SceneError(f"unknown building type {building_type!r}; choose from: {', '.join(PROGRAMS)}")
-    plan = generate_floorplan(PROGRAMS[building_type], _spawn(rng), length=options.length)
+    plan = generate_floorplan(
+        PROGRAMS[building_type], _spawn(rng), length=options.length, depth=options.depth
+    )
     surfaces = build_structure(plan)
     placements = _furnish(plan, options, _spawn(rng))
 

@@ -195,8 +195,35 @@ def _door_along(rng: np.random.Generator, lo: float, hi: float, width: float) ->
     return _snap(_uniform(rng, (a, b))) if b - a > _GRID else (a + b) / 2
 
 
+def depth_range(program: BuildingProgram) -> tuple[float, float]:
+    """The footprint depths (across the spine, m) a program's floorplans can have."""
+    sides = 2 if program.spine.sides == "both" else 1
+    return (
+        program.spine.width[0] + sides * program.side_depth[0],
+        program.spine.width[1] + sides * program.side_depth[1],
+    )
+
+
+def _split_depth(program: BuildingProgram, depth: float) -> tuple[float, list[float]]:
+    """The spine width and side depths that make a footprint `depth` deep."""
+    sides = 2 if program.spine.sides == "both" else 1
+    lo, hi = depth_range(program)
+    if not lo - 1e-9 <= depth <= hi + 1e-9:
+        raise SceneError(
+            f"a {program.building_type} footprint is {lo:.1f}-{hi:.1f} m deep; {depth:.2f} m was asked"
+        )
+    # share the depth between spine and side rooms in proportion to where it lies in their ranges
+    t = (depth - lo) / (hi - lo) if hi > lo else 0.0
+    spine = _snap(program.spine.width[0] + t * (program.spine.width[1] - program.spine.width[0]))
+    return spine, [_snap((depth - spine) / sides)] * sides
+
+
 def generate_floorplan(
-    program: BuildingProgram, rng: np.random.Generator, *, length: float | None = None
+    program: BuildingProgram,
+    rng: np.random.Generator,
+    *,
+    length: float | None = None,
+    depth: float | None = None,
 ) -> Floorplan:
     """Partition a footprint for ``program``.
 
@@ -208,6 +235,8 @@ def generate_floorplan(
         The only randomness.
     length : float, optional
         Footprint length along the spine (m); sampled from the program by default.
+    depth : float, optional
+        Footprint depth across the spine (m), within :func:`depth_range`; sampled by default.
 
     Returns
     -------
@@ -216,13 +245,18 @@ def generate_floorplan(
     Raises
     ------
     SceneError
-        If no side room fits (footprint far too short for the program).
+        If no side room fits (footprint far too short for the program), or `depth` is outside the
+        program's range.
     """
     length = _snap(length if length is not None else _uniform(rng, program.length))
-    spine_width = _snap(_uniform(rng, program.spine.width))
-    rooms_wanted = _room_list(program, rng)
     both = program.spine.sides == "both"
-    depths = [_snap(_uniform(rng, program.side_depth)) for _ in range(2 if both else 1)]
+    if depth is None:  # the draws in this order: the same seed gives the same building as before
+        spine_width = _snap(_uniform(rng, program.spine.width))
+        rooms_wanted = _room_list(program, rng)
+        depths = [_snap(_uniform(rng, program.side_depth)) for _ in range(2 if both else 1)]
+    else:
+        spine_width, depths = _split_depth(program, depth)
+        rooms_wanted = _room_list(program, rng)
 
     # Distribute side rooms over the strips, largest first, onto the emptier strip.
     strips: list[list[tuple[str, float, float]]] = [[] for _ in depths]

@@ -186,3 +186,35 @@ def _corners(store) -> list[tuple[float, float]]:
     c = np.asarray(store.center[:2])
     w, d = store.size[0] / 2, store.size[1] / 2
     return [tuple(c + along * a * w + normal * b * d) for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+
+
+def test_a_building_generated_to_fit_joins_the_city(city) -> None:
+    from navverse.city.i2o import generate_i2o
+    from navverse.indoor.floorplan import depth_range
+    from navverse.indoor.programs import PROGRAMS
+
+    scene, plan = city
+    result = generate_i2o(scene, plan, "apartment", np.random.default_rng(0), scene_id="apt-town")
+    generated = result.record["generated"]
+    program = PROGRAMS["apartment"]
+    assert program.length[0] <= generated["length"] <= program.length[1]
+    lo, hi = depth_range(program)
+    assert lo <= generated["depth"] <= hi
+    (building,) = [b for b in result.scene.annotations.buildings if b.indoor]
+    sides = sorted(
+        [
+            math.dist(building.footprint[0], building.footprint[1]),
+            math.dist(building.footprint[1], building.footprint[2]),
+        ]
+    )
+    assert sides == pytest.approx(sorted([generated["length"], generated["depth"]]), abs=0.06)
+    assert building.rooms and abs(result.record["step"]) < 0.02
+    with pytest.raises(AssemblyError, match="unknown building type 'castle'"):
+        generate_i2o(scene, plan, "castle", np.random.default_rng(0), scene_id="x")
+
+
+def test_a_depth_outside_the_program_is_refused() -> None:
+    from navverse.errors import SceneError
+
+    with pytest.raises(SceneError, match=r"a cafe footprint is .* m deep; 40.00 m was asked"):
+        generate_building("cafe", np.random.default_rng(0), scene_id="x", options=BuildingOptions(depth=40.0))
