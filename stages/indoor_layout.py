@@ -37,14 +37,16 @@ class IndoorLayoutParams(Params):
     """Parameters of :func:`indoor_layout`.
 
     ``building_type`` picks the program (rooms, sizes, furniture); ``length`` fixes the footprint
-    along the building's spine (m). ``density`` scales furniture counts. ``exclude_categories`` and
-    ``extra_furniture`` remove or add asset categories. ``category_rules`` (regexes over object prim
+    along the building's spine and ``depth`` across it (m, within the program's range). ``density``
+    scales furniture counts. ``exclude_categories`` and ``extra_furniture`` remove or add asset
+    categories. ``category_rules`` (regexes over object prim
     names such as ``office_chair_0007`` or paths) give the annotated goal categories; objects matching
     a rule with ``category: null`` stay as unannotated geometry.
     """
 
     building_type: BuildingType
     length: Annotated[float, Field(gt=6.0, le=120.0)] | None = None
+    depth: Annotated[float, Field(gt=3.0, le=60.0)] | None = None
     density: Annotated[float, Field(gt=0.0, le=3.0)] = 1.0
     exclude_categories: list[AssetCategory] = []
     extra_furniture: list[ExtraFurnitureParams] = []
@@ -53,6 +55,14 @@ class IndoorLayoutParams(Params):
     @model_validator(mode="after")
     def _room_types(self) -> IndoorLayoutParams:
         program = PROGRAMS[self.building_type]
+        if self.depth is not None:
+            from navverse.indoor.floorplan import depth_range
+
+            lo, hi = depth_range(program)
+            if not lo <= self.depth <= hi:
+                raise ValueError(
+                    f"a {self.building_type} footprint is {lo:.1f}-{hi:.1f} m deep, not {self.depth} m"
+                )
         known = [program.spine.room_type] + [r.room_type for r in program.rooms]
         for extra in self.extra_furniture:
             if extra.room_type not in known:
@@ -72,6 +82,7 @@ def indoor_layout(ctx: StageContext, params: IndoorLayoutParams) -> None:
 
     options = BuildingOptions(
         length=params.length,
+        depth=params.depth,
         density=params.density,
         exclude=tuple(params.exclude_categories),
         extra=tuple(ExtraFurniture(e.room_type, e.category, e.count) for e in params.extra_furniture),
