@@ -735,12 +735,12 @@ def _finish(
     placer: _Placer, settings: StorefrontSettings, *, places: int, filled: int
 ) -> StorefrontPlacement:
     """Check the signs of the placed storefronts, drop the hidden ones, and build the scene."""
-    result, _ = placer.build()
+    result, cleared = placer.build()
     hidden = _invisible(result, placer.placed, placer.walkable, settings)
-    if hidden:
+    if hidden:  # build again without them (fewer storefronts never hide a sign that was seen)
         placer.rejected["sign not visible"] += len(hidden)
         placer.drop(hidden)
-    result, cleared = placer.build()
+        result, cleared = placer.build()
     counts = {
         "places": places,
         "filled": filled,

@@ -17,13 +17,60 @@ from numpy.typing import ArrayLike
 from navverse.scene.annotations import ObjectAnnotation, SceneAnnotations
 from navverse.scene.naming import is_identifier
 
-__all__ = ["LabeledMesh", "MeshData", "Scene", "SceneObject", "Surface", "Texture", "yaw_matrix"]
+__all__ = [
+    "LabeledMesh",
+    "MeshData",
+    "Scene",
+    "SceneObject",
+    "Surface",
+    "Texture",
+    "merge_textures",
+    "yaw_matrix",
+]
 
 
 def yaw_matrix(yaw: float) -> np.ndarray:
     """Return the 3x3 rotation about +z by `yaw` radians."""
     c, s = math.cos(yaw), math.sin(yaw)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def merge_textures(meshes: Sequence[MeshData]) -> tuple[np.ndarray, np.ndarray, tuple[Texture, ...]]:
+    """The textures of meshes taken in order as one set: textures shared by name, faces re-indexed.
+
+    Returns
+    -------
+    face_uvs : ndarray of float32, shape (F, 3, 2)
+        Every face's corner UVs (zeros for untextured faces), meshes in order.
+    face_texture : ndarray of int32, shape (F,)
+        Index into `textures` of every face's texture, -1 for untextured faces.
+    textures : tuple of Texture
+        Each name once, in order of first use.
+
+    Raises
+    ------
+    ValueError
+        If two different images share a name.
+    """
+    textures: dict[str, Texture] = {}
+    uvs, index = [], []
+    for mesh in meshes:
+        if mesh.face_texture is None:
+            uvs.append(np.zeros((mesh.num_faces, 3, 2), np.float32))
+            index.append(np.full(mesh.num_faces, -1, np.int32))
+            continue
+        remap = []
+        for texture in mesh.textures:
+            known = textures.setdefault(texture.name, texture)
+            if not known.same_image(texture):
+                raise ValueError(f"two different images are both named {texture.name!r}")
+            remap.append(list(textures).index(texture.name))
+        table = np.array([*remap, -1], dtype=np.int32)  # -1 indexes the last entry: untextured
+        uvs.append(mesh.face_uvs)
+        index.append(table[mesh.face_texture])
+    if not uvs:
+        return np.zeros((0, 3, 2), np.float32), np.zeros(0, np.int32), ()
+    return np.concatenate(uvs), np.concatenate(index), tuple(textures.values())
 
 
 def _frozen(array: np.ndarray) -> np.ndarray:
@@ -244,25 +291,8 @@ class MeshData:
         colors = np.concatenate([m.face_colors for m in meshes]) if all(with_colors) else None
         if not any(m.textures for m in meshes):
             return MeshData(vertices, faces, colors)
-        textures: dict[str, Texture] = {}
-        uvs, index = [], []
-        for m in meshes:
-            if not m.textures:
-                uvs.append(np.zeros((m.num_faces, 3, 2), np.float32))
-                index.append(np.full(m.num_faces, -1, np.int16))
-                continue
-            remap = []
-            for texture in m.textures:
-                known = textures.setdefault(texture.name, texture)
-                if not known.same_image(texture):
-                    raise ValueError(f"two different images are both named {texture.name!r}")
-                remap.append(list(textures).index(texture.name))
-            table = np.array([*remap, -1], dtype=np.int16)  # -1 indexes the last entry: untextured
-            uvs.append(m.face_uvs)
-            index.append(table[m.face_texture])
-        return MeshData(
-            vertices, faces, colors, np.concatenate(uvs), np.concatenate(index), tuple(textures.values())
-        )
+        uvs, index, textures = merge_textures(meshes)
+        return MeshData(vertices, faces, colors, uvs, index.astype(np.int16), textures)
 
     @classmethod
     def box(cls, size: ArrayLike, *, center: ArrayLike = (0.0, 0.0, 0.0)) -> MeshData:

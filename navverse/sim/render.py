@@ -32,7 +32,7 @@ import open3d as o3d
 from numpy.typing import ArrayLike
 
 from navverse.scene.colors import default_color
-from navverse.scene.geometry import MeshData, Scene, Texture
+from navverse.scene.geometry import MeshData, Scene, merge_textures
 from navverse.sim.camera import CameraIntrinsics, check_pose
 
 __all__ = ["BACKGROUND_CLASS", "BACKGROUND_ID", "DEFAULT_INTRINSICS", "Frame", "SceneRenderer", "Shading"]
@@ -482,32 +482,16 @@ def _texture_tables(scene: Scene, hidden_classes: Sequence[str]) -> _TextureTabl
     meshes = _scene_meshes(scene, hidden_classes)
     if not any(m.textured for m in meshes):
         return None
-    textures: dict[str, Texture] = {}
-    index_parts: list[np.ndarray] = []
-    uv_parts: list[np.ndarray] = []
-    for mesh in meshes:
-        if mesh.face_texture is None:
-            index_parts.append(np.full(mesh.num_faces, -1, dtype=np.int32))
-            uv_parts.append(np.zeros((mesh.num_faces, 3, 2), dtype=np.float32))
-            continue
-        remap = []
-        for texture in mesh.textures:
-            known = textures.setdefault(texture.name, texture)
-            if not known.same_image(texture):
-                raise ValueError(f"two different images are both named {texture.name!r}")
-            remap.append(list(textures).index(texture.name))
-        table = np.array([*remap, -1], dtype=np.int32)  # -1 indexes the last entry: untextured
-        index_parts.append(table[mesh.face_texture])
-        uv_parts.append(mesh.face_uvs)
-    images = [t.image for t in textures.values()]
+    face_uvs, index, textures = merge_textures(meshes)
+    images = [t.image for t in textures]
     width = np.array([image.shape[1] for image in images], dtype=np.int64)
     height = np.array([image.shape[0] for image in images], dtype=np.int64)
-    face_texture = np.append(np.concatenate(index_parts), np.int32(-1))
+    face_texture = np.append(index, np.int32(-1))
     sizes = (width + 1) * (height + 1)
     offset = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     return _TextureTables(
         face_texture=face_texture,
-        face_texels=_face_texels(np.concatenate(uv_parts), face_texture[:-1], width, height),
+        face_texels=_face_texels(face_uvs, face_texture[:-1], width, height),
         pool=np.concatenate([_pool_image(image) for image in images], axis=1),
         width=width.astype(np.float32),
         height=height.astype(np.float32),

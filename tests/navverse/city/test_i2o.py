@@ -161,7 +161,10 @@ def test_storefronts_are_added_near_the_exit_and_never_on_the_building(city, ass
         assembled.scene, plan, np.random.default_rng(0), StorefrontSettings(), region=region, count=3
     )
     stores = first.scene.annotations.storefronts
-    assert 1 <= len(stores) <= 3 and first.counts["placed"] == len(stores)
+    counts = first.counts
+    assert stores, "the neighbourhood of the exit has room for a storefront"
+    assert len(stores) <= 3 and counts["placed"] == len(stores)  # never more than asked
+    assert counts["filled"] == counts["placed"] + sum(counts["rejected"].values())  # every try accounted
     (indoor,) = [b.id for b in first.scene.annotations.buildings if b.indoor]
     for store in stores:
         assert store.building != indoor

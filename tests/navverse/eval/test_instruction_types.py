@@ -13,13 +13,8 @@ import pytest
 from navverse.cli import build_parser
 from navverse.cli_data import _read_for_eval
 from navverse.dataset import (
-    FORMAT_VERSION,
     Dataset,
     Episode,
-    EpisodeFile,
-    counts_table,
-    file_sha256,
-    write_json_gz,
 )
 from navverse.errors import NavverseError
 from navverse.eval.agent_workers import Results, RunSettings
@@ -29,6 +24,7 @@ from navverse.eval.submission import Submission, SubmissionError, TrajectoryReco
 from navverse.eval.tables import instruction_type_entries, instruction_type_table, write_outputs
 from navverse.scene import write_scene_dir
 from tests.navverse.eval.test_report import CHAIR, TABLE, TO_CHAIR, TO_TABLE, _episode, _rows
+from tests.navverse.eval.toy_dataset import write_toy_dataset
 from tests.navverse.scene.conftest import build_scene
 
 GOOD = [[0.0, 1.0, 2.0, 0.5, 0.0, 0.0, 0.0, 1.0], [0.1, 1.1, 2.0, 0.5, 0.0, 0.0, 0.0, 1.0]]
@@ -57,20 +53,7 @@ def _placenav(spec: tuple) -> Episode:
 
 
 def _dataset(root: Path) -> Dataset:
-    episodes = [_placenav(spec) for spec in EPISODES]
-    for task in ("objnav", "placenav"):
-        chosen = [e for e in episodes if e.task == task]
-        write_json_gz(EpisodeFile(episodes=chosen).model_dump(mode="json"), root / "eval" / f"{task}.json.gz")
-    splits = {"eval": ["tiny_room", "tiny_room_b"]}
-    files = {name: file_sha256(root / name) for name in ("eval/objnav.json.gz", "eval/placenav.json.gz")}
-    manifest = {
-        "format_version": FORMAT_VERSION, "name": "toy", "version": "1.0", "toolkit_version": "0.1.0",
-        "recipe": "recipes/datasets/toy.yaml", "recipe_hash": "0" * 64, "embodiment": "spot",
-        "scene_hashes": {}, "splits": splits, "counts": counts_table(episodes, splits),
-        "difficulty_thresholds": {}, "files": files,
-    }  # fmt: skip
-    (root / "manifest.json").write_text(json.dumps(manifest))
-    return Dataset(root)
+    return write_toy_dataset(root, [_placenav(spec) for spec in EPISODES])
 
 
 def _write_run(path: Path, kind: str | None, reached: set[str], *, mixed: str | None = None) -> Path:

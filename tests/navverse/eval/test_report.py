@@ -18,13 +18,8 @@ import pytest
 from PIL import Image
 
 from navverse.dataset import (
-    FORMAT_VERSION,
     Dataset,
     Episode,
-    EpisodeFile,
-    counts_table,
-    file_sha256,
-    write_json_gz,
 )
 from navverse.eval import figures, screenshot
 from navverse.eval.report import write_report
@@ -33,6 +28,7 @@ from navverse.eval.screenshot import ScreenshotError, find_browser, screenshot_r
 from navverse.eval.submission import Submission, read_submission
 from navverse.eval.tables import TABLES, table_rows
 from navverse.scene import write_scene_dir
+from tests.navverse.eval.toy_dataset import write_toy_dataset
 from tests.navverse.scene.conftest import build_scene
 
 REPO = Path(__file__).resolve().parents[3]
@@ -102,20 +98,9 @@ LABELS = {"room-objnav-0000": "success", "room-objnav-0001": "wrong_goal", "room
 
 
 def _dataset(root: Path) -> Dataset:
-    episodes = [_episode(*spec[:6]) for spec in EPISODES]
-    for task in ("objnav", "vln"):
-        chosen = [e for e in episodes if e.task == task]
-        write_json_gz(EpisodeFile(episodes=chosen).model_dump(mode="json"), root / "eval" / f"{task}.json.gz")
-    splits = {"eval": ["tiny_room", "tiny_room_b"]}
-    files = {name: file_sha256(root / name) for name in ("eval/objnav.json.gz", "eval/vln.json.gz")}
-    manifest = {
-        "format_version": FORMAT_VERSION, "name": "toy", "version": "1.0", "toolkit_version": "0.1.0",
-        "recipe": "recipes/datasets/toy.yaml", "recipe_hash": "0" * 64, "embodiment": "spot",
-        "scene_hashes": {}, "splits": splits, "counts": counts_table(episodes, splits),
-        "difficulty_thresholds": {"objnav": [4.0, 8.0], "vln": [3.5, 7.5]}, "files": files,
-    }  # fmt: skip
-    (root / "manifest.json").write_text(json.dumps(manifest))
-    return Dataset(root)
+    return write_toy_dataset(
+        root, [_episode(*spec[:6]) for spec in EPISODES], thresholds={"objnav": [4.0, 8.0], "vln": [3.5, 7.5]}
+    )
 
 
 def _submission(path: Path, ids: list[str]) -> Submission:
