@@ -1,5 +1,5 @@
 """What the stages that change a built city scene share: reading the map, the scene and its street
-plan, and writing the changed scene with the plan beside it."""
+plan, and writing the changed scene with the plan and the map beside it."""
 
 from __future__ import annotations
 
@@ -29,12 +29,17 @@ def read_city_step(ctx: StageContext, scene_artifact: str) -> tuple[CityMap, Sce
 
 
 def write_city_step(ctx: StageContext, scene: Scene, plan: StreetPlan, counts: dict) -> None:
-    """Write the changed scene and its street plan as the stage's output and record `counts`."""
+    """Write the changed scene, its street plan and a copy of its city map (so that a stage linking
+    the scene, such as ``assemble_i2o``, has the map it was made from) and record `counts`."""
+    import shutil
+
     from navverse.city.street_plan import STREET_PLAN_FILE, save_street_plan
     from navverse.scene import write_scene_dir
+    from stages.city import CITY_MAP_FILE
 
     ctx.progress(2, 3, "writing")
     write_scene_dir(scene, ctx.output)
     save_street_plan(plan, ctx.output / STREET_PLAN_FILE)
+    shutil.copyfile(ctx.input("city_map") / CITY_MAP_FILE, ctx.output / CITY_MAP_FILE)
     ctx.progress(3, 3, "done")
     ctx.record(**counts)

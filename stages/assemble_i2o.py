@@ -27,10 +27,11 @@ class AssembleI2OParams(Params):
     The building's exit (``exit``, by default its first) is set into the road-facing facade chosen
     (or ``facade``, a city facade id) with ``exit_margin`` of facade on each side and the sidewalk
     within ``sidewalk_gap`` in front; the building must fit clear of streets and other buildings.
-    ``clear_depth`` of street in front of the exit is cleared of objects. Then up to
-    ``storefronts_nearby`` storefronts are added on road-facing facades within ``nearby_radius`` of
-    the exit (the paper densifies the neighbourhood of the anchor), so that PlaceNav has places near
-    the building.
+    ``clear_depth`` of street in front of the exit is cleared of objects. Then the neighbourhood
+    within ``nearby_radius`` of the exit is densified, as the paper does around the anchor: up to
+    ``objects_nearby`` street objects and ``cars_nearby`` parked cars are added where they fit (clear
+    of the doorway, of storefront doors and of what stands), and storefronts on road-facing facades
+    until ``storefronts_nearby`` stand there, so that PlaceNav has places near the building.
     """
 
     max_road_distance: Annotated[float, Field(gt=0.0, le=50.0)] = 30.0
@@ -40,6 +41,8 @@ class AssembleI2OParams(Params):
     facade: Annotated[int, Field(ge=1, le=10_000_000)] | None = None
     exit: Annotated[int, Field(ge=1, le=10_000)] | None = None
     storefronts_nearby: Annotated[int, Field(ge=0, le=200)] = 8
+    objects_nearby: Annotated[int, Field(ge=0, le=1000)] = 30
+    cars_nearby: Annotated[int, Field(ge=0, le=500)] = 8
     nearby_radius: Annotated[float, Field(gt=0.0, le=200.0)] = 50.0
 
 
@@ -53,11 +56,11 @@ def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
     from navverse.city.i2o import assemble_i2o as assemble
     from navverse.scene import read_scene
 
-    city, plan = _read_city(ctx)
+    city, city_map, plan = _read_city(ctx)
     building = read_scene(_draw(ctx, "building"))
     ctx.progress(1, 3, "assembling")
     result = assemble(city, plan, building, scene_id=ctx.target, settings=_settings(params))
-    _finish(ctx, params, result, plan, city=city.scene_id, building=building.scene_id)
+    _finish(ctx, params, result, city_map, plan, city=city.scene_id, building=building.scene_id)
 
 
 class GenerateI2OParams(AssembleI2OParams):
@@ -72,21 +75,32 @@ def generate_i2o(ctx: StageContext, params: GenerateI2OParams) -> None:
     """An i2o scene: a procedural building sized to a road-facing city building, set in its place."""
     from navverse.city.i2o import generate_i2o as generate
 
-    city, plan = _read_city(ctx)
+    city, city_map, plan = _read_city(ctx)
     ctx.progress(1, 3, "generating")
     result = generate(
         city, plan, params.building_type, ctx.rng, scene_id=ctx.target, settings=_settings(params)
     )
-    _finish(ctx, params, result, plan, city=city.scene_id, building=params.building_type)
+    _finish(ctx, params, result, city_map, plan, city=city.scene_id, building=params.building_type)
 
 
 def _read_city(ctx: StageContext):
+    """The linked city scene, the map it was made from and its street plan (all in its directory)."""
+    from navverse.city.i2o import AssemblyError
+    from navverse.city.map import read_city_map
     from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan
     from navverse.scene import read_scene
+    from stages.city import CITY_MAP_FILE
 
     ctx.progress(0, 3, "reading")
     city_dir = _draw(ctx, "city")
-    return read_scene(city_dir), load_street_plan(city_dir / STREET_PLAN_FILE)
+    missing = [name for name in (CITY_MAP_FILE, STREET_PLAN_FILE) if not (city_dir / name).is_file()]
+    if missing:
+        raise AssemblyError(
+            f"the linked city {city_dir} has no {' or '.join(missing)}: link the `geometry` of a city "
+            "target (built by its storefronts stage), not another scene"
+        )
+    city_map = read_city_map(city_dir / CITY_MAP_FILE)
+    return read_scene(city_dir), city_map, load_street_plan(city_dir / STREET_PLAN_FILE)
 
 
 def _settings(params: AssembleI2OParams):
@@ -102,29 +116,32 @@ def _settings(params: AssembleI2OParams):
     )
 
 
-def _finish(ctx: StageContext, params: AssembleI2OParams, result, plan, *, city: str, building: str) -> None:
-    """Add the storefronts near the exit, write the scene and record how it was made."""
+def _finish(
+    ctx: StageContext, params: AssembleI2OParams, result, city_map, plan, *, city: str, building: str
+) -> None:
+    """Densify the neighbourhood of the exit, write the scene and record how it was made."""
     from shapely.geometry import Point
 
-    from navverse.city.storefronts import StorefrontSettings, densify_storefronts
+    from navverse.city.densify import DensifySettings, densify_neighbourhood
     from navverse.scene import write_scene_dir
 
-    scene, added = result.scene, {}
-    if params.storefronts_nearby:
-        anchor = scene.annotations.indoor_anchor
-        nearby = densify_storefronts(
-            scene,
-            plan,
-            ctx.rng,
-            StorefrontSettings(),
-            region=Point(anchor[0], anchor[1]).buffer(params.nearby_radius),
-            count=params.storefronts_nearby,
-        )
-        scene, added = nearby.scene, nearby.counts
+    anchor = result.scene.annotations.indoor_anchor
+    doorway = Point(anchor[0], anchor[1]).buffer(params.clear_depth + 1.5)
+    nearby = densify_neighbourhood(
+        result.scene,
+        city_map,
+        plan,
+        ctx.rng,
+        region=Point(anchor[0], anchor[1]).buffer(params.nearby_radius, quad_segs=16),
+        keep_clear=[doorway],
+        settings=DensifySettings(
+            objects=params.objects_nearby, cars=params.cars_nearby, storefronts=params.storefronts_nearby
+        ),
+    )
     ctx.progress(2, 3, "writing")
-    write_scene_dir(scene, ctx.output)
+    write_scene_dir(nearby.scene, ctx.output)
     ctx.progress(3, 3, "done")
-    ctx.record(city=city, building=building, storefronts_added=added, **result.record)
+    ctx.record(city=city, building=building, densified=nearby.counts, **result.record)
     ctx.log.info(
         "%s: %s joined to %s at facade %d (%d placements fit), step %.3f m",
         ctx.target, building, city, result.record["facade"], result.record["candidates"],

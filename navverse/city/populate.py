@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from collections import Counter
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -32,7 +33,7 @@ from navverse.scene.compose import ObjectPart, object_parts, replace_parts
 from navverse.scene.geometry import Scene
 from navverse.scene.heights import SurfaceHeights
 
-__all__ = ["CAR_TYPES", "PopulateSettings", "Population", "populate_city"]
+__all__ = ["CAR_TYPES", "PopulateSettings", "Population", "populate_city", "stand_objects"]
 
 CAR_TYPES: dict[str, float] = {
     "sedan": 0.38,
@@ -192,43 +193,11 @@ def populate_city(
     )
 
     ground = SurfaceHeights(scene)
-    parts: list[ObjectPart] = []
+    parts = stand_objects(street.placements, slots, car_types, ground, rng)
     counts: dict[str, Counter[str]] = {k: Counter() for k in ("cars", "objects", "zones", "sources")}
-    seeds = rng.integers(0, 2**63 - 1, size=len(street.placements) + len(slots))
-    heights = ground(
-        np.array(
-            [(p.x, p.y) for p in street.placements] + [(s.x, s.y) for s in slots], dtype=np.float64
-        ).reshape(-1, 2)
-    )
-    for index, placement in enumerate(street.placements):
-        part = _object_part(placement, np.random.default_rng(int(seeds[index])), heights[index])
-        if part is not None:
-            parts.append(part)
-    names, weights = list(car_types), np.array(list(car_types.values()))
-    for k, slot in enumerate(slots):
-        index = len(street.placements) + k
-        car_rng = np.random.default_rng(int(seeds[index]))
-        size = None
-        for _ in range(4):
-            category = names[int(car_rng.choice(len(names), p=weights / weights.sum()))]
-            size = _car_size(category, slot, car_rng)
-            if size is not None:
-                break
-        if size is None or not np.isfinite(heights[index]):
-            continue
-        mesh, extent = make_object(category, car_rng, size=size)
-        parts.append(
-            ObjectPart(
-                category=category,
-                mesh=mesh,
-                center=(slot.x, slot.y, float(heights[index]) + extent[2] / 2.0),
-                yaw=math.remainder(slot.heading - math.pi / 2.0, math.tau),
-                size=extent,
-                zone=slot.zone,
-                source="parking",
-            )
-        )
-        counts["cars"][slot.zone] += 1
+    for part in parts:
+        if part.source == "parking":
+            counts["cars"][part.zone or "none"] += 1
     parts += _group_parts(groups, ground, rng)
     for part in parts:
         counts["objects"][part.category] += 1
@@ -243,6 +212,64 @@ def populate_city(
     result["groups_skipped"] = dict(sorted(groups.skipped.items()))
     result["walkway_clearance_m"] = _clearance(city, zones, parts)
     return Population(scene=populated, counts=result)
+
+
+def stand_objects(
+    placements: Sequence[Placement],
+    slots: Sequence[Slot],
+    car_types: Mapping[str, float],
+    ground: SurfaceHeights,
+    rng: np.random.Generator,
+) -> list[ObjectPart]:
+    """The objects of planned street placements and of parked cars in `slots`, standing on the ground.
+
+    Each object gets its own generator seeded from `rng` (placements first, then slots), so an object
+    does not change when others are added. A car's body type is drawn from `car_types` (weights),
+    redrawn up to four times until one fits its slot; placements or slots with no ground under them
+    are skipped.
+    """
+    seeds = rng.integers(0, 2**63 - 1, size=len(placements) + len(slots))
+    heights = ground(
+        np.array([(p.x, p.y) for p in placements] + [(s.x, s.y) for s in slots], dtype=np.float64).reshape(
+            -1, 2
+        )
+    )
+    parts: list[ObjectPart] = []
+    for index, placement in enumerate(placements):
+        part = _object_part(placement, np.random.default_rng(int(seeds[index])), heights[index])
+        if part is not None:
+            parts.append(part)
+    names, weights = list(car_types), np.array(list(car_types.values()))
+    for k, slot in enumerate(slots):
+        index = len(placements) + k
+        car = _car_part(slot, names, weights, np.random.default_rng(int(seeds[index])), heights[index])
+        if car is not None:
+            parts.append(car)
+    return parts
+
+
+def _car_part(
+    slot: Slot, names: list[str], weights: np.ndarray, rng: np.random.Generator, height: float
+) -> ObjectPart | None:
+    """A parked car in `slot` standing at `height`, or None when no body type fits or no ground is there."""
+    size = None
+    for _ in range(4):
+        category = names[int(rng.choice(len(names), p=weights / weights.sum()))]
+        size = _car_size(category, slot, rng)
+        if size is not None:
+            break
+    if size is None or not np.isfinite(height):
+        return None
+    mesh, extent = make_object(category, rng, size=size)
+    return ObjectPart(
+        category=category,
+        mesh=mesh,
+        center=(slot.x, slot.y, float(height) + extent[2] / 2.0),
+        yaw=math.remainder(slot.heading - math.pi / 2.0, math.tau),
+        size=extent,
+        zone=slot.zone,
+        source="parking",
+    )
 
 
 def _clearance(city: CityMap, zones: StreetZones, parts: list[ObjectPart]) -> dict[str, float]:

@@ -56,6 +56,21 @@ def test_a_cafe_joined_to_a_city_is_an_i2o_scene(built: Built) -> None:
     assert (built.output("cafe-city", "scene") / "navmesh.bin").is_file()
 
 
+def test_the_neighbourhood_of_the_exit_is_densified(built: Built) -> None:
+    city = read_annotations(built.output("city", "geometry"))
+    scene = read_annotations(built.output("cafe-city", "scene"))
+    added = built.manifest("cafe-city", "geometry")["stats"]["densified"]
+    cars, objects = sum(added["cars"].values()), sum(added["objects"].values())
+    assert 0 < cars <= 8 and 0 < objects <= 30  # the defaults: 8 cars, 30 street objects
+    anchor = scene.indoor_anchor
+    new = [o for o in scene.objects if o.source in ("parking", "grammar")]
+    near = [o for o in new if (o.center[0] - anchor[0]) ** 2 + (o.center[1] - anchor[1]) ** 2 <= 50.0**2]
+    old = [o for o in city.objects if o.source in ("parking", "grammar")]
+    old_near = [o for o in old if (o.center[0] - anchor[0]) ** 2 + (o.center[1] - anchor[1]) ** 2 <= 50.0**2]
+    assert len(near) >= len(old_near) + cars + objects - 3  # a few of the city's own were cut with the block
+    assert (built.output("city", "geometry") / "city_map.json").is_file()  # the map travels with the city
+
+
 def test_a_building_that_fits_no_facade_is_refused_and_nothing_is_written(built: Built) -> None:
     root = built.workspace.root
     recipe = I2O.format(options="{max_road_distance: 0.5}")  # no facade faces a road that near

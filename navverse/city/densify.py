@@ -1,0 +1,214 @@
+"""A neighbourhood of a populated city made busier: more street objects, parked cars and storefronts.
+
+The paper densifies the surroundings of an indoor-to-outdoor scene's anchor so that the outdoor part
+of an episode has things to find and to avoid. :func:`densify_neighbourhood` does it for any region
+of a populated city scene:
+
+1. **Storefronts** on the road-facing facades of the region, until it holds the number asked
+   (:func:`~navverse.city.storefronts.densify_storefronts`; each clears the street in front of its door).
+2. **Street objects** from the zone grammar (:func:`~navverse.city.street_objects.plan_street_objects`
+   with the sidewalk zones clipped to the region; mapped furniture is already standing).
+3. **Parked cars** in the free street slots of the region (:func:`~navverse.city.parking.street_slots`).
+
+A new object or car keeps ``gap`` from every object already in the scene, from the buildings, from
+the ``keep_clear`` areas the caller names (an exit's doorway, say) and from the approach of every
+storefront door. Of those that fit, ``objects`` and ``cars`` are drawn with the generator, so the same
+scene, region and seed give the same result.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+import shapely
+from shapely.geometry import LineString, Point, Polygon
+from shapely.geometry.base import BaseGeometry
+
+from navverse.city.map import CityMap
+from navverse.city.parking import Slot, slot_polygon, street_slots
+from navverse.city.populate import CAR_TYPES, PopulateSettings, stand_objects
+from navverse.city.storefronts import StorefrontSettings, densify_storefronts
+from navverse.city.street_objects import GRAMMAR, Placement, footprint, plan_street_objects
+from navverse.city.street_plan import StreetPlan
+from navverse.city.street_zones import StreetZones, street_zones
+from navverse.scene.annotations import ObjectAnnotation, StorefrontAnnotation
+from navverse.scene.compose import object_parts, replace_parts
+from navverse.scene.geometry import Scene
+from navverse.scene.heights import SurfaceHeights
+
+__all__ = ["Densified", "DensifySettings", "base_footprint", "densify_neighbourhood"]
+
+_DOOR_APPROACH = 3.0  # length of the corridor kept free straight out of a storefront's door (m)
+
+
+@dataclass(frozen=True)
+class DensifySettings:
+    """How much a neighbourhood gains.
+
+    Attributes
+    ----------
+    objects : int
+        Most street objects added.
+    cars : int
+        Most parked cars added.
+    storefronts : int
+        Storefronts the region should hold in the end (those standing count).
+    gap : float
+        Free space kept between a new object's footprint and anything standing (m).
+    populate : PopulateSettings
+        The city's population settings: excluded categories and sidewalk zone widths.
+    """
+
+    objects: int = 30
+    cars: int = 8
+    storefronts: int = 8
+    gap: float = 0.3
+    populate: PopulateSettings = field(default_factory=PopulateSettings)
+
+
+@dataclass(frozen=True)
+class Densified:
+    """A densified scene and what was added (``objects`` and ``cars`` by category, ``storefronts``
+    as counted by :func:`~navverse.city.storefronts.densify_storefronts`, ``candidates``: the
+    placements and slots that fitted before the draw)."""
+
+    scene: Scene
+    counts: dict
+
+
+def _clip(zones: StreetZones, region: BaseGeometry) -> StreetZones:
+    """The zones objects and cars may be added to, cut to `region` (walkways and junctions whole)."""
+    return replace(
+        zones,
+        furniture=zones.furniture.intersection(region),
+        frontage=zones.frontage.intersection(region),
+        verge=zones.verge.intersection(region),
+        parking=zones.parking.intersection(region),
+        curbside=zones.curbside.intersection(region),
+    )
+
+
+def base_footprint(obj: ObjectAnnotation) -> Polygon:
+    """Where a standing object meets the ground: its base (a tree's trunk, a lamp's post; see
+    :data:`~navverse.city.street_objects.BASE_FOOTPRINT`), else its box's footprint."""
+    return footprint(obj.category, obj.size, obj.center[0], obj.center[1], obj.yaw + math.pi / 2.0)
+
+
+def _door_approach(store: StorefrontAnnotation) -> BaseGeometry:
+    """The ground kept free in front of a storefront's door: a corridor straight out of it."""
+    x, y = store.entrance[0], store.entrance[1]
+    out = (x + _DOOR_APPROACH * math.cos(store.facing), y + _DOOR_APPROACH * math.sin(store.facing))
+    return LineString([(x, y), out]).buffer(max(store.door_width or 1.0, 1.0) / 2.0 + 0.3)
+
+
+def _taken(scene: Scene, keep_clear: Sequence[BaseGeometry], gap: float) -> BaseGeometry:
+    """Everything a new footprint must keep `gap` from: objects, buildings, doors, `keep_clear`."""
+    annotations = scene.annotations
+    shapes: list[BaseGeometry] = [base_footprint(o) for o in annotations.objects]
+    shapes += [Polygon(b.footprint) for b in annotations.buildings]
+    shapes += [_door_approach(s) for s in annotations.storefronts]
+    shapes += [g for g in keep_clear if not g.is_empty]
+    return shapely.union_all([s.buffer(gap) for s in shapes]) if shapes else Polygon()
+
+
+def _draw(items: list, count: int, rng: np.random.Generator) -> list:
+    """`count` of `items` drawn without replacement, in their own order."""
+    if len(items) <= count:
+        return items
+    keep = sorted(rng.choice(len(items), size=count, replace=False).tolist())
+    return [items[k] for k in keep]
+
+
+def _free_placements(
+    placements: Sequence[Placement], taken: BaseGeometry, region: BaseGeometry
+) -> list[Placement]:
+    """The planned placements inside `region` whose footprint stays clear of `taken`."""
+    from navverse.assets.library import asset
+
+    free = []
+    for p in placements:
+        shape = footprint(p.category, asset(p.category).size_max, p.x, p.y, p.heading)
+        if region.contains(Point(p.x, p.y)) and not taken.intersects(shape):
+            free.append(p)
+    return free
+
+
+def _free_slots(slots: Sequence[Slot], taken: BaseGeometry, region: BaseGeometry) -> list[Slot]:
+    """The slots inside `region` clear of `taken`."""
+    return [s for s in slots if region.contains(Point(s.x, s.y)) and not taken.intersects(slot_polygon(s))]
+
+
+def densify_neighbourhood(
+    scene: Scene,
+    city: CityMap,
+    plan: StreetPlan,
+    rng: np.random.Generator,
+    *,
+    region: BaseGeometry,
+    keep_clear: Sequence[BaseGeometry] = (),
+    settings: DensifySettings | None = None,
+) -> Densified:
+    """Add street objects, parked cars and storefronts inside `region` of a populated city scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        The populated city scene (or an i2o scene made from one).
+    city : CityMap
+        The map the city was made from.
+    plan : StreetPlan
+        Its street plan.
+    rng : numpy.random.Generator
+        The only source of randomness.
+    region : BaseGeometry
+        Where to add (e.g. a 50 m disc around an exit).
+    keep_clear : sequence of BaseGeometry
+        Areas no new object or car may cover.
+    settings : DensifySettings, optional
+        How many of each.
+
+    Returns
+    -------
+    Densified
+        The scene with the new objects after its own, and the counts.
+    """
+    from navverse.assets.library import asset
+
+    settings = settings or DensifySettings()
+    excluded = settings.populate.excluded
+    zones = _clip(street_zones(city, plan, settings.populate.zones), region)
+    counts: dict = {}
+    if settings.storefronts:  # first: a storefront clears the street objects in front of its door
+        shops = densify_storefronts(
+            scene, plan, rng, StorefrontSettings(), region=region, count=settings.storefronts
+        )
+        scene, counts["storefronts"] = shops.scene, shops.counts
+    taken = _taken(scene, keep_clear, settings.gap)
+    planned = plan_street_objects(
+        city.model_copy(update={"furniture": []}),
+        plan,
+        zones,
+        lambda category: asset(category).size_max,
+        rng,
+        settings=settings.populate.zones,
+        grammar=tuple(rule for rule in GRAMMAR if rule.category not in excluded),
+        excluded=excluded,
+        gap=settings.gap,
+    )
+    placements = _free_placements(planned.placements, taken, region)
+    car_types = {k: v for k, v in CAR_TYPES.items() if k not in excluded}
+    slots = street_slots(city, zones, rng, settings=settings.populate.zones) if car_types else []
+    slots = _free_slots(slots, taken, region)
+    candidates = {"objects": len(placements), "cars": len(slots)}
+    placements = _draw(placements, settings.objects, rng)
+    slots = _draw(slots, settings.cars, rng)
+    parts = stand_objects(placements, slots, car_types, SurfaceHeights(scene), rng)
+    scene = replace_parts(scene, objects=[*object_parts(scene), *parts])
+    counts["objects"] = dict(sorted(Counter(p.category for p in parts if p.source != "parking").items()))
+    counts["cars"] = dict(sorted(Counter(p.category for p in parts if p.source == "parking").items()))
+    counts["candidates"] = candidates
+    return Densified(scene=scene, counts=counts)
