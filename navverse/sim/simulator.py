@@ -2,7 +2,11 @@
 
 :meth:`Simulator.tick` holds a body-frame velocity command for one control period (1/50 s: four
 200 Hz physics steps, the embodiment acting before each). Contacts that are not the robot's normal
-support (:meth:`Embodiment.is_ground_contact`) are collisions and are logged with their time.
+support (:meth:`Embodiment.is_ground_contact`) are collisions and are logged with their time in
+:attr:`Simulator.collisions`: one entry per contact point per control tick, so pushing against a wall
+for a second logs about 50 or more (the submission's ``collisions`` are their distinct times).
+:attr:`Simulator.contact_events` counts collision *events* instead: a tick with a collision after a
+tick without one.
 """
 
 from __future__ import annotations
@@ -79,6 +83,9 @@ class Simulator:
         self.world = world
         self.robot = embodiment
         self.collisions: list[Collision] = []
+        self.contact_events = 0
+        """Collision events since the robot was spawned: ticks with a collision after one without."""
+        self._touching = False
         self.command = (0.0, 0.0, 0.0)
         self.observers: list[Callable[[Simulator], None]] = []  # called after every tick
         self._spawned = False
@@ -95,6 +102,8 @@ class Simulator:
         self.robot.spawn(self.world, position, yaw)
         self._spawned = True
         self.collisions = []
+        self.contact_events = 0
+        self._touching = False
         self.command = (0.0, 0.0, 0.0)
 
     def tick(self, vx: float, vy: float, wz: float) -> None:
@@ -104,9 +113,13 @@ class Simulator:
         for _ in range(_SUBSTEPS):
             self.robot.before_step()
             self.world.step()
+        logged = len(self.collisions)
         for contact in self.world.contacts(self.robot.body):
             if not self.robot.is_ground_contact(contact):
                 self.collisions.append(Collision(self.world.time, contact.body, contact.force))
+        touching = len(self.collisions) > logged
+        self.contact_events += int(touching and not self._touching)
+        self._touching = touching
         for observer in self.observers:
             observer(self)
 

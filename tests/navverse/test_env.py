@@ -194,7 +194,7 @@ def test_sensors_choose_what_is_rendered_and_max_steps_cuts_the_episode(scene_di
     env = NavVerseEnv(scene_dir, sensors=("depth",), max_steps=3, collision_cache=tmp_path)
     try:
         obs, _ = env.reset(seed=0, options={"episode": episode()})
-        assert set(obs) == {"depth", "pose", "goal"} and env.observation_space.contains(obs)
+        assert set(obs) == {"depth", "pose", "goal", "goal_id"} and env.observation_space.contains(obs)
         labels = []
         for _ in range(3):
             obs, _, terminated, truncated, info = env.step(DISCRETE_ACTIONS.index("rotate_left"))
@@ -206,7 +206,7 @@ def test_sensors_choose_what_is_rendered_and_max_steps_cuts_the_episode(scene_di
     blind = NavVerseEnv(scene_dir, action_mode="waypoint", sensors=(), collision_cache=tmp_path)
     try:
         obs, _ = blind.reset(seed=0, options={"episode": episode()})
-        assert set(obs) == {"pose", "goal"}
+        assert set(obs) == {"pose", "goal", "goal_id"}
     finally:
         blind.close()
     with pytest.raises(EnvError, match="unknown sensors"):
