@@ -44,7 +44,6 @@ from navverse.sim.terminations import AGENT_TIMEOUT
 
 __all__ = [
     "EPISODE_TIMEOUT",
-    "HIDDEN_CATEGORY_TYPES",
     "KILL_GRACE",
     "STEP_TIMEOUT",
     "Chunk",
@@ -89,6 +88,8 @@ class RunSettings:
     step_timeout: float = STEP_TIMEOUT
     episode_timeout: float = EPISODE_TIMEOUT
     instruction_type: str = "category"
+    category_ids: dict[str, dict[str, int]] = field(default_factory=dict)
+    """Per task, the dataset's ``category_to_task_category_id`` of the split (the ``goal_id`` observation)."""
 
 
 def agent_seed(seed: int, episode_id: str) -> int:
@@ -111,32 +112,32 @@ class Chunk:
         return Chunk(self.scene_dir, rest) if rest else None
 
 
-HIDDEN_CATEGORY_TYPES = frozenset({"route", "intention"})
-"""PlaceNav instruction types under which an agent that is not privileged is not told the category."""
-
-
 def task_for(episode: Episode, *, embodiment: str, radius: float, categories: dict[int, str], seed: int,
-             scene_dir: Path, instruction_type: str = "category", privileged: bool = False):  # fmt: skip
-    """The :class:`~navverse.eval.agents.base.AgentTask` of an episode.
+             scene_dir: Path, instruction_type: str = "category", privileged: bool = False,
+             semantic: bool = False):  # fmt: skip
+    """The :class:`~navverse.eval.agents.base.AgentTask` of an episode, by the observation protocol
+    (:mod:`navverse.eval.protocol`).
 
-    Its ``goal`` is what the environment observes (:func:`navverse.env.episode_goal`); under the
-    PlaceNav instruction types of :data:`HIDDEN_CATEGORY_TYPES` a non-privileged agent's
-    ``goal_category`` is "".
+    Its ``goal`` is what the environment observes (:func:`navverse.env.episode_goal`); its
+    ``goal_category`` is "" where the protocol does not tell it (VLN; PlaceNav under ``route`` and
+    ``intention``) unless the agent is privileged; ``semantic_categories`` is given only to an agent
+    that uses the semantic sensor (`semantic`) or is privileged.
     """
     from navverse.env import episode_goal
     from navverse.eval.agents.base import AgentTask
+    from navverse.eval.protocol import is_told_category
 
     goal, kind = episode_goal(episode.model_dump(mode="json"), instruction_type)
-    hidden = kind in HIDDEN_CATEGORY_TYPES and not privileged
+    told = is_told_category(episode.task, kind, privileged=privileged)
     return AgentTask(
         episode_id=episode.episode_id,
         task=episode.task,
         goal=goal,
-        goal_category="" if hidden else episode.goal_category,
+        goal_category=episode.goal_category if told else "",
         scene_type=episode.scene_type,
         embodiment=embodiment,
         robot_radius=radius,
-        semantic_categories=categories,
+        semantic_categories=dict(categories) if semantic or privileged else {},
         seed=agent_seed(seed, episode.episode_id),
         scene_dir=str(scene_dir),
         instruction_type=kind,
@@ -269,14 +270,24 @@ class _Trail:
 
 
 def _run_episode(
-    env: Any, agent: Any, task: Any, data: dict[str, Any], emit: Emit, clock: _AgentClock
+    env: Any,
+    agent: Any,
+    task: Any,
+    data: dict[str, Any],
+    emit: Emit,
+    clock: _AgentClock,
+    *,
+    category_ids: dict[str, int] | None = None,
 ) -> bool:
     """Run one episode, emitting ``begin``, ``step`` rows and its end (``record``, ``timeout`` or
     ``error``); False when its chunk must stop here."""
     episode_id = task.episode_id
     trail = None
     try:
-        observation, info = env.reset(seed=task.seed, options={"episode": data})
+        options: dict[str, Any] = {"episode": data}
+        if category_ids is not None:
+            options["category_ids"] = category_ids
+        observation, info = env.reset(seed=task.seed, options=options)
         trail = _Trail(env.sim)
         emit(("begin", episode_id, trail.first, info.get("instruction_type")))
         clock.call(agent.reset, task)
@@ -304,17 +315,19 @@ def _run_episode(
 def _run_chunk(settings: RunSettings, chunk: Chunk, emit: Emit, *, alarm: bool, deadline: Any = None) -> None:
     """Run a chunk's episodes in one environment, emitting messages as they go (see :class:`Results`);
     it stops at the first episode that fails or runs out of time."""
-    from navverse.env import SENSORS, NavVerseEnv
+    from navverse.env import NavVerseEnv
     from navverse.eval.agents import load_agent
+    from navverse.eval.protocol import agent_sensors
 
     agent = load_agent(settings.agent)
     privileged = bool(getattr(agent, "privileged", False))
+    sensors = agent_sensors(agent)
     env = NavVerseEnv(
         chunk.scene_dir,
         embodiment=settings.embodiment,
         action_mode=agent.action_mode,
         privileged=privileged,
-        sensors=tuple(getattr(agent, "sensors", SENSORS)),
+        sensors=sensors,
         max_steps=settings.max_steps,
         terrain_friction=settings.terrain_friction,
         instruction_type=settings.instruction_type,
@@ -326,9 +339,11 @@ def _run_chunk(settings: RunSettings, chunk: Chunk, emit: Emit, *, alarm: bool, 
             episode = Episode.model_validate(data)
             task = task_for(episode, embodiment=settings.embodiment, radius=radius, categories=categories,
                             seed=settings.seed, scene_dir=Path(chunk.scene_dir),
-                            instruction_type=settings.instruction_type, privileged=privileged)  # fmt: skip
+                            instruction_type=settings.instruction_type, privileged=privileged,
+                            semantic="semantic" in sensors)  # fmt: skip
             clock = _AgentClock(settings, alarm=alarm, deadline=deadline)
-            if not _run_episode(env, agent, task, data, emit, clock):
+            ids = settings.category_ids.get(episode.task)
+            if not _run_episode(env, agent, task, data, emit, clock, category_ids=ids):
                 return
     finally:
         env.close()

@@ -36,9 +36,10 @@ from navverse.eval.figures import (
     summary_figure,
 )
 from navverse.eval.metrics import LABELS
+from navverse.eval.protocol import describe
 from navverse.eval.scoring import EvalResult, robot_for
 from navverse.eval.submission import Submission
-from navverse.eval.tables import HEADERS, PERCENT, TABLES, cell_text, table_rows
+from navverse.eval.tables import HEADERS, PERCENT, TABLES, cell_text, scope_text, table_rows
 from navverse.files import atomic_write
 
 __all__ = ["REPORT_HTML", "write_report"]
@@ -274,6 +275,8 @@ def write_report(
         ("embodiment", embodiment),
         ("submission", submission.path.name),
         ("episodes", str(len(result.episodes))),
+        ("scored", scope_text(result) or "–"),
+        ("track", describe(result.track)),
         ("invalid", f"{invalid} (no valid trajectory: scored as failures)" if invalid else "0"),
         ("submission problems", str(len(result.problems))),
     ]

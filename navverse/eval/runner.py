@@ -80,6 +80,8 @@ class RunSummary:
         The episodes of this run that ended by the agent's time limit, and why.
     log : Path or None
         What the agent printed in the worker processes (None: nothing).
+    track : dict
+        The run's track (:func:`navverse.eval.protocol.track_of`), recorded on every line.
     """
 
     out: Path
@@ -89,6 +91,7 @@ class RunSummary:
     seconds: float
     timeouts: list[tuple[str, str]] = field(default_factory=list)
     log: Path | None = None
+    track: dict = field(default_factory=dict)
 
 
 def pick_episodes(episodes: Sequence[Episode], limit: int | None) -> list[Episode]:
@@ -263,12 +266,14 @@ def run_agent(
         error: its episode ends with the label ``agent_timeout``.
     """
     from navverse.eval.agents import load_agent
+    from navverse.eval.protocol import agent_sensors, track_of
 
     started = time.perf_counter()
     for flag, value in (("--step-timeout", step_timeout), ("--episode-timeout", episode_timeout)):
         if not (math.isfinite(value) and value > 0):
             raise RunError(f"{flag} must be a positive number of seconds, got {value}")
-    load_agent(agent)  # fail here, clearly, rather than in a worker
+    loaded = load_agent(agent)  # fail here, clearly, rather than in a worker
+    track = track_of(agent_sensors(loaded), privileged=bool(getattr(loaded, "privileged", False)))
     if jobs < 0:
         raise RunError(f"--jobs must be 0 or more, got {jobs}")
     out = Path(out)
@@ -278,6 +283,7 @@ def run_agent(
     if not episodes:
         raise RunError(f"split {split!r} of {dataset.root} has no episodes")
     _check_instruction_type(episodes, instruction_type)
+    tasks = dataset.tasks(split)
     settings = RunSettings(
         agent=agent,
         dataset=str(Path(dataset.root).resolve()),
@@ -290,6 +296,7 @@ def run_agent(
         step_timeout=float(step_timeout),
         episode_timeout=float(episode_timeout),
         instruction_type=instruction_type,
+        category_ids={t: dict(dataset.file(split, t).category_to_task_category_id) for t in tasks},
     )
     partial, log = _partial_path(out), _log_path(out)
     wanted = {e.episode_id for e in episodes}
@@ -311,7 +318,7 @@ def run_agent(
             f"in {partial}; fix the agent and run the same command again to resume"
             + (f" (its output is in {kept_log})" if kept_log else "")
         )
-    ordered = [records[e.episode_id] for e in episodes]
+    ordered = [{**records[e.episode_id], "track": track} for e in episodes]
     write_submission(ordered, out)
     partial.unlink()
     return RunSummary(
@@ -322,4 +329,5 @@ def run_agent(
         seconds=time.perf_counter() - started,
         timeouts=results.timeouts,
         log=kept_log,
+        track=track,
     )

@@ -23,11 +23,12 @@ import numpy as np
 from navverse.dataset import Dataset, Episode
 from navverse.eval.measures import MEASURES, TRANSITION_SCENE_TYPES, EpisodeTarget, Robot, measure
 from navverse.eval.metrics import LABELS, METRICS, compute_metrics
+from navverse.eval.protocol import UNSPECIFIED, describe
 from navverse.eval.submission import Submission, SubmissionError
 from navverse.scene.fields import SceneFields, load_scene_fields
 
-__all__ = ["EXTRA_SURFACES", "GROUPINGS", "EvalResult", "group_means", "instruction_type_of", "metric_rows",
-           "robot_for", "score"]  # fmt: skip
+__all__ = ["EXTRA_SURFACES", "GROUPINGS", "EvalResult", "chosen_episodes", "group_means",
+           "instruction_type_of", "metric_rows", "robot_for", "score", "submission_track"]  # fmt: skip
 
 EXTRA_SURFACES = {"spot": frozenset({"curb", "green", "ground"}), "turtlebot": frozenset()}
 """Navigable classes an embodiment also counts as preferred for NSR, beyond the classes the scene marks
@@ -71,6 +72,12 @@ class EvalResult:
         when the split has no PlaceNav episodes.
     submission : str
         The submission file scored ("" when not known).
+    scope : dict
+        What was scored: ``episodes`` (``all`` or ``submitted``), ``split_episodes`` (the split's
+        count), ``submitted`` (episodes with a line in the submission, valid or not), ``scored`` (the
+        episodes in the means) and ``missing`` (scored episodes without a valid record: failures).
+    track : dict
+        The sensors and privileges of the submission's agent (:func:`submission_track`).
     """
 
     episodes: list[dict]
@@ -79,6 +86,13 @@ class EvalResult:
     difficulty_thresholds: dict[str, tuple[float, float]] = field(default_factory=dict)
     instruction_type: str | None = None
     submission: str = ""
+    scope: dict = field(default_factory=dict)
+    track: dict = field(default_factory=lambda: dict(UNSPECIFIED))
+
+    @property
+    def partial(self) -> bool:
+        """Whether fewer episodes than the split's were scored (``--episodes submitted``)."""
+        return self.scope.get("scored", 0) < self.scope.get("split_episodes", 0)
 
 
 def instruction_type_of(submission: Submission, episodes: Sequence[Episode]) -> str | None:
@@ -128,6 +142,51 @@ def instruction_type_of(submission: Submission, episodes: Sequence[Episode]) -> 
     return next(iter(first_line), "category")
 
 
+def submission_track(submission: Submission) -> dict:
+    """The track a submission's valid records state (:mod:`navverse.eval.protocol`), or
+    :data:`~navverse.eval.protocol.UNSPECIFIED` when none does.
+
+    Raises
+    ------
+    SubmissionError
+        If its records state different tracks, or some state one and others do not (a submission is one
+        run of one agent).
+    """
+    seen: dict[str, tuple[dict | None, int, int]] = {}  # key -> (track, first line, records)
+    for record in submission.records.values():
+        key = describe(record.track) if record.track is not None else "none"
+        track, line, count = seen.get(key, (record.track, record.line, 0))
+        seen[key] = (track, min(line, record.line), count + 1)
+    if len(seen) > 1:
+        said = "; ".join(
+            f"{count} say {key} (first on line {line})" for key, (_, line, count) in sorted(seen.items())
+        )
+        raise SubmissionError(
+            f"{submission.path}: its records disagree on the track: {said}. A submission is one run of one "
+            "agent with one set of sensors; run it again with `navverse run-agent`, or write the same track "
+            "on every line"
+        )
+    track = next(iter(seen.values()))[0] if seen else None
+    return dict(track) if track is not None else dict(UNSPECIFIED)
+
+
+def chosen_episodes(episodes: Sequence[Episode], submission: Submission, which: str) -> list[Episode]:
+    """The episodes scored: all of the split (``all``: those without a valid record are failures), or
+    those the submission has a line for, valid or not (``submitted``).
+
+    Raises
+    ------
+    ValueError
+        On another value of `which`.
+    """
+    if which == "all":
+        return list(episodes)
+    if which != "submitted":
+        raise ValueError(f"episodes must be 'all' or 'submitted', not {which!r}")
+    lines = set(submission.records) | {p.episode_id for p in submission.problems if p.episode_id}
+    return [e for e in episodes if e.episode_id in lines]
+
+
 def _target(episode: Episode) -> EpisodeTarget:
     return EpisodeTarget(
         episode_id=episode.episode_id,
@@ -167,6 +226,7 @@ def score(
     split: str,
     scene_dirs: Mapping[str, Path],
     embodiment: str | None = None,
+    episodes: str = "all",
     progress: Callable[[int, int], None] | None = None,
 ) -> EvalResult:
     """Score a submission on one split of a dataset.
@@ -183,16 +243,23 @@ def score(
         Built scene directory by scene id (for the obstacle and surface fields).
     embodiment : str, optional
         The robot scored (r_robot, footprint); the dataset's by default.
+    episodes : str
+        ``all`` (every episode of the split; one without a valid record is a failure) or
+        ``submitted`` (only those the submission has a line for: a partial scoring, labelled so in
+        :attr:`EvalResult.scope`).
     progress : callable, optional
         Called with (episodes scored, episodes).
 
     Raises
     ------
     SubmissionError
-        If the submission's PlaceNav records disagree on their instruction type.
+        If the submission's PlaceNav records disagree on their instruction type or on their track.
     """
-    episodes = list(dataset.episodes(split=split))
+    split_episodes = list(dataset.episodes(split=split))
+    which = episodes
+    episodes = chosen_episodes(split_episodes, submission, which)
     instruction_type = instruction_type_of(submission, episodes)
+    track = submission_track(submission)
     robot = robot_for(embodiment or dataset.manifest.embodiment)
     fields = {}
     preferred = {}
@@ -245,6 +312,15 @@ def score(
         difficulty_thresholds=dict(dataset.manifest.difficulty_thresholds),
         instruction_type=instruction_type,
         submission=str(submission.path),
+        scope={
+            "episodes": which,
+            "split": split,
+            "split_episodes": len(split_episodes),
+            "submitted": len(chosen_episodes(split_episodes, submission, "submitted")),
+            "scored": count,
+            "missing": int(count - valid.sum()),
+        },
+        track=track,
     )
 
 
@@ -296,7 +372,8 @@ def _group_order(key: str) -> tuple:
 
 
 def group_means(rows: Sequence[dict]) -> dict[str, dict[str, dict[str, float]]]:
-    """Means of every metric (over the episodes where it is defined) and label shares, per grouping.
+    """Means of every metric (over the episodes where it is defined; ``<metric>_n`` is how many) and
+    label shares, per grouping.
 
     Each group also counts its ``failures`` and its ``post_exit_failures`` (failed episodes that reached
     outdoors: the episodes the ``post_exit_*`` shares are over).
@@ -315,6 +392,7 @@ def group_means(rows: Sequence[dict]) -> dict[str, dict[str, dict[str, float]]]:
             for name in names:
                 defined = [m[name] for m in members if m[name] is not None]
                 entry[name] = round(float(np.mean(defined)), 6) if defined else None
+                entry[f"{name}_n"] = len(defined)
             for label in LABELS:
                 entry[f"{label}_share"] = round(sum(m["label"] == label for m in members) / len(members), 6)
             entry["failures"] = sum(m["label"] != "success" for m in members)

@@ -7,11 +7,14 @@ One JSON object per line::
      "stop": true,                                         # the agent called stop at the last row
      "collisions": [12.3, 40.1],                           # optional: times of non-ground contacts
      "termination": "stop",                                # optional: what the simulator reported
-     "instruction_type": "route"}                          # optional, PlaceNav: the instruction given
+     "instruction_type": "route",                          # optional, PlaceNav: the instruction given
+     "track": {"name": "standard", "sensors": ["depth", "rgb"], "privileged": false}}  # optional
 
 ``instruction_type`` is one of :data:`~navverse.dataset.INSTRUCTION_TYPES` (``category``, ``route``,
 ``intention``: which of a PlaceNav episode's instructions the agent was given; absent or null means
 ``category``). The evaluator reads it on PlaceNav records only; all of a submission's must agree.
+``track`` says which sensors and privileges the agent used (:mod:`navverse.eval.protocol`; the runner
+writes it); all of a submission's records must agree.
 
 :func:`read_submission` keeps every record that is valid and lists a :class:`Problem` (line number,
 episode id, what is wrong) for every one that is not: unreadable JSON, missing or wrongly typed fields
@@ -47,6 +50,7 @@ import numpy as np
 
 from navverse.dataset import INSTRUCTION_TYPES
 from navverse.errors import NavverseError
+from navverse.eval.protocol import check_track
 
 if TYPE_CHECKING:
     from navverse.dataset import Episode
@@ -74,7 +78,7 @@ __all__ = [
     "read_submission",
 ]
 
-FIELDS = ("episode_id", "trajectory", "stop", "collisions", "termination", "instruction_type")
+FIELDS = ("episode_id", "trajectory", "stop", "collisions", "termination", "instruction_type", "track")
 """Keys a record may have; the first three are required."""
 QUATERNION_TOLERANCE = 1e-3
 """Largest | ||q|| - 1 | accepted."""
@@ -183,6 +187,9 @@ class TrajectoryRecord:
     instruction_type : str or None
         The PlaceNav instruction type the record says its agent was given (one of
         :data:`~navverse.dataset.INSTRUCTION_TYPES`); None when it does not say.
+    track : dict or None
+        The sensors and privileges its agent used (:mod:`navverse.eval.protocol`); None when it does
+        not say.
     """
 
     episode_id: str
@@ -192,6 +199,7 @@ class TrajectoryRecord:
     termination: str | None
     line: int
     instruction_type: str | None = None
+    track: dict | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -574,9 +582,12 @@ def _check_record(
     instruction_type, why = _check_instruction_type(data)
     if why:
         messages.append(why)
+    track, why = check_track(data.get("track"))
+    if why:
+        messages.append(why)
     if messages or episode_id is None or trajectory is None:  # (either None comes with a message)
         return None, messages, episode_id
-    record = TrajectoryRecord(episode_id, trajectory, stop, times, termination, line, instruction_type)
+    record = TrajectoryRecord(episode_id, trajectory, stop, times, termination, line, instruction_type, track)
     return record, [], episode_id
 
 

@@ -31,6 +31,7 @@ from pathlib import Path
 
 from navverse.dataset import INSTRUCTION_TYPES
 from navverse.eval.metrics import METRICS
+from navverse.eval.protocol import describe
 from navverse.eval.scoring import EvalResult
 from navverse.files import atomic_write
 
@@ -41,6 +42,8 @@ __all__ = [
     "has_table",
     "instruction_type_entries",
     "instruction_type_table",
+    "provenance_lines",
+    "scope_text",
     "table_rows",
     "write_outputs",
 ]
@@ -99,11 +102,18 @@ def has_table(result: EvalResult, table: str) -> bool:
     return bool(result.groups.get(TABLES[table][0]))
 
 
-def table_rows(result: EvalResult, table: str) -> tuple[list[str], list[list[str]]]:
-    """Header and rows of one of :data:`TABLES` (the last row is the ``all`` one, see :data:`TOTALS`)."""
+def table_rows(
+    result: EvalResult, table: str, *, n_columns: bool = False
+) -> tuple[list[str], list[list[str]]]:
+    """Header and rows of one of :data:`TABLES` (the last row is the ``all`` one, see :data:`TOTALS`).
+
+    A metric defined on fewer episodes than its row's shows its own N: in the cell as ``(n=...)``, or,
+    with `n_columns` (for CSV files a program reads), as an ``N`` column after every metric.
+    """
     grouping, columns = TABLES[table]
     header = [GROUP_NAMES[grouping], "episodes"]
-    header += [HEADERS.get(c, c) for c in columns]
+    for c in columns:
+        header += [HEADERS.get(c, c), *([f"{HEADERS.get(c, c)} N"] if n_columns and _has_n(c) else [])]
     rows = []
     total_grouping, total_key = TOTALS.get(grouping, ("overall", "all"))
     groups = dict(result.groups.get(grouping, {}))
@@ -111,8 +121,53 @@ def table_rows(result: EvalResult, table: str) -> tuple[list[str], list[list[str
     if total is not None:
         groups["all"] = total
     for key, entry in groups.items():
-        rows.append([key, str(entry["episodes"]), *(cell_text(c, entry.get(c)) for c in columns)])
+        row = [key, str(entry["episodes"])]
+        for c in columns:
+            if n_columns:
+                row += [cell_text(c, entry.get(c)), *([str(entry.get(f"{c}_n", 0))] if _has_n(c) else [])]
+            else:
+                row.append(_cell(c, entry))
+        rows.append(row)
     return header, rows
+
+
+def _has_n(name: str) -> bool:
+    """Whether a column is a metric with its own N (label shares and counts are over the row's episodes)."""
+    return name in METRICS
+
+
+def _cell(name: str, entry: dict) -> str:
+    """A metric's cell: its value, and its own N when it is defined on fewer episodes than the row's."""
+    text = cell_text(name, entry.get(name))
+    n = entry.get(f"{name}_n")
+    return text if n is None or n == entry["episodes"] or entry.get(name) is None else f"{text} (n={n})"
+
+
+def scope_text(result: EvalResult) -> str:
+    """What a result's numbers are over, in one sentence (partial scoring said as such)."""
+    scope = result.scope
+    if not scope:
+        return ""
+    split, total, scored = scope.get("split", "?"), scope["split_episodes"], scope["scored"]
+    if result.partial:
+        return (
+            f"PARTIAL: scored over the {scored} submitted episodes of the {total} in split {split} "
+            "(--episodes submitted); not comparable with a full scoring."
+        )
+    missing = scope.get("missing", 0)
+    tail = f"; {missing} without a valid record count as failures" if missing else ""
+    return f"Scored over all {total} episodes of split {split}{tail}."
+
+
+def provenance_lines(result: EvalResult) -> list[str]:
+    """The lines under a table's title: what was scored, the track, and how N is shown."""
+    lines = [scope_text(result)] if result.scope else []
+    lines.append(f"Track: {describe(result.track)}.")
+    lines.append(
+        "N: `episodes` is the row's episode count; a metric defined on fewer of them (trajectory measures "
+        "need a valid record, exit metrics a start indoors) shows its own as (n=...)."
+    )
+    return lines
 
 
 def instruction_type_entries(results: Sequence[EvalResult]) -> list[dict]:
@@ -140,6 +195,7 @@ def instruction_type_entries(results: Sequence[EvalResult]) -> list[dict]:
             "instruction_type": result.instruction_type,
             "name": INSTRUCTION_TYPE_NAMES[result.instruction_type],
             "submission": result.submission,
+            "track": describe(result.track),
         }
         for key, _, grouping, group in INSTRUCTION_TYPE_SCENES:
             values = result.groups.get(grouping, {}).get(group, {})
@@ -194,7 +250,10 @@ def _write_instruction_types(out: Path, entries: Sequence[dict]) -> None:
     _write_csv(out / "instruction_types.csv", header, rows)
     parts = ["# PlaceNav by instruction type", "", _markdown(header, rows), ""]
     parts += ["SR and SPL in %, over the PlaceNav episodes; N: episodes scored. Submissions:", ""]
-    parts += [f"- {e['name']} ({e['instruction_type']}): {e['submission'] or 'unknown'}" for e in entries]
+    parts += [
+        f"- {e['name']} ({e['instruction_type']}): {e['submission'] or 'unknown'}, track {e['track']}"
+        for e in entries
+    ]
     _write_text(out / "instruction_types.md", "\n".join(parts) + "\n")
 
 
@@ -213,6 +272,8 @@ def write_outputs(
     entries = instruction_type_entries([result, *others]) if result.instruction_type is not None else []
     metrics = {
         "meta": meta,
+        "scope": result.scope,
+        "track": result.track,
         "definitions": {n: m.description for n, m in METRICS.items() if not n.startswith("_")},
         "overall": result.groups["overall"]["all"],
         **{k: v for k, v in result.groups.items() if k != "overall"},
@@ -222,13 +283,13 @@ def write_outputs(
         "episodes": result.episodes,
     }
     _write_text(out / "metrics.json", json.dumps(metrics, indent=1, sort_keys=False) + "\n")
-    parts = [f"# Evaluation of {meta.get('submission', 'a submission')}", ""]
+    parts = [f"# Evaluation of {meta.get('submission', 'a submission')}", "", *provenance_lines(result), ""]
     for table in TABLES:
         if not has_table(result, table):
             (out / f"{table}.csv").unlink(missing_ok=True)
             continue
+        _write_csv(out / f"{table}.csv", *table_rows(result, table, n_columns=True))
         header, rows = table_rows(result, table)
-        _write_csv(out / f"{table}.csv", header, rows)
         parts += [f"## {table.replace('_', ' ')}", "", _markdown(header, rows), ""]
     if result.difficulty_thresholds:
         parts.append(

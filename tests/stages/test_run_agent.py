@@ -105,3 +105,83 @@ def test_run_agent_refuses_bad_arguments_with_what_to_change(built: Built, datas
         assert result.returncode == 1, (extra, result.stdout)
         assert expected in " ".join(result.stderr.split()) and "Traceback" not in result.stderr
     assert not list(tmp_path.iterdir())  # nothing half-written
+
+
+SPY_AGENT = '''
+import json
+
+import numpy as np
+
+
+class Spy:
+    """Writes down everything it is told and sees, then stops."""
+
+    action_mode = "discrete"
+    privileged = False
+    {sensors}
+
+    def reset(self, task):
+        self.task = task
+
+    def act(self, observation, info):
+        seen = {{
+            "task": {{k: getattr(self.task, k) for k in self.task.__dataclass_fields__}},
+            "observation_keys": sorted(observation),
+            "goal": observation["goal"],
+            "goal_id": int(observation["goal_id"]),
+            "info": {{k: repr(v) for k, v in info.items()}},
+        }}
+        categories = seen["task"]["semantic_categories"]
+        seen["task"]["semantic_categories"] = {{str(k): v for k, v in categories.items()}}
+        with open("{log}", "a") as handle:
+            handle.write(json.dumps(seen) + "\\n")
+        return 0
+'''
+
+
+def _spy(tmp_path: Path, name: str, sensors: str) -> tuple[str, Path]:
+    log = tmp_path / f"{name}.log"
+    agent_file = tmp_path / f"{name}.py"
+    agent_file.write_text(SPY_AGENT.format(sensors=sensors, log=log))
+    return f"{agent_file}:Spy", log
+
+
+def test_a_vln_agent_is_told_the_instruction_only_and_its_track_is_scored(
+    built: Built, dataset: Dataset, tmp_path: Path
+):
+    episodes = {e.episode_id: e for e in dataset.episodes(split="eval")}
+    vln = {i: e.goal_category for i, e in episodes.items() if e.task == "vln"}
+    assert vln and all(vln.values())  # every VLN episode has a destination category the agent must not get
+    agent, log = _spy(tmp_path, "standard", "")
+    out = tmp_path / "spy.jsonl"
+    summary = run_agent(dataset, agent=agent, split="eval", embodiment="spot", scene_dirs=scene_dirs(built),
+                        out=out, jobs=0)  # fmt: skip
+    assert summary.track == {"name": "standard", "sensors": ["depth", "rgb"], "privileged": False}
+    seen = {s["task"]["episode_id"]: s for s in map(json.loads, log.read_text().splitlines())}
+    assert set(vln) <= set(seen)
+    for episode_id, category in vln.items():
+        told = seen[episode_id]
+        assert told["goal"] == episodes[episode_id].instruction.instruction_text  # the instruction itself
+        assert told["task"]["goal_category"] == "" and told["goal_id"] == -1
+        assert told["task"]["semantic_categories"] == {} and "semantic" not in told["observation_keys"]
+        rest = json.dumps({**told, "goal": "", "task": {**told["task"], "goal": ""}})
+        assert category not in rest, rest  # nothing but the instruction can name the destination
+        assert "goal_positions" not in told["info"] and "reference_path" not in told["info"]
+    objnav = [s for i, s in seen.items() if episodes[i].task == "objnav"]
+    assert objnav and all(
+        s["task"]["goal_category"] == s["goal"] for s in objnav
+    )  # ObjNav is told its category
+    assert all(r["track"] == summary.track for r in _records(out))
+    scored = navverse_command(built.workspace.root, "eval", "--dataset", str(dataset.root), "--submission",
+                              str(out), "--out", str(tmp_path / "eval"))  # fmt: skip
+    assert scored.returncode == 0, scored.stderr
+    metrics = json.loads((tmp_path / "eval" / "metrics.json").read_text())
+    assert metrics["track"] == summary.track
+    assert "Track: standard (depth, rgb)." in (tmp_path / "eval" / "tables.md").read_text()
+
+    agent, log = _spy(tmp_path, "semantic", 'sensors = ("semantic",)')  # the ground-truth sensor, opted in
+    summary = run_agent(dataset, agent=agent, split="eval", embodiment="spot", scene_dirs=scene_dirs(built),
+                        out=tmp_path / "semantic.jsonl", jobs=0, limit=2)  # fmt: skip
+    assert summary.track["name"] == "gt-semantic"
+    told = [json.loads(line) for line in log.read_text().splitlines()]
+    assert all(t["task"]["semantic_categories"] and "semantic" in t["observation_keys"] for t in told)

@@ -2,8 +2,8 @@
 
 An agent is any object with an ``action_mode`` (``"discrete"``, ``"waypoint"`` or ``"velocity"``:
 the Gymnasium environment it is run in, :mod:`navverse.env`), a ``privileged`` flag, optionally the
-``sensors`` it looks at (a subset of :data:`navverse.env.SENSORS`; all three when absent), and two
-methods::
+``sensors`` it looks at (a subset of :data:`navverse.env.SENSORS`; ``rgb`` and ``depth`` when absent:
+the ground-truth ``semantic`` sensor is opt-in), and two methods::
 
     class MyAgent:
         action_mode = "discrete"
@@ -50,10 +50,10 @@ class AgentTask:
         The object or place category sought, or the VLN instruction; for PlaceNav, the episode's
         instruction of the run's ``instruction_type`` (the observation's ``goal``).
     goal_category : str
-        The category sought (VLN episodes have one too: the instruction's destination). Under the
-        PlaceNav instruction types ``route`` and ``intention`` it is "" for an agent that is not
-        privileged: the instruction, not the place category, is what it is told. Privileged agents
-        (``oracle``, ``gt_goal``) always get it.
+        The category sought, where the observation protocol tells it (:mod:`navverse.eval.protocol`):
+        ObjNav, and PlaceNav under the ``category`` instruction type. It is "" for VLN and for PlaceNav
+        under ``route`` and ``intention`` for an agent that is not privileged: the instruction is what
+        it is told. Privileged agents (``oracle``, ``gt_goal``) always get it.
     scene_type : str
         ``indoor``, ``outdoor`` or ``i2o``.
     embodiment : str
@@ -62,7 +62,8 @@ class AgentTask:
         ``r_robot``: the success distance is ``1.0 + r_robot`` from the goal's edge.
     semantic_categories : dict
         Category of each instance id of the semantic channel (the scene's semantic annotation, as
-        a simulator's semantic sensor provides it); not the goals' positions.
+        a simulator's semantic sensor provides it); not the goals' positions. Empty unless the agent
+        uses the ``semantic`` sensor (or is privileged).
     seed : int
         Seed for the agent's own randomness in this episode.
     scene_dir : str

@@ -236,14 +236,38 @@ def test_transition_groups_and_table(tmp_path):
         "post-exit timeout (%)",
     ]
     assert table == [
-        ["objnav", "7", "16.7", "83.3", "1.43", "1.30", "4", "25.0", "25.0", "50.0"],
+        # a metric defined on fewer episodes than the row's states its own N
+        [
+            "objnav",
+            "7",
+            "16.7 (n=6)",
+            "83.3 (n=6)",
+            "1.43 (n=6)",
+            "1.30 (n=5)",
+            "4",
+            "25.0 (n=4)",
+            "25.0 (n=4)",
+            "50.0 (n=4)",
+        ],
         ["placenav", "1", "100.0", "0.0", "1.50", "–", "0", "–", "–", "–"],
         # all i2o episodes (not the indoor one): CE pre (8.551948 + 1.5) / 7 = 1.435993
-        ["all", "8", "28.6", "71.4", "1.44", "1.30", "4", "25.0", "25.0", "50.0"],
+        [
+            "all",
+            "8",
+            "28.6 (n=7)",
+            "71.4 (n=7)",
+            "1.44 (n=7)",
+            "1.30 (n=5)",
+            "4",
+            "25.0 (n=4)",
+            "25.0 (n=4)",
+            "50.0 (n=4)",
+        ],
     ]
     out = write_outputs(result, tmp_path / "out", meta={"submission": "test"})
     csv_lines = (out / "transition.csv").read_text().splitlines()
-    assert csv_lines[1] == "objnav,7,16.7,83.3,1.43,1.30,4,25.0,25.0,50.0"
+    assert csv_lines[0].startswith("task (i2o),episodes,Ind-Only (%),Ind-Only (%) N,Reach-Out (%),")
+    assert csv_lines[1] == "objnav,7,16.7,6,83.3,6,1.43,6,1.30,5,4,25.0,4,25.0,4,50.0,4"  # value, its N
     assert "## transition" in (out / "tables.md").read_text()
 
 
