@@ -34,8 +34,18 @@ def _workspace():
 
 
 def _built_dir() -> Path:
-    """The build store of the workspace (``data/built``)."""
-    return _workspace().built_dir
+    """The build store of the workspace (``data/built``).
+
+    Raises
+    ------
+    NavverseError
+        If there is no workspace here (the engine's error, as a navverse one: the data commands then
+        name it as the reason the build store was not searched).
+    """
+    try:
+        return _workspace().built_dir
+    except PipelineError as exc:
+        raise NavverseError(str(exc)) from None
 
 
 def _loader(workspace):
@@ -275,6 +285,58 @@ def _recipe_options() -> argparse.ArgumentParser:
     return options
 
 
+SCENES_HELP = (
+    "look for the dataset's scenes in DIR first (repeatable; searched in the order given): a scene pack "
+    "written by `navverse export scenes` (DIR/<scene_id>/) or a build store (DIR/targets/<scene_id>/scene). "
+    "Then in $NAVVERSE_SCENES (directories separated by '{sep}', the same two layouts), then in this "
+    "workspace's data/built. A scene whose scene hash differs from the dataset manifest's is passed over "
+    "(one rebuilt in this workspace since the dataset was packaged is used, with a warning, when no place "
+    "has the dataset's)"
+)
+
+
+EXPORT_SCENES_DESCRIPTION = (
+    "Copy the scenes a dataset version (or one split) needs into OUT/<scene_id>/ (scene.json, scene.usdc, "
+    "navmesh.bin, navmesh.json, textures/), with OUT/scenes.json listing each scene's hash and file "
+    "checksums; each copy is checked against the dataset manifest's scene hash. The scenes are looked "
+    "for as --scenes says and must have the dataset's scene hashes, in data/built too. Ship OUT with the "
+    "dataset and pass --scenes OUT (or put OUT in $NAVVERSE_SCENES) to show episode, validate dataset, "
+    "run-agent and eval."
+)
+
+
+def _scene_options() -> argparse.ArgumentParser:
+    """Options of the commands that read a dataset's scenes: where to look for them."""
+    import os
+
+    options = argparse.ArgumentParser(add_help=False)
+    options.add_argument(
+        "--scenes",
+        action="append",
+        default=[],
+        type=_existing_path,
+        metavar="DIR",
+        help=SCENES_HELP.format(sep=os.pathsep),
+    )
+    return options
+
+
+def _export_parser(sub, scene_options: argparse.ArgumentParser) -> None:
+    """``navverse export WHAT``: a dataset's parts for use elsewhere (one sub-command per format)."""
+    export = sub.add_parser("export", help="write a dataset's scenes (or the dataset) for use elsewhere")
+    esub = export.add_subparsers(dest="what", required=True, metavar="WHAT")
+    scenes = esub.add_parser(
+        "scenes",
+        parents=[scene_options],
+        help="copy the scenes a dataset needs into a scene pack, to use it where the scenes are not built",
+        description=EXPORT_SCENES_DESCRIPTION,
+    )
+    scenes.add_argument("dataset", help="episodes/<name>/v<version> (or episodes/<name>: the newest)")
+    scenes.add_argument("out", help="the pack directory to create (must not exist, or be empty)")
+    scenes.add_argument("--split", default=None, help="only the scenes of this split (default: every split)")
+    scenes.set_defaults(func=partial(cli_data.cmd_export_scenes, built_dir=_built_dir))
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every sub-command."""
     from navverse.dataset import INSTRUCTION_TYPES
@@ -285,6 +347,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     recipe_options = _recipe_options()
+    scene_options = _scene_options()
 
     build = sub.add_parser(
         "build", parents=[recipe_options], help="build targets from recipes (default: all)"
@@ -343,7 +406,9 @@ def build_parser() -> argparse.ArgumentParser:
     recipe.add_argument("files", nargs="*", metavar="FILE")
     recipe.set_defaults(func=cmd_validate_recipe)
     vdataset = vsub.add_parser(
-        "dataset", help="check a dataset version (format, checksums, bounds, rollouts)"
+        "dataset",
+        parents=[scene_options],
+        help="check a dataset version (format, checksums, bounds, rollouts; with --scenes, its scenes)",
     )
     vdataset.add_argument("dataset", help="episodes/<name>/v<version> (or episodes/<name>: the newest)")
     vdataset.add_argument(
@@ -353,7 +418,7 @@ def build_parser() -> argparse.ArgumentParser:
     vdataset.add_argument("--jobs", "-j", type=int, default=None, help="processes for --replay")
     vdataset.set_defaults(func=partial(cli_data.cmd_validate_dataset, built_dir=_built_dir))
     vsubmission = vsub.add_parser(
-        "submission", help="report every problem of a submission, with line numbers"
+        "submission", parents=[scene_options], help="report every problem of a submission, with line numbers"
     )
     vsubmission.add_argument("submission", help="JSONL file (optionally .gz), one episode per line")
     vsubmission.add_argument(
@@ -362,7 +427,9 @@ def build_parser() -> argparse.ArgumentParser:
     vsubmission.add_argument("--split", default="eval", help="the split it answers (default: eval)")
     vsubmission.set_defaults(func=partial(cli_data.cmd_validate_submission, built_dir=_built_dir))
 
-    evaluate = sub.add_parser("eval", help="score a submission against a dataset split")
+    evaluate = sub.add_parser(
+        "eval", parents=[scene_options], help="score a submission against a dataset split"
+    )
     evaluate.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
     evaluate.add_argument(
         "--submission", required=True, action="append",
@@ -375,7 +442,11 @@ def build_parser() -> argparse.ArgumentParser:
     evaluate.add_argument("--out", default="eval-out", help="output folder (default: eval-out)")
     evaluate.set_defaults(func=partial(cli_data.cmd_eval, built_dir=_built_dir))
 
-    run = sub.add_parser("run-agent", help="run an agent over a dataset split and write its submission")
+    run = sub.add_parser(
+        "run-agent",
+        parents=[scene_options],
+        help="run an agent over a dataset split and write its submission",
+    )
     run.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
     run.add_argument("--split", default="eval", help="split run (default: eval)")
     run.add_argument(
@@ -422,11 +493,14 @@ def build_parser() -> argparse.ArgumentParser:
     dataset.add_argument("dataset", help="episodes/<name>/v<version> (or episodes/<name>: the newest)")
     dataset.add_argument("--top", type=int, default=25, help="goal categories listed")
     dataset.set_defaults(func=cli_data.cmd_show_dataset)
-    episode = ssub.add_parser("episode", help="draw an episode on its scene's bird's-eye view")
+    episode = ssub.add_parser(
+        "episode", parents=[scene_options], help="draw an episode on its scene's bird's-eye view"
+    )
     episode.add_argument("dataset")
     episode.add_argument("episode_id")
     episode.add_argument("-o", "--output", help="PNG path (default: <episode_id>.png)")
     episode.set_defaults(func=partial(cli_data.cmd_show_episode, built_dir=_built_dir))
+    _export_parser(sub, scene_options)
     return parser
 
 

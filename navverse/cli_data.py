@@ -1,10 +1,13 @@
-"""The data and evaluation commands of ``navverse``: show, validate dataset / submission, eval, run-agent.
+"""The data and evaluation commands of ``navverse``: show, validate dataset / submission, eval, run-agent,
+export scenes.
 
 They read datasets, submissions and built scenes, never the build engine: :mod:`navverse.cli`, the
 composition root, parses the arguments and passes the commands that need built scenes a ``built_dir``
 callable returning the build store (``data/built``), called only once a scene is needed, so the others
-run anywhere. Each command returns the exit code; its imports are inside it, so the command line starts
-quickly.
+run anywhere. A dataset's scenes are looked for along the search path of
+:func:`navverse.scene.locate.find_scene_dirs`: ``--scenes DIR`` (``args.scenes``), ``$NAVVERSE_SCENES``,
+then that build store. Each command returns the exit code; its imports are inside it, so the command
+line starts quickly.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ from rich.console import Console
 
 __all__ = [
     "cmd_eval",
+    "cmd_export_scenes",
     "cmd_run_agent",
     "cmd_show_dataset",
     "cmd_show_episode",
@@ -25,6 +29,31 @@ __all__ = [
     "cmd_validate_dataset",
     "cmd_validate_submission",
 ]
+
+
+def _warn(text: str) -> None:
+    Console(stderr=True).print(
+        f"warning: {text}", style="yellow", highlight=False, markup=False, soft_wrap=True
+    )
+
+
+def _dataset_scene_dirs(
+    args: argparse.Namespace, dataset, scenes, built_dir: Callable[[], Path] | None
+) -> dict[str, Path]:
+    """The directories of the dataset's scenes ``scenes`` (episodes or ids), along the search path:
+    ``--scenes``, ``$NAVVERSE_SCENES``, the workspace's build store. A scene must have the manifest's
+    scene hash, but for one rebuilt in this workspace's store since the dataset was packaged: it is used
+    with a warning, as before scenes could come from elsewhere."""
+    from navverse.scene.locate import find_scene_dirs
+
+    return find_scene_dirs(
+        scenes,
+        search=getattr(args, "scenes", None) or (),
+        hashes=dataset.manifest.scene_hashes,
+        built_dir=built_dir,
+        rebuilt="warn",
+        warn=_warn,
+    )
 
 
 def cmd_show_scene(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
@@ -93,12 +122,11 @@ def cmd_show_episode(args: argparse.Namespace, console: Console, *, built_dir: C
     """Draw one episode on its scene's bird's-eye view."""
     from navverse.dataset import Dataset
     from navverse.episodes.inspect import draw_episode
-    from navverse.scene.locate import built_scene_dir
 
     dataset = Dataset(args.dataset)
     dataset.verify()
     episode = dataset.episode(args.episode_id)
-    scene_dir = built_scene_dir(built_dir(), episode.scene_id)
+    scene_dir = _dataset_scene_dirs(args, dataset, [episode.scene_id], built_dir)[episode.scene_id]
     out = draw_episode(
         scene_dir, episode, dataset.rollout(episode), Path(args.output or f"{args.episode_id}.png")
     )
@@ -109,15 +137,11 @@ def cmd_show_episode(args: argparse.Namespace, console: Console, *, built_dir: C
 
 
 def cmd_validate_dataset(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
-    """Check a dataset: format, files and checksums against the manifest, counts, bounds, and (with
-    --replay) its oracle rollouts under physics."""
-    import numpy as np
-    from rich.progress import Progress
-
+    """Check a dataset: format, files and checksums against the manifest, counts, bounds, with --scenes
+    that every scene is found with the manifest's scene hash, and (with --replay) its oracle rollouts
+    under physics."""
     from navverse.dataset import Dataset
-    from navverse.episodes.inspect import check_bounds, replay
-    from navverse.scene.directory import scene_hash
-    from navverse.scene.locate import built_scene_dirs
+    from navverse.episodes.inspect import check_bounds
 
     dataset = Dataset(args.dataset)
     dataset.verify()
@@ -135,36 +159,44 @@ def cmd_validate_dataset(args: argparse.Namespace, console: Console, *, built_di
     for episode_id, reason in violations[:10]:
         console.print(f"  {episode_id}: {reason}", highlight=False)
     failures = bool(violations)
+    if getattr(args, "scenes", None) and not args.replay:
+        scene_dirs = _dataset_scene_dirs(args, dataset, episodes, built_dir)
+        console.print(f"scenes: {len(scene_dirs)} found", highlight=False)
+        for scene_id, scene_dir in scene_dirs.items():
+            console.print(f"  {scene_id}: {scene_dir}", highlight=False, markup=False, soft_wrap=True)
     if args.replay:
-        chosen = episodes
-        if args.replay != "all":
-            count = int(args.replay)
-            rng = np.random.default_rng(args.seed)
-            chosen = [
-                episodes[i]
-                for i in sorted(rng.choice(len(episodes), min(count, len(episodes)), replace=False))
-            ]
-        scene_dirs = built_scene_dirs(chosen, built_dir=built_dir())
-        changed = [s for s, d in scene_dirs.items() if scene_hash(d) != dataset.manifest.scene_hashes.get(s)]
-        if changed:
-            console.print(
-                f"[yellow]warning:[/] built scenes differ from the dataset's: {', '.join(changed)} "
-                "(rebuilt since packaging?); replaying in the scenes as built now"
-            )
-        with Progress(console=console, transient=True) as bar:
-            task = bar.add_task("replaying (scenes)", total=len(scene_dirs))
-            report = replay(
-                chosen,
-                scene_dirs,
-                embodiment=dataset.manifest.embodiment,
-                jobs=args.jobs,
-                progress=lambda done, total: bar.update(task, completed=done),
-            )
-        console.print(f"replayed oracle rollouts: {report.reached} of {report.replayed} reach a goal")
-        for episode_id, reason in report.failures[:10]:
-            console.print(f"  {episode_id}: {reason}", highlight=False)
-        failures = failures or bool(report.failures)
+        failures = _replay(args, console, dataset, episodes, built_dir) or failures
     return 1 if failures else 0
+
+
+def _replay(args: argparse.Namespace, console: Console, dataset, episodes: list, built_dir) -> bool:
+    """Run the oracle rollouts of ``--replay`` N sampled episodes (or all) again; True if one fails."""
+    import numpy as np
+    from rich.progress import Progress
+
+    from navverse.episodes.inspect import replay
+
+    chosen = episodes
+    if args.replay != "all":
+        count = int(args.replay)
+        rng = np.random.default_rng(args.seed)
+        chosen = [
+            episodes[i] for i in sorted(rng.choice(len(episodes), min(count, len(episodes)), replace=False))
+        ]
+    scene_dirs = _dataset_scene_dirs(args, dataset, chosen, built_dir)
+    with Progress(console=console, transient=True) as bar:
+        task = bar.add_task("replaying (scenes)", total=len(scene_dirs))
+        report = replay(
+            chosen,
+            scene_dirs,
+            embodiment=dataset.manifest.embodiment,
+            jobs=args.jobs,
+            progress=lambda done, total: bar.update(task, completed=done),
+        )
+    console.print(f"replayed oracle rollouts: {report.reached} of {report.replayed} reach a goal")
+    for episode_id, reason in report.failures[:10]:
+        console.print(f"  {episode_id}: {reason}", highlight=False)
+    return bool(report.failures)
 
 
 def _split_of(dataset, split: str) -> list[str]:
@@ -176,27 +208,22 @@ def _split_of(dataset, split: str) -> list[str]:
     return [e.episode_id for e in dataset.episodes(split=split)]
 
 
-def _submission_bounds(episodes, built_dir: Callable[[], Path] | None, console: Console) -> dict | None:
+def _submission_bounds(
+    args: argparse.Namespace, dataset, episodes, built_dir: Callable[[], Path] | None, console: Console
+) -> dict | None:
     """The box of every episode (its scene's bounds, grown), or None with a note when the scenes are not
-    built here: then only the absolute bound on positions is checked."""
+    found (--scenes, $NAVVERSE_SCENES, the build store): then only the absolute bound on positions is
+    checked."""
     from navverse.errors import NavverseError
     from navverse.eval.submission import MAX_ABS_COORD, episode_bounds
-    from navverse.scene.locate import built_scene_dirs
 
-    why = "no build store given"
-    if built_dir is not None:
-        try:
-            store = built_dir()
-        except Exception as exc:  # the engine's error (no checkout here), not a navverse type
-            why = str(exc)
-        else:
-            try:
-                return episode_bounds(episodes, built_scene_dirs(episodes, built_dir=store))
-            except NavverseError as exc:
-                why = str(exc)
+    try:
+        return episode_bounds(episodes, _dataset_scene_dirs(args, dataset, episodes, built_dir))
+    except NavverseError as exc:
+        why = str(exc)
     console.print(
         f"note: the scenes' bounds are not checked, positions only within ±{MAX_ABS_COORD:g} m "
-        f"(the built scenes are needed: {why})",
+        f"(the scenes are needed: {why})",
         highlight=False,
         markup=False,
     )
@@ -224,7 +251,7 @@ def cmd_validate_submission(
     dataset = Dataset(args.dataset)
     ids = _split_of(dataset, args.split)
     episodes = list(dataset.episodes(split=args.split))
-    bounds = _submission_bounds(episodes, built_dir, console)
+    bounds = _submission_bounds(args, dataset, episodes, built_dir, console)
     submission = read_submission(args.submission, episode_ids=ids, bounds=bounds)
     missing = sorted(set(ids) - set(submission.records) - {p.episode_id for p in submission.problems})
     _print_problems(submission, console)
@@ -360,13 +387,12 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
         table_rows,
         write_outputs,
     )
-    from navverse.scene.locate import built_scene_dirs
 
     _check_out_dir(args.out)
     dataset = Dataset(args.dataset)
     dataset.verify()
     _split_of(dataset, args.split)
-    scene_dirs = built_scene_dirs(dataset.episodes(split=args.split), built_dir=built_dir())
+    scene_dirs = _dataset_scene_dirs(args, dataset, dataset.episodes(split=args.split), built_dir)
     submissions = _read_for_eval(args, dataset, scene_dirs)
     results = _score_for_eval(args, console, dataset, submissions, scene_dirs)
     submission, result = submissions[0], results[0]
@@ -427,13 +453,12 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
 
     from navverse.dataset import Dataset
     from navverse.eval.runner import EPISODE_TIMEOUT, STEP_TIMEOUT, run_agent
-    from navverse.scene.locate import built_scene_dirs
 
     dataset = Dataset(args.dataset)
     dataset.verify()
     _split_of(dataset, args.split)
     embodiment = args.embodiment or dataset.manifest.embodiment
-    scene_dirs = built_scene_dirs(dataset.episodes(split=args.split), built_dir=built_dir())
+    scene_dirs = _dataset_scene_dirs(args, dataset, dataset.episodes(split=args.split), built_dir)
     jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
     with Progress(*columns, console=console, transient=True) as bar:
@@ -487,3 +512,38 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
         soft_wrap=True,
     )
     return 0
+
+
+def cmd_export_scenes(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
+    """Copy the scenes a dataset (or one split) needs into a scene pack, checked against the manifest's
+    scene hashes, for ``--scenes`` on a machine without the workspace."""
+    from rich.progress import BarColumn, DownloadColumn, Progress, TextColumn, TimeRemainingColumn
+
+    from navverse.export.scene_pack import export_scene_pack
+
+    columns = (TextColumn("{task.description}"), BarColumn(), DownloadColumn(), TimeRemainingColumn())
+    with Progress(*columns, console=console, transient=True) as bar:
+        task = bar.add_task("copying scenes", total=None)
+        pack = export_scene_pack(
+            args.dataset,
+            args.out,
+            split=args.split,
+            search=getattr(args, "scenes", None) or (),
+            built_dir=built_dir,
+            progress=lambda done, total: bar.update(task, completed=done, total=total),
+        )
+    size = pack.bytes / 1e6
+    console.print(
+        f"wrote {pack.root}: {len(pack.scenes)} scenes, {pack.files} files, {size:.1f} MB, scene hashes "
+        f"checked against the dataset's; use it with: --scenes {pack.root} (or {_env_hint(pack.root)})",
+        highlight=False,
+        markup=False,
+        soft_wrap=True,
+    )
+    return 0
+
+
+def _env_hint(root: Path) -> str:
+    from navverse.scene.locate import SCENES_ENV
+
+    return f"{SCENES_ENV}={root.resolve()}"

@@ -520,6 +520,53 @@ class Dataset:
                 return episode
         raise DatasetError(f"{self.root} has no episode {episode_id!r}")
 
+    def scene_dir(
+        self,
+        episode_or_scene_id: Episode | str,
+        *,
+        search: Sequence[str | os.PathLike[str]] = (),
+        built_dir: str | os.PathLike[str] | None = None,
+    ) -> Path:
+        """The directory of an episode's scene (or a scene's), with the scene hash this dataset lists.
+
+        Looked for, in order, in ``search``, in ``$NAVVERSE_SCENES`` and in ``built_dir``: scene packs
+        (``DIR/<scene_id>/``, from ``navverse export scenes``) or build stores
+        (``DIR/targets/<scene_id>/scene``); a directory whose scene hash differs from the manifest's
+        ``scene_hashes`` is passed over (:func:`navverse.scene.locate.find_scene_dirs`).
+
+        Parameters
+        ----------
+        episode_or_scene_id : Episode or str
+            An episode of this dataset, or the id of one of its scenes.
+        search : sequence of path
+            Scene packs or build stores searched first, in order.
+        built_dir : path, optional
+            A workspace's build store (``data/built``), searched last.
+
+        Returns
+        -------
+        Path
+            The scene directory.
+
+        Raises
+        ------
+        DatasetError
+            If the scene is not one of this dataset's.
+        SceneError
+            If it is found nowhere, or only with another scene hash (each place and why, what to do).
+        """
+        from navverse.scene.locate import find_scene_dirs
+
+        scene_id = (
+            episode_or_scene_id if isinstance(episode_or_scene_id, str) else episode_or_scene_id.scene_id
+        )
+        if not any(scene_id in scenes for scenes in self.manifest.splits.values()):
+            raise DatasetError(f"{self.root} has no scene {scene_id!r} in any split")
+        found = find_scene_dirs(
+            [scene_id], search=search, hashes=self.manifest.scene_hashes, built_dir=built_dir
+        )
+        return found[scene_id]
+
     def rollout(self, episode: Episode) -> list[list[float]] | None:
         """The verification rollout of an episode (10 Hz ``[t, x, y, z, qx, qy, qz, qw]`` rows), if kept."""
         for split in self.splits:
