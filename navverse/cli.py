@@ -305,6 +305,17 @@ EXPORT_SCENES_DESCRIPTION = (
 )
 
 
+EXPORT_HABITAT_DESCRIPTION = (
+    "Write OUT/objectnav_v1/<split>/ (ObjectNav-v1: the ObjNav and PlaceNav episodes, goals with view points "
+    "on the navmesh), OUT/vln_r2r/<split>/ (R2R-VLN: instructions with tokens and vocabulary) and "
+    "OUT/scenes/<scene>/ (the scene as GLB, HM3D-style semantic files, the navmesh as habitat-sim's "
+    ".navmesh), in habitat's y-up frame: a NavVerse point (x, y, z) is (x, z, -y) there. Load it with "
+    "habitat-lab's dataset types ObjectNav-v1 / R2RVLN-v1 "
+    "(data_path OUT/objectnav_v1/{split}/{split}.json.gz, scenes_dir OUT/scenes); "
+    "scripts/habitat_check.py does so in a separate environment."
+)
+
+
 def _scene_options() -> argparse.ArgumentParser:
     """Options of the commands that read a dataset's scenes: where to look for them."""
     import os
@@ -335,6 +346,15 @@ def _export_parser(sub, scene_options: argparse.ArgumentParser) -> None:
     scenes.add_argument("out", help="the pack directory to create (must not exist, or be empty)")
     scenes.add_argument("--split", default=None, help="only the scenes of this split (default: every split)")
     scenes.set_defaults(func=partial(cli_data.cmd_export_scenes, built_dir=_built_dir))
+    habitat = esub.add_parser(
+        "habitat",
+        parents=[scene_options],
+        help="write a dataset and its scenes in habitat-lab's layouts (ObjectNav-v1, R2R-VLN, GLB)",
+        description=EXPORT_HABITAT_DESCRIPTION,
+    )
+    habitat.add_argument("dataset", help="episodes/<name>/v<version>")
+    habitat.add_argument("out", help="the export directory to create (must not exist, or be empty)")
+    habitat.set_defaults(func=partial(cli_data.cmd_export_habitat, built_dir=_built_dir))
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -440,6 +460,14 @@ def build_parser() -> argparse.ArgumentParser:
     evaluate.add_argument("--split", default="eval", help="split scored (default: eval)")
     evaluate.add_argument("--embodiment", default=None, help="robot scored (default: the dataset's)")
     evaluate.add_argument("--out", default="eval-out", help="output folder (default: eval-out)")
+    evaluate.add_argument(
+        "--episodes",
+        choices=("all", "submitted"),
+        default="all",
+        help="all: every episode of the split, one without a valid record scored as a failure (the "
+        "benchmark's number; default); submitted: only the episodes the submission has a line for "
+        "(a partial scoring, labelled PARTIAL in every output)",
+    )
     evaluate.set_defaults(func=partial(cli_data.cmd_eval, built_dir=_built_dir))
 
     run = sub.add_parser(

@@ -355,6 +355,7 @@ def _score_for_eval(args: argparse.Namespace, console: Console, dataset, submiss
                     split=args.split,
                     scene_dirs=scene_dirs,
                     embodiment=args.embodiment,
+                    episodes=args.episodes,
                     progress=lambda done, total, task=task, bar=bar: bar.update(task, completed=done),
                 )
             )
@@ -380,10 +381,12 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
 
     from navverse import __version__
     from navverse.dataset import Dataset
+    from navverse.eval.protocol import describe
     from navverse.eval.report import write_report
     from navverse.eval.tables import (
         instruction_type_entries,
         instruction_type_table,
+        scope_text,
         table_rows,
         write_outputs,
     )
@@ -402,6 +405,7 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
         "split": args.split,
         "submission": _submission_paths(args)[0],
         "embodiment": args.embodiment or dataset.manifest.embodiment,
+        "episodes": args.episodes,
         "toolkit_version": __version__,
     }
     out = write_outputs(result, args.out, meta=meta, others=results[1:])
@@ -438,7 +442,11 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
             highlight=False,
         )
     header, rows = table_rows(result, "task_scene")
-    _print_table(console, header, rows, f"{dataset.manifest.name} v{dataset.manifest.version} / {args.split}")
+    partial = " (PARTIAL)" if result.partial else ""
+    title = f"{dataset.manifest.name} v{dataset.manifest.version} / {args.split}{partial}"
+    _print_table(console, header, rows, title)
+    console.print(scope_text(result), style="yellow" if result.partial else None, highlight=False)
+    console.print(f"track: {describe(result.track)}", highlight=False, markup=False)
     entries = instruction_type_entries(results) if result.instruction_type is not None else []
     if entries:
         _print_table(console, *instruction_type_table(entries), "PlaceNav by instruction type (SR, SPL in %)")
@@ -536,6 +544,35 @@ def cmd_export_scenes(args: argparse.Namespace, console: Console, *, built_dir: 
     console.print(
         f"wrote {pack.root}: {len(pack.scenes)} scenes, {pack.files} files, {size:.1f} MB, scene hashes "
         f"checked against the dataset's; use it with: --scenes {pack.root} (or {_env_hint(pack.root)})",
+        highlight=False,
+        markup=False,
+        soft_wrap=True,
+    )
+    return 0
+
+
+def cmd_export_habitat(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
+    """Write a dataset version and its scenes in habitat-lab's layouts (ObjectNav-v1, R2R-VLN, GLB scenes
+    with semantic files and navmeshes)."""
+    from navverse.dataset import Dataset
+    from navverse.export.habitat import export_habitat
+
+    dataset = Dataset(args.dataset)
+    dataset.verify()
+    scene_dirs = _dataset_scene_dirs(args, dataset, dataset.episodes(), built_dir)
+    with console.status("exporting for habitat-lab") as status:
+        done = export_habitat(
+            Path(args.dataset),
+            Path(args.out),
+            scenes=scene_dirs.__getitem__,
+            progress=lambda line: status.update(f"exporting for habitat-lab: {line}"),
+        )
+    objectnav, vln = sum(done.objectnav.values()), sum(done.vln.values())
+    console.print(
+        f"wrote {done.root}: {objectnav} ObjectNav-v1 and {vln} R2R-VLN episodes over {len(done.scenes)} "
+        f"scenes; in habitat-lab set dataset.data_path to "
+        f"{done.root}/objectnav_v1/{{split}}/{{split}}.json.gz (or vln_r2r/...) and dataset.scenes_dir to "
+        f"{done.root}/scenes",
         highlight=False,
         markup=False,
         soft_wrap=True,

@@ -185,3 +185,48 @@ def test_a_vln_agent_is_told_the_instruction_only_and_its_track_is_scored(
     assert summary.track["name"] == "gt-semantic"
     told = [json.loads(line) for line in log.read_text().splitlines()]
     assert all(t["task"]["semantic_categories"] and "semantic" in t["observation_keys"] for t in told)
+
+
+def test_a_partial_run_is_scored_over_its_episodes_only_when_asked_and_every_metric_states_its_n(
+    built: Built, dataset: Dataset, tmp_path: Path
+):
+    root = built.workspace.root
+    total = len(list(dataset.episodes(split="eval")))
+    out = tmp_path / "three.jsonl"
+    run_agent(dataset, agent="oracle", split="eval", embodiment="spot", scene_dirs=scene_dirs(built),
+              out=out, jobs=0, limit=3)  # fmt: skip
+    args = ("eval", "--dataset", str(dataset.root), "--submission", str(out))
+    submitted = navverse_command(root, *args, "--episodes", "submitted", "--out", str(tmp_path / "sub"))
+    assert submitted.returncode == 0, submitted.stderr
+    metrics = json.loads((tmp_path / "sub" / "metrics.json").read_text())
+    overall = metrics["overall"]
+    assert overall["success"] == 1.0 and overall["episodes"] == overall["success_n"] == overall["ne_n"] == 3
+    assert metrics["scope"] == {"episodes": "submitted", "split": "eval", "split_episodes": total,
+                                "submitted": 3, "scored": 3, "missing": 0}  # fmt: skip
+    assert "PARTIAL" in (tmp_path / "sub" / "tables.md").read_text() and "PARTIAL" in submitted.stdout
+    assert "PARTIAL" in (tmp_path / "sub" / "report.html").read_text()
+
+    full = navverse_command(root, *args, "--out", str(tmp_path / "all"))
+    assert full.returncode == 0, full.stderr
+    metrics = json.loads((tmp_path / "all" / "metrics.json").read_text())
+    overall = metrics["overall"]
+    assert overall["episodes"] == overall["success_n"] == total and overall["success"] == round(3 / total, 6)
+    assert overall["ne_n"] == 3  # the final distance needs a trajectory: its own N
+    names = [n for n in metrics["definitions"] if overall.get(n) is not None]
+    assert names and all(isinstance(overall[f"{n}_n"], int) for n in names)
+    tables = (tmp_path / "all" / "tables.md").read_text()
+    assert f"Scored over all {total} episodes of split eval; {total - 3} without a valid record" in tables
+    assert "(n=" in tables
+
+
+def test_a_dataset_exports_for_habitat_lab_from_the_command_line(
+    built: Built, dataset: Dataset, tmp_path: Path
+):
+    out = tmp_path / "habitat"
+    done = navverse_command(built.workspace.root, "export", "habitat", str(dataset.root), str(out))
+    assert done.returncode == 0, done.stderr
+    assert "R2R-VLN episodes" in done.stdout
+    splits = {p.name for p in (out / "objectnav_v1").iterdir()}
+    assert splits == set(dataset.splits) and (out / "vln_r2r" / "eval" / "eval.json.gz").is_file()
+    again = navverse_command(built.workspace.root, "export", "habitat", str(dataset.root), str(out))
+    assert again.returncode == 1 and "not empty" in again.stderr and "Traceback" not in again.stderr
