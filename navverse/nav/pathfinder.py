@@ -221,6 +221,7 @@ class PathFinder:
         mesh.set_length_sampling(2.0 * settings.cell_size, 1.5 * settings.cell_height)
         self._area_costs: dict[int, float] = {}
         self._excluded: frozenset[int] = frozenset()
+        self._area_names: dict[str, int] = {}
 
     def __repr__(self) -> str:
         return (
@@ -271,6 +272,39 @@ class PathFinder:
         return int(self._mesh.num_polygons)
 
     @property
+    def area_names(self) -> dict[str, int]:
+        """Area id of each named area (a scene's terrain classes, for a scene's navmesh; a copy)."""
+        return dict(self._area_names)
+
+    def name_areas(self, names: Mapping[str, int]) -> None:
+        """Name area ids, so that costs and exclusions can be given by name (a scene's terrain classes:
+        :func:`~navverse.nav.scene_navmesh.load_scene_navmesh` does it)."""
+        bad = {name: area for name, area in names.items() if not 0 <= int(area) < _NUM_AREAS}
+        if bad:
+            raise NavMeshError(f"area ids of {bad} out of range: area ids are 0..63")
+        self._area_names = {str(name): int(area) for name, area in names.items()}
+
+    def _area_id(self, area: int | str, what: str) -> int:
+        """The id of an area given by id or by name."""
+        if isinstance(area, str):
+            if area in self._area_names:
+                return self._area_names[area]
+            navigable = sorted(n for n, a in self._area_names.items() if a)
+            if not navigable:
+                raise NavMeshError(
+                    f"{what} names area {area!r}, but this navmesh has no named areas: give area ids "
+                    "(0..63), or load a scene's navmesh with navverse.nav.scene_navmesh.load_scene_navmesh, "
+                    "whose areas are its terrain classes"
+                )
+            raise NavMeshError(f"{what} names area {area!r}; this navmesh's areas: {', '.join(navigable)}")
+        if isinstance(area, bool) or not isinstance(area, (int, np.integer)):
+            raise NavMeshError(f"{what}: an area is an id (0..63) or a name, not {area!r}")
+        area_id = int(area)
+        if not 0 <= area_id < _NUM_AREAS:
+            raise NavMeshError(f"area id {area} out of range: area ids are 0..63")
+        return area_id
+
+    @property
     def area_costs(self) -> dict[int, float]:
         """Per-area path costs that differ from 1.0 (a copy)."""
         return dict(self._area_costs)
@@ -282,7 +316,7 @@ class PathFinder:
 
     # ------------------------------------------------------------------ filter
 
-    def set_area_costs(self, costs: Mapping[int, float]) -> None:
+    def set_area_costs(self, costs: Mapping[int | str, float]) -> None:
         """Set the cost per meter of walking on each area type (others cost 1.0).
 
         Detour's A* minimises the sum of segment length × area cost, so a path avoids an expensive
@@ -290,23 +324,25 @@ class PathFinder:
 
         Parameters
         ----------
-        costs : mapping of int to float
-            Area id (0..63) to cost. Costs must be >= 1.0: Detour's A* heuristic is the straight-line
+        costs : mapping of int or str to float
+            Area id (0..63), or area name (:attr:`area_names`: a scene's terrain class, e.g.
+            ``{"road": 5}``), to cost. Costs must be >= 1.0: Detour's A* heuristic is the straight-line
             distance, so cheaper-than-1 areas would make it overestimate (scale costs so the cheapest
             is 1).
 
         Raises
         ------
         NavMeshError
-            On an area id outside 0..63 or a cost below 1.0.
+            On an area id outside 0..63, an unknown area name, or a cost below 1.0.
         """
         table = [1.0] * _NUM_AREAS
         checked: dict[int, float] = {}
         for area, cost in costs.items():
-            area_id = int(area)
-            if not 0 <= area_id < _NUM_AREAS:
-                raise NavMeshError(f"area id {area} out of range: area ids are 0..63")
-            value = float(cost)
+            area_id = self._area_id(area, "set_area_costs")
+            try:
+                value = float(cost)
+            except (TypeError, ValueError):
+                raise NavMeshError(f"area cost {cost!r} for area {area!r} is not a number") from None
             if not (np.isfinite(value) and value >= 1.0):
                 raise NavMeshError(
                     f"area cost {cost} for area {area_id} must be finite and >= 1.0; "
@@ -318,18 +354,15 @@ class PathFinder:
         self._mesh.set_area_costs(table)
         self._area_costs = checked
 
-    def set_excluded_areas(self, areas: Iterable[int]) -> None:
-        """Forbid path queries from entering polygons of the given area ids (replaces the previous set).
+    def set_excluded_areas(self, areas: Iterable[int | str]) -> None:
+        """Forbid path queries from entering polygons of the given areas (replaces the previous set).
 
         Parameters
         ----------
-        areas : iterable of int
-            Area ids 0..63; empty to allow every area again.
+        areas : iterable of int or str
+            Area ids 0..63 or names (:attr:`area_names`); empty to allow every area again.
         """
-        ids = frozenset(int(a) for a in areas)
-        bad = sorted(a for a in ids if not 0 <= a < _NUM_AREAS)
-        if bad:
-            raise NavMeshError(f"area ids {bad} out of range: area ids are 0..63")
+        ids = frozenset(self._area_id(a, "set_excluded_areas") for a in areas)
         self._mesh.set_excluded_areas(sorted(ids))
         self._excluded = ids
 

@@ -160,6 +160,7 @@ def build_scene_navmesh(
     costs = _named_areas("area_costs", list(area_costs or {}), areas, annotations)
     finder.set_area_costs({area: float((area_costs or {})[name]) for name, area in costs.items()})
     finder.set_excluded_areas(_named_areas("excluded_classes", excluded_classes, areas, annotations).values())
+    finder.name_areas(areas)
     return finder
 
 
@@ -249,4 +250,7 @@ def load_scene_navmesh(scene_dir: str | os.PathLike[str]) -> PathFinder:
             f"scene directory {files.root} has no {files.navmesh.name}: add the navmesh stage to the "
             "scene's recipe (`navmesh: {}` under `stages`) and build it"
         )
-    return PathFinder.load(files.navmesh)
+    finder = PathFinder.load(files.navmesh)
+    if files.navmesh_info.is_file():  # its areas are the scene's terrain classes: costs can be set by name
+        finder.name_areas(read_navmesh_info(files.navmesh_info).area_types)
+    return finder

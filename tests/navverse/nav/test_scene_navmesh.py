@@ -141,3 +141,26 @@ def test_indoor_to_outdoor_scenes_get_fine_cells_over_their_indoor_buildings(sce
     assert finder.navigable_area > coarse.navigable_area
     start, goal = [8.5, 7.1, 0.0], [1.5, 7.1, 0.0]  # clear of the chairs and the table
     assert finder.geodesic_distance(start, goal) == pytest.approx(7.0, abs=0.05)
+
+
+def test_costs_and_exclusions_by_class_name_on_a_saved_scene_navmesh(scene: Scene, tmp_path: Path):
+    from navverse.nav.scene_navmesh import load_scene_navmesh
+    from navverse.scene import SceneFiles
+
+    built = build_scene_navmesh(scene, nav.OUTDOOR)
+    files = SceneFiles(tmp_path)
+    built.save(files.navmesh)
+    write_navmesh_info(describe_navmesh(built, scene.annotations, preset="outdoor"), files.navmesh_info)
+    loaded = load_scene_navmesh(tmp_path)
+    areas = scene_area_types(scene.annotations)
+    assert loaded.area_names == areas
+    loaded.set_area_costs({"road": 5})  # by the name a recipe uses
+    assert loaded.area_costs == {areas["road"]: 5.0}
+    loaded.set_excluded_areas(["road"])
+    assert loaded.excluded_areas == {areas["road"]}
+    with pytest.raises(NavMeshError, match=r"names area 'lava'; this navmesh's areas: .*road"):
+        loaded.set_area_costs({"lava": 2})
+    with pytest.raises(NavMeshError, match="no named areas"):
+        PathFinder.load(files.navmesh).set_area_costs({"road": 2})
+    with pytest.raises(NavMeshError, match="is not a number"):
+        loaded.set_area_costs({"road": "five"})
