@@ -6,12 +6,18 @@ import gzip
 import json
 from pathlib import Path
 
+import numpy as np
+import pytest
+
 from navverse.dataset import Dataset
 from navverse.eval.runner import _chunks, run_agent
 from tests.stages.conftest import Built, navverse_command, scene_dirs
 
 FLAKY_AGENT = '''
 from pathlib import Path
+
+import numpy as np
+import pytest
 
 from navverse.eval.agents.random_actions import RandomAgent
 
@@ -230,3 +236,38 @@ def test_a_dataset_exports_for_habitat_lab_from_the_command_line(
     assert splits == set(dataset.splits) and (out / "vln_r2r" / "eval" / "eval.json.gz").is_file()
     again = navverse_command(built.workspace.root, "export", "habitat", str(dataset.root), str(out))
     assert again.returncode == 1 and "not empty" in again.stderr and "Traceback" not in again.stderr
+
+
+def test_the_python_api_builds_a_dict_recipe_loads_it_and_makes_an_env_on_a_dataset_episode(
+    built: Built, dataset: Dataset
+):
+    import navverse.api as navverse
+
+    recipe = {
+        "extends": "indoor-building",
+        "stages": {"indoor_layout": {"building_type": "cafe", "length": 12}},
+    }
+    made = navverse.build(recipe, name="api-cafe", root=built.workspace.root)
+    scene_dir = made.output("api-cafe")
+    assert made.built > 0 and (scene_dir / "navmesh.bin").is_file()
+    again = navverse.build(recipe, name="api-cafe", root=built.workspace.root)
+    assert again.built == 0 and again.output("api-cafe") == scene_dir  # the engine's cache
+    loaded = navverse.load_scene("api-cafe", scenes=[built.workspace.built_dir])
+    assert loaded.directory == scene_dir and loaded.annotations.scene_type == "indoor"
+    assert loaded.pathfinder is not None and loaded.pathfinder.navigable_area > 20.0
+    with pytest.raises(navverse.ApiError, match=r"nope"):
+        navverse.build("nope", root=built.workspace.root)
+
+    episode = next(e for e in dataset.episodes(split="eval") if e.task == "objnav")
+    env = navverse.make_env(dataset.root, episode.episode_id, scenes=[built.workspace.built_dir],
+                            sensors=("depth",))  # fmt: skip
+    try:
+        observation, _ = env.reset()
+        assert np.allclose(observation["pose"][:2], episode.start_position[:2], atol=0.05)
+        assert observation["goal"] == episode.object_category
+        ids = dataset.file("eval", "objnav").category_to_task_category_id
+        assert int(observation["goal_id"]) == ids[episode.object_category]
+        observation, *_ = env.step("turn_left")
+        assert observation["depth"].shape[:2] == (480, 640)
+    finally:
+        env.close()
