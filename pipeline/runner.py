@@ -474,6 +474,9 @@ def _summary(report: BuildReport, console: Console) -> None:
         f"[bold]Build finished[/] in {report.seconds:.1f} s: {len(report.built)} built, "
         f"{len(report.cached)} cached, {len(report.failed)} failed, {len(report.skipped)} skipped."
     )
+    for node_id, result in sorted(report.built.items()):
+        for message in result.warnings:
+            console.print(f"  [yellow]warning[/] {node_id}: {message}", highlight=False, soft_wrap=True)
     for node_id, result in sorted(report.failed.items()):
         where = f"\n         log: {result.log_path}" if result.log_path else ""
         console.print(f"  [red]FAILED[/] {node_id}: {result.error}{where}", highlight=False, soft_wrap=True)

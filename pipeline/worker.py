@@ -104,6 +104,36 @@ class TaskResult:
     cpu_s: float = 0.0
     peak_rss_mb: float = 0.0
     stats: dict[str, Any] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
+    """What the stage logged at WARNING level (at most :data:`MAX_WARNINGS`; the log has them all)."""
+
+
+MAX_WARNINGS = 20
+"""Warnings of one task kept in its :class:`TaskResult` (for the build summary)."""
+
+
+class _WarningCollector(logging.Handler):
+    """Keeps the messages a stage logs at WARNING level or above, so the build summary can show them."""
+
+    def __init__(self) -> None:
+        super().__init__(level=logging.WARNING)
+        self.messages: list[str] = []
+        self.dropped = 0
+
+    def emit(self, record: logging.LogRecord) -> None:
+        """Keep the record's message (up to :data:`MAX_WARNINGS`)."""
+        if len(self.messages) < MAX_WARNINGS:
+            try:
+                self.messages.append(record.getMessage())
+            except Exception:  # a malformed log call must not fail the stage
+                self.messages.append(str(record.msg))
+        else:
+            self.dropped += 1
+
+    def kept(self) -> list[str]:
+        """The messages, with a last line counting those left out."""
+        more = [f"... and {self.dropped} more warnings (in the log)"] if self.dropped else []
+        return [*self.messages, *more]
 
 
 def _peak_rss_mb() -> float:
@@ -163,6 +193,8 @@ class _StageLog:
         self.handler = QuietFileHandler(self.path, mode="w", encoding="utf-8")
         self.handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(message)s"))
         self.logger.addHandler(self.handler)
+        self.warnings = _WarningCollector()
+        self.logger.addHandler(self.warnings)
 
     def read_bytes(self) -> bytes:
         """What was logged so far (flushed first); raises the handler's write error if it had one."""
@@ -174,6 +206,7 @@ class _StageLog:
     def publish(self) -> None:
         """Close the log and move it to ``logs/<target>/<stage>.log`` (never raises)."""
         self.logger.removeHandler(self.handler)
+        self.logger.removeHandler(self.warnings)
         self.handler.close()
         _publish(self.path, self.final)
 
@@ -271,6 +304,7 @@ def run_task(task: StageTask, progress: Any = None) -> TaskResult:
             cpu_s=cpu,
             peak_rss_mb=peak,
             stats=dict(ctx.stats),
+            warnings=log.warnings.kept(),
         )
     except BaseException as exc:  # a failing stage must not take the build down
         if log is not None:

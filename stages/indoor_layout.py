@@ -79,6 +79,7 @@ def indoor_layout(ctx: StageContext, params: IndoorLayoutParams) -> None:
     import navverse
     from navverse.indoor import BuildingOptions, ExtraFurniture, describe_rooms, generate_building
     from navverse.scene import SceneSource, write_scene_dir
+    from navverse.scene.categories import unmatched_rules
 
     options = BuildingOptions(
         length=params.length,
@@ -90,9 +91,12 @@ def indoor_layout(ctx: StageContext, params: IndoorLayoutParams) -> None:
     )
     source = SceneSource(recipe=ctx.recipe, recipe_hash=ctx.recipe_hash, toolkit_version=navverse.__version__)
     ctx.progress(0, 2, "layout")
+    hits: list[int] = []
     scene = generate_building(
-        params.building_type, ctx.rng, scene_id=ctx.target, options=options, source=source
+        params.building_type, ctx.rng, scene_id=ctx.target, options=options, source=source, rule_hits=hits
     )
+    for warning in unmatched_rules(options.category_rules, hits):
+        ctx.log.warning("%s", warning)
     ctx.progress(1, 2, "writing")
     write_scene_dir(scene, ctx.output)
     ctx.progress(2, 2, "done")

@@ -7,8 +7,11 @@ from typing import Annotated, Literal
 
 from pydantic import AfterValidator, Field, model_validator
 
-from navverse.scene.categories import CATEGORY_PATTERN, CategoryRule
+from navverse.scene.categories import CATEGORY_PATTERN, CategoryRule, unmatched_rules
 from pipeline import Input, Params, StageContext, stage
+
+_TASKS_OF = {"objnav": ("objnav", "vln"), "placenav": ("placenav",)}
+"""The tasks whose goals are object categories, and those whose goals are place categories."""
 
 
 def _known_embodiment(name: str) -> str:
@@ -84,6 +87,8 @@ def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
     scenes = sorted((read_annotations(path).scene_id, path) for path in ctx.inputs["scene"])
     episodes = []
     per_scene: dict[str, dict[str, int]] = {}
+    hits = [0] * len(params.goal_rules)
+    found: dict[str, set[str]] = {"objnav": set(), "placenav": set()}  # goal categories with an instance
     for done, (scene_id, path) in enumerate(scenes):
         ctx.progress(done, len(scenes), scene_id)
         annotations = read_annotations(path)
@@ -93,7 +98,10 @@ def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
             if task == "placenav":
                 goals = place_goals(annotations, categories=params.place_categories)
             else:
-                goals = object_goals(annotations, rules=params.goal_rules, categories=params.categories)
+                goals = object_goals(
+                    annotations, rules=params.goal_rules, categories=params.categories, hits=hits
+                )
+            found["placenav" if task == "placenav" else "objnav"].update(goals)
             rng = np.random.default_rng([ctx.seed, zlib.crc32(scene_id.encode()), task_index])
             sample = sample_scene_episodes(
                 finder,
@@ -112,6 +120,16 @@ def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
                     "%s: %d of %d %s candidates (%s)",
                     scene_id, len(sample.episodes), spec.episodes_per_scene, task, why,
                 )  # fmt: skip
+    for warning in unmatched_rules(params.goal_rules, hits):
+        ctx.log.warning("%s", warning)
+    for kind, asked, key in (("categories", params.categories, "objnav"),
+                             ("place_categories", params.place_categories, "placenav")):  # fmt: skip
+        absent = sorted(set(asked or ()) - found[key])
+        if asked is not None and absent and any(t in params.tasks for t in _TASKS_OF[key]):
+            ctx.log.warning(
+                "%s %s: no instance in any of the %d scenes; check the names (navverse list categories)",
+                kind, ", ".join(absent), len(scenes),
+            )  # fmt: skip
     ctx.progress(len(scenes), len(scenes), "written")
     write_json_gz(
         {

@@ -102,6 +102,7 @@ def object_goals(
     *,
     rules: Sequence[CategoryRule] = (),
     categories: Sequence[str] | None = None,
+    hits: list[int] | None = None,
 ) -> dict[str, list[Goal]]:
     """Object goal instances by goal category.
 
@@ -114,12 +115,14 @@ def object_goals(
         category, drops) the object; objects no rule matches keep their own category.
     categories : sequence of str, optional
         Goal categories kept (default: all).
+    hits : list of int, optional
+        One counter per rule, incremented by the objects it matches.
     """
     keep = None if categories is None else set(categories)
     goals: dict[str, list[Goal]] = {}
     for obj in annotations.objects:
         name = obj.prim_path.rsplit("/", 1)[-1]
-        category = assign_category(rules, name=name, path=obj.prim_path, default=obj.category)
+        category = assign_category(rules, name=name, path=obj.prim_path, default=obj.category, hits=hits)
         if category is None or (keep is not None and category not in keep):
             continue
         goals.setdefault(category, []).append(

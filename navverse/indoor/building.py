@@ -96,6 +96,7 @@ def generate_building(
     scene_id: str,
     options: BuildingOptions = BuildingOptions(),
     source: SceneSource | None = None,
+    rule_hits: list[int] | None = None,
 ) -> Scene:
     """Generate a furnished building of ``building_type`` as a scene.
 
@@ -111,6 +112,8 @@ def generate_building(
         Recipe options.
     source : SceneSource, optional
         Recorded in the annotations.
+    rule_hits : list of int, optional
+        Filled with the objects each of ``options.category_rules`` matched (one counter per rule).
 
     Returns
     -------
@@ -132,10 +135,11 @@ def generate_building(
 
     objects: list[ObjectPart] = []
     dropped: list[MeshData] = []
+    hits = [0] * len(options.category_rules)
     for item in placements:
         name = f"{sanitize_identifier(item.category)}_{len(objects) + 1:04d}"  # its prim name, if annotated
         category = assign_category(
-            options.category_rules, name=name, path=f"{OBJECTS_ROOT}/{name}", default=item.category
+            options.category_rules, name=name, path=f"{OBJECTS_ROOT}/{name}", default=item.category, hits=hits
         )
         if category is None:
             dropped.append(item.mesh.transformed(item.center, item.yaw))
@@ -152,6 +156,8 @@ def generate_building(
         )
     if dropped:
         surfaces.append(Surface("unannotated", "obstacle", MeshData.concatenate(dropped)))
+    if rule_hits is not None:
+        rule_hits[:] = hits
 
     classes = ["floor", "wall", "ceiling"] + (["sidewalk"] if plan.exits else [])
     classes += ["obstacle"] if dropped else []

@@ -17,7 +17,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
-__all__ = ["CATEGORY_PATTERN", "CategoryRule", "assign_category", "category_name"]
+__all__ = ["CATEGORY_PATTERN", "CategoryRule", "assign_category", "category_name", "unmatched_rules"]
 
 CATEGORY_PATTERN = r"^[a-z][a-z0-9_]*$"
 """Object categories are lower_snake_case names."""
@@ -54,7 +54,12 @@ class CategoryRule(BaseModel):
 
 
 def assign_category(
-    rules: Sequence[CategoryRule], *, name: str, path: str, default: str | None
+    rules: Sequence[CategoryRule],
+    *,
+    name: str,
+    path: str,
+    default: str | None,
+    hits: list[int] | None = None,
 ) -> str | None:
     """The category of an object by the first matching rule, else ``default``.
 
@@ -66,16 +71,31 @@ def assign_category(
         The object's prim (or node) name and full path.
     default : str or None
         What an object no rule matches gets (None: not an annotated object).
+    hits : list of int, optional
+        One counter per rule: the matching rule's is incremented (to tell rules that match nothing:
+        :func:`unmatched_rules`).
 
     Returns
     -------
     str or None
         The category, or None when the object is not annotated.
     """
-    for rule in rules:
+    for index, rule in enumerate(rules):
         if re.search(rule.pattern, name if rule.on == "name" else path):
+            if hits is not None:
+                hits[index] += 1
             return rule.category
     return default
+
+
+def unmatched_rules(rules: Sequence[CategoryRule], hits: Sequence[int]) -> list[str]:
+    """A warning for every rule that matched no object (by the counters of :func:`assign_category`)."""
+    return [
+        f"category rule {rule.pattern!r} (on {rule.on}, category {rule.category!r}) matches no object: "
+        "check its pattern against the objects' prim names (`navverse show scene`), or remove it"
+        for rule, count in zip(rules, hits, strict=True)
+        if count == 0
+    ]
 
 
 def category_name(text: str) -> str:
