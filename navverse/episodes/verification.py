@@ -166,7 +166,10 @@ def verify_scene(
                     renderer = SceneRenderer(
                         world.scene, intrinsics=CameraIntrinsics.from_hfov(*settings.keyframe_size, 90.0)
                     )
-                keyframes = _keyframes(renderer, trajectory, sim.robot.camera_to_base, settings.keyframes)
+                from navverse.sim.keyframes import render_keyframes
+
+                camera = sim.robot.camera_to_base
+                keyframes = tuple(render_keyframes(renderer, trajectory, camera, settings.keyframes))
             results.append(
                 VerificationResult(
                     episode_id=episode.episode_id,
@@ -185,20 +188,6 @@ def verify_scene(
                 progress(1)
         sim.robot.remove()
     return results
-
-
-def _keyframes(
-    renderer, trajectory: np.ndarray, camera_to_base: np.ndarray, count: int
-) -> tuple[np.ndarray, ...]:
-    """RGB frames at ``count`` evenly spaced rows of the trajectory."""
-    from navverse.sim.simulator import Pose
-
-    rows = np.linspace(0, len(trajectory) - 1, count).round().astype(int)
-    frames = []
-    for row in trajectory[rows]:
-        base = Pose(row[1:4], row[4:8]).matrix()
-        frames.append(renderer.render(base @ camera_to_base).rgb)
-    return tuple(frames)
 
 
 def _verify_task(args: tuple) -> list[VerificationResult]:

@@ -20,10 +20,15 @@
 
 from __future__ import annotations
 
+import base64
 import html
+import io
 from collections.abc import Callable, Mapping, Sequence
 from importlib import resources
 from pathlib import Path
+
+import numpy as np
+from PIL import Image
 
 from navverse.dataset import Dataset
 from navverse.eval.figures import (
@@ -47,6 +52,10 @@ __all__ = ["REPORT_HTML", "write_report"]
 REPORT_HTML = "report.html"
 REPORT_CSS = "report.css"
 """The page's style sheet, package data of :mod:`navverse.eval`, inlined in the page."""
+KEYFRAMES = 4
+"""First-person keyframes per episode card."""
+KEYFRAME_SIZE = (144, 108)
+"""Width and height of one keyframe (pixels)."""
 CARD_ORDER = ("invalid", "fall", "timeout", "wrong_goal", "success")
 """Order of the episode card groups: failures first."""
 HEADLINE = ("success", "spl", "soft_spl", "os", "ne", "cr", "ado", "nsr", "ce", "ndtw", "sdtw")
@@ -149,7 +158,9 @@ def _fact(row: Mapping[str, object], name: str) -> str:
     return f"{short} {_value(row, name)}{unit}".replace(" ", "\u00a0")
 
 
-def _card_html(row: Mapping[str, object], picture: str | None, problems: Sequence[str]) -> str:
+def _card_html(
+    row: Mapping[str, object], picture: str | None, problems: Sequence[str], *, strip: str | None = None
+) -> str:
     label = str(row["label"])
     color = label_color(label)
     facts = [
@@ -166,12 +177,43 @@ def _card_html(row: Mapping[str, object], picture: str | None, problems: Sequenc
             why += f"<li>… {len(problems) - _MAX_CARD_PROBLEMS} more</li>"
         what = f"<ul>{why}</ul>" if why else "<p>no record in the submission</p>"
         body = f'<div class="missing"><div><b>no valid trajectory</b>{what}</div></div>'
+    if strip is not None:
+        body += f'<img class="strip" src="{strip}" alt="{_e(row["episode_id"])}: keyframes" width="300">'
     caption = "<br>".join(f for f in facts if f)
     episode_id = _e(row["episode_id"])
     return (
         f'<div class="card" id="ep-{episode_id}" data-label="{_e(label)}" style="--c:{color}">{body}'
         f'<div class="cap"><div class="id">{episode_id}</div>{caption}</div></div>'
     )
+
+
+class _KeyframeStrips:
+    """First-person keyframe strips of trajectories, one renderer per scene (built when first needed)."""
+
+    def __init__(self, embodiment: str) -> None:
+        self._embodiment = embodiment
+        self._camera: np.ndarray | None = None
+        self._renderers: dict[str, object] = {}
+
+    def strip(self, scene: str, scene_dir: Path, trajectory: np.ndarray, count: int) -> str:
+        """A PNG data URI of `count` frames side by side, along the trajectory, start on the left."""
+        from navverse.scene import read_scene
+        from navverse.sim.camera import CameraIntrinsics
+        from navverse.sim.embodiments import make_embodiment
+        from navverse.sim.keyframes import render_keyframes
+        from navverse.sim.render import SceneRenderer
+
+        if self._camera is None:
+            self._camera = np.asarray(make_embodiment(self._embodiment).camera_to_base, dtype=float)
+        if scene not in self._renderers:
+            intrinsics = CameraIntrinsics.from_hfov(*KEYFRAME_SIZE, 90.0)
+            self._renderers[scene] = SceneRenderer(read_scene(scene_dir), intrinsics=intrinsics)
+        frames = render_keyframes(self._renderers[scene], trajectory, self._camera, count)
+        gap = np.full((KEYFRAME_SIZE[1], 2, 3), 255, dtype=np.uint8)
+        row = np.concatenate([part for frame in frames for part in (frame, gap)][:-1], axis=1)
+        buffer = io.BytesIO()
+        Image.fromarray(row).save(buffer, format="JPEG", quality=80)
+        return "data:image/jpeg;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
 
 
 def _split_of(dataset: Dataset, scene_ids: set[str]) -> list[str]:
@@ -187,6 +229,7 @@ def write_report(
     out_dir: Path,
     title: str | None = None,
     embodiment: str | None = None,
+    keyframes: int = KEYFRAMES,
     progress: Callable[[int, int], None] | None = None,
 ) -> Path:
     """Write ``<out_dir>/report.html``, a self-contained page of the evaluation (atomically).
@@ -209,6 +252,9 @@ def write_report(
     embodiment : str, optional
         The robot scored, as given to :func:`~navverse.eval.scoring.score` (the success circles); the
         dataset's by default.
+    keyframes : int
+        First-person frames per episode card, evenly spaced along its trajectory, as the robot's
+        camera sees them (0: none).
     progress : callable, optional
         Called with (episode cards drawn, episodes) after each card.
 
@@ -234,6 +280,7 @@ def write_report(
     invalid = sum(row["label"] == "invalid" for row in result.episodes)
 
     backdrops: dict[str, Backdrop | None] = {}
+    strips = _KeyframeStrips(embodiment)
     groups: dict[str, list[str]] = {}
     drawn = 0
     order = [*CARD_ORDER, *sorted({str(r["label"]) for r in result.episodes} - set(CARD_ORDER))]
@@ -244,7 +291,7 @@ def write_report(
             episode_id = str(row["episode_id"])
             record = submission.records.get(episode_id)
             episode = episodes.get(episode_id)
-            picture = None
+            picture = strip = None
             if record is not None and episode is not None and label != "invalid":
                 scene = episode.scene_id
                 if scene not in backdrops:
@@ -255,7 +302,9 @@ def write_report(
                                      success_radius=robot.success_distance(episode.scene_type),
                                      backdrop=backdrops[scene])  # fmt: skip
                 picture = png_data_uri(fig, colors=THUMB_COLORS)
-            cards.append(_card_html(row, picture, problems_of.get(episode_id, [])))
+                if keyframes and scene in scene_dirs:
+                    strip = strips.strip(scene, Path(scene_dirs[scene]), record.trajectory, keyframes)
+            cards.append(_card_html(row, picture, problems_of.get(episode_id, []), strip=strip))
             drawn += 1
             if progress is not None:
                 progress(drawn, len(result.episodes))

@@ -27,9 +27,10 @@ from navverse.episodes.instructions.wording import category_words
 from navverse.scene.colors import default_color
 from navverse.scene.geometry import Scene, SceneObject
 from navverse.sim.camera import CameraIntrinsics, check_pose
+from navverse.sim.keyframes import camera_poses
 from navverse.sim.render import SceneRenderer
 
-__all__ = ["PALETTE", "LandmarkFinder", "SeenLandmark", "camera_poses", "color_name", "object_color"]
+__all__ = ["PALETTE", "LandmarkFinder", "SeenLandmark", "color_name", "object_color"]
 
 PALETTE = (
     "red",
@@ -128,28 +129,6 @@ def _storefront_places(scene: Scene) -> dict[int, str]:
         for o in scene.objects
         if (key := tuple(round(v, 3) for v in o.annotation.center)) in by_center
     }
-
-
-def camera_poses(rows: np.ndarray, camera_to_base: np.ndarray) -> np.ndarray:
-    """Camera-to-world poses of rollout rows.
-
-    Parameters
-    ----------
-    rows : ndarray, shape (B, 8)
-        ``[t, x, y, z, qx, qy, qz, qw]`` robot base poses.
-    camera_to_base : ndarray, shape (4, 4)
-        Pose of the camera's optical frame in the base frame.
-
-    Returns
-    -------
-    ndarray, shape (B, 4, 4)
-    """
-    if not len(rows):
-        return np.zeros((0, 4, 4))
-    base = np.tile(np.eye(4), (len(rows), 1, 1))
-    base[:, :3, :3] = Rotation.from_quat(rows[:, 4:8]).as_matrix()
-    base[:, :3, 3] = rows[:, 1:4]
-    return base @ camera_to_base
 
 
 class LandmarkFinder:

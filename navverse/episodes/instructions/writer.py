@@ -17,13 +17,14 @@ from numpy.typing import ArrayLike
 
 from navverse.dataset import Episode, Instruction, Landmark
 from navverse.episodes.instructions.directives import align_directives, plan_directives
-from navverse.episodes.instructions.landmarks import LandmarkFinder, camera_poses
+from navverse.episodes.instructions.landmarks import LandmarkFinder
 from navverse.episodes.instructions.roads import RoadFollowing
 from navverse.episodes.instructions.settings import InstructionSettings
 from navverse.episodes.instructions.wording import landmark_text, template_text
 from navverse.errors import NavverseError
 from navverse.scene.geometry import Scene
 from navverse.sim.camera import CameraIntrinsics, check_pose
+from navverse.sim.keyframes import camera_poses
 from navverse.sim.render import SceneRenderer
 
 __all__ = ["DROP_REASONS", "InstructionWriter", "Refiner", "RefinerError", "load_refiner"]

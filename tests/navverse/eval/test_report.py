@@ -14,6 +14,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 from PIL import Image
 
@@ -169,7 +170,10 @@ def test_the_report_is_self_contained(scored):
     text = scored[4].read_text(encoding="utf-8")
     assert not re.search(r"""(src|href)\s*=\s*["']?\s*(https?:)?//""", text, re.IGNORECASE)
     assert "url(" not in text and "@import" not in text and "<script" not in text
-    assert all(src.startswith("data:image/png;base64,") for src in re.findall(r'src="([^"]*)"', text))
+    assert all(
+        src.startswith(("data:image/png;base64,", "data:image/jpeg;base64,"))
+        for src in re.findall(r'src="([^"]*)"', text)
+    )
     pictures = re.findall(r"data:image/png;base64,([A-Za-z0-9+/=]+)", text)
     assert len(pictures) == 1 + 4  # the summary and one per episode with a trajectory
     for encoded in pictures:
@@ -244,3 +248,22 @@ def test_a_missing_browser_is_a_clear_error(scored, tmp_path: Path, monkeypatch:
         screenshot_report(scored[4], tmp_path / "x.png")
     with pytest.raises(ScreenshotError, match="cannot run the browser"):
         screenshot_report(scored[4], tmp_path / "x.png", browser=str(tmp_path / "no-such-browser"))
+
+
+def test_every_card_with_a_trajectory_has_a_first_person_keyframe_strip(scored):
+    import base64
+    import io
+
+    from PIL import Image
+
+    from navverse.eval.report import KEYFRAME_SIZE, KEYFRAMES
+
+    text = scored[4].read_text(encoding="utf-8")
+    pattern = r'<img class="strip" src="data:image/jpeg;base64,([^"]+)" alt="([^"]+): keyframes"'
+    found = {episode: data for data, episode in re.findall(pattern, text)}
+    assert set(found) == {e for e, label in LABELS.items() if label != "invalid"}
+    image = np.asarray(Image.open(io.BytesIO(base64.b64decode(found["room-objnav-0000"]))))
+    width, height = KEYFRAME_SIZE
+    assert image.shape == (height, KEYFRAMES * width + 2 * (KEYFRAMES - 1), 3)
+    first, last = image[:, :width].astype(int), image[:, -width:].astype(int)
+    assert first.std() > 5 and np.abs(first - last).mean() > 3  # a room seen, and seen change as it moves
