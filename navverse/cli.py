@@ -13,6 +13,7 @@ import errno
 import shutil
 import signal
 import sys
+import textwrap
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from functools import partial
@@ -20,7 +21,7 @@ from pathlib import Path
 
 from rich.console import Console
 
-from navverse import cli_data
+from navverse import cli_data, cli_list
 from navverse.errors import NavverseError
 from pipeline.errors import PipelineError
 
@@ -270,6 +271,85 @@ def _existing_path(value: str) -> Path:
     return path
 
 
+class HelpFormatter(argparse.HelpFormatter):
+    """Help that fills the paragraphs of descriptions and epilogs but keeps indented lines (the examples)
+    as they are written."""
+
+    def _fill_text(self, text: str, width: int, indent: str) -> str:
+        lines: list[str] = []
+        paragraph: list[str] = []
+
+        def flush() -> None:
+            if paragraph:
+                filled = textwrap.fill(
+                    " ".join(paragraph), width, initial_indent=indent, subsequent_indent=indent
+                )
+                lines.append(filled)
+                paragraph.clear()
+
+        for line in text.strip("\n").splitlines():
+            if line.strip() and not line[0].isspace():
+                paragraph.append(line.strip())
+                continue
+            flush()
+            lines.append(indent + line.rstrip() if line.strip() else "")
+        flush()
+        return "\n".join(lines)
+
+
+def _examples(*commands: str) -> str:
+    """An epilog listing example commands, kept as written by :class:`HelpFormatter`: a command given as
+    several lines (each but the last ending in `` \\``) has its later lines indented further."""
+    lines = []
+    for command in commands:
+        first, *rest = command.split("\n")
+        lines += [f"  {first}", *(f"      {line}" for line in rest)]
+    return "examples:\n" + "\n".join(lines)
+
+
+def _command(
+    sub, name: str, *, summary: str, examples: Sequence[str], description: str | None = None, **kwargs
+) -> argparse.ArgumentParser:
+    """Add sub-command ``name``: ``summary`` in its parent's list (and as its description unless one is
+    given), ``examples`` after its options."""
+    return sub.add_parser(
+        name,
+        help=summary,
+        description=description or summary[0].upper() + summary[1:] + ".",
+        epilog=_examples(*examples),
+        formatter_class=HelpFormatter,
+        **kwargs,
+    )
+
+
+def version_text() -> str:
+    """What ``navverse --version`` prints: the toolkit's version and the file formats it reads and writes."""
+    from navverse import __version__
+    from navverse.dataset import FORMAT_VERSION
+    from navverse.scene.annotations import SCENE_FORMAT_VERSION
+
+    dataset_major = FORMAT_VERSION.split(".")[0]
+    scene_major = SCENE_FORMAT_VERSION.split(".")[0]
+    return (
+        f"navverse {__version__}\n"
+        f"dataset format {FORMAT_VERSION} (writes {FORMAT_VERSION}; reads {dataset_major}.0 up to "
+        f"{FORMAT_VERSION})\n"
+        f"scene format {SCENE_FORMAT_VERSION} (writes {SCENE_FORMAT_VERSION}; reads 1.x, upgraded, and "
+        f"{scene_major}.x)"
+    )
+
+
+class _VersionAction(argparse.Action):
+    """``--version``: print :func:`version_text` on stdout and exit 0."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS, **kwargs) -> None:
+        super().__init__(option_strings, dest=dest, default=argparse.SUPPRESS, nargs=0, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:
+        sys.stdout.write(version_text() + "\n")
+        parser.exit()
+
+
 def _recipe_options() -> argparse.ArgumentParser:
     """Options of the commands that load recipes: the allow-list of the file-access policy."""
     options = argparse.ArgumentParser(add_help=False)
@@ -315,6 +395,16 @@ EXPORT_HABITAT_DESCRIPTION = (
     "scripts/habitat_check.py does so in a separate environment."
 )
 
+MINI = "episodes/navverse-mini/v1.1"
+"""The default dataset (``make episodes``), in the examples of ``--help``."""
+
+OUTDOOR = "episodes/navverse-outdoor/v1.0"
+"""The outdoor dataset (``navverse build navverse-outdoor``), in the examples of ``--help``."""
+
+DATASET_HELP = "a dataset version, episodes/<name>/v<version> (or episodes/<name>: the newest)"
+DATASET_VERSION_HELP = "a dataset version, episodes/<name>/v<version>"
+JOBS_HELP = "processes (default: the number of cores; 0 runs in this process)"
+
 
 def _scene_options() -> argparse.ArgumentParser:
     """Options of the commands that read a dataset's scenes: where to look for them."""
@@ -332,46 +422,13 @@ def _scene_options() -> argparse.ArgumentParser:
     return options
 
 
-def _export_parser(sub, scene_options: argparse.ArgumentParser) -> None:
-    """``navverse export WHAT``: a dataset's parts for use elsewhere (one sub-command per format)."""
-    export = sub.add_parser("export", help="write a dataset's scenes (or the dataset) for use elsewhere")
-    esub = export.add_subparsers(dest="what", required=True, metavar="WHAT")
-    scenes = esub.add_parser(
-        "scenes",
-        parents=[scene_options],
-        help="copy the scenes a dataset needs into a scene pack, to use it where the scenes are not built",
-        description=EXPORT_SCENES_DESCRIPTION,
-    )
-    scenes.add_argument("dataset", help="episodes/<name>/v<version> (or episodes/<name>: the newest)")
-    scenes.add_argument("out", help="the pack directory to create (must not exist, or be empty)")
-    scenes.add_argument("--split", default=None, help="only the scenes of this split (default: every split)")
-    scenes.set_defaults(func=partial(cli_data.cmd_export_scenes, built_dir=_built_dir))
-    habitat = esub.add_parser(
-        "habitat",
-        parents=[scene_options],
-        help="write a dataset and its scenes in habitat-lab's layouts (ObjectNav-v1, R2R-VLN, GLB)",
-        description=EXPORT_HABITAT_DESCRIPTION,
-    )
-    habitat.add_argument("dataset", help="episodes/<name>/v<version>")
-    habitat.add_argument("out", help="the export directory to create (must not exist, or be empty)")
-    habitat.set_defaults(func=partial(cli_data.cmd_export_habitat, built_dir=_built_dir))
-
-
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of every sub-command."""
-    from navverse.dataset import INSTRUCTION_TYPES
-
-    parser = argparse.ArgumentParser(
-        prog="navverse",
-        description="Build navigation scenes and episode datasets from recipes, and evaluate agents.",
-    )
-    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    recipe_options = _recipe_options()
-    scene_options = _scene_options()
-
-    build = sub.add_parser(
-        "build", parents=[recipe_options], help="build targets from recipes (default: all)"
-    )
+def _build_parsers(sub, recipe_options: argparse.ArgumentParser) -> None:
+    """``navverse build``, ``status`` and ``clean``: the commands of the build engine."""
+    build = _command(
+        sub, "build", parents=[recipe_options], summary="build targets from recipes (default: all)",
+        examples=("navverse build office-s1", "navverse build scenes/indoor --jobs 2",
+                  "navverse build navverse-mini --dry-run"),
+    )  # fmt: skip
     build.add_argument(
         "targets",
         nargs="*",
@@ -401,10 +458,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     build.set_defaults(func=cmd_build)
 
-    status = sub.add_parser(
-        "status", parents=[recipe_options], help="fresh / stale / missing / corrupt per target"
-    )
-    status.add_argument("targets", nargs="*", metavar="TARGET")
+    status = _command(
+        sub, "status", parents=[recipe_options], summary="fresh / stale / missing / corrupt per target",
+        examples=("navverse status", "navverse status 'office-*' --verify"),
+    )  # fmt: skip
+    status.add_argument(
+        "targets", nargs="*", metavar="TARGET",
+        help="target ids (globs allowed) or recipe paths/folders (default: every target)",
+    )  # fmt: skip
     status.add_argument(
         "--verify",
         action="store_true",
@@ -412,34 +473,53 @@ def build_parser() -> argparse.ArgumentParser:
     )
     status.set_defaults(func=cmd_status)
 
-    clean = sub.add_parser(
-        "clean", parents=[recipe_options], help="remove unused build outputs (or all with --all)"
-    )
+    clean = _command(
+        sub, "clean", parents=[recipe_options], summary="remove unused build outputs (or all with --all)",
+        examples=("navverse clean", "navverse clean --all"),
+    )  # fmt: skip
     clean.add_argument("--all", action="store_true", help="remove every build output")
     clean.set_defaults(func=cmd_clean)
 
-    validate = sub.add_parser("validate", help="check input files without building")
-    vsub = validate.add_subparsers(dest="what", required=True, metavar="WHAT")
-    recipe = vsub.add_parser(
-        "recipe", parents=[recipe_options], help="validate recipe files (all when none given)"
+
+def _validate_parser(sub, recipe_options: argparse.ArgumentParser, scene_options: argparse.ArgumentParser):
+    """``navverse validate recipe | dataset | submission``."""
+    validate = _command(
+        sub, "validate", summary="check input files without building",
+        examples=("navverse validate recipe recipes/scenes/indoor/office.yaml",
+                  f"navverse validate dataset {OUTDOOR} --replay 5",
+                  f"navverse validate submission run.jsonl --dataset {MINI}"),
+    )  # fmt: skip
+    vsub = validate.add_subparsers(
+        dest="what", required=True, metavar="WHAT", help="what to check (navverse validate WHAT --help)"
     )
-    recipe.add_argument("files", nargs="*", metavar="FILE")
+    recipe = _command(
+        vsub, "recipe", parents=[recipe_options], summary="validate recipe files (all when none given)",
+        examples=("navverse validate recipe", "navverse validate recipe recipes/scenes/indoor/office.yaml"),
+    )  # fmt: skip
+    recipe.add_argument(
+        "files", nargs="*", metavar="FILE",
+        help="recipe files (as given, or relative to the project or to recipes/); default: every recipe",
+    )  # fmt: skip
     recipe.set_defaults(func=cmd_validate_recipe)
-    vdataset = vsub.add_parser(
-        "dataset",
-        parents=[scene_options],
-        help="check a dataset version (format, checksums, bounds, rollouts; with --scenes, its scenes)",
-    )
-    vdataset.add_argument("dataset", help="episodes/<name>/v<version> (or episodes/<name>: the newest)")
+    vdataset = _command(
+        vsub, "dataset", parents=[scene_options],
+        summary="check a dataset version (format, checksums, bounds, rollouts; with --scenes, its scenes)",
+        examples=(f"navverse validate dataset {MINI}", f"navverse validate dataset {MINI} --replay all",
+                  f"navverse validate dataset {OUTDOOR} --replay 5 --seed 1"),
+    )  # fmt: skip
+    vdataset.add_argument("dataset", help=DATASET_HELP)
     vdataset.add_argument(
         "--replay", metavar="N|all", help="run the oracle rollouts of N sampled episodes (or all) again"
     )
     vdataset.add_argument("--seed", type=int, default=0, help="which episodes --replay N samples")
-    vdataset.add_argument("--jobs", "-j", type=int, default=None, help="processes for --replay")
+    vdataset.add_argument("--jobs", "-j", type=int, default=None, help=f"{JOBS_HELP}, for --replay")
     vdataset.set_defaults(func=partial(cli_data.cmd_validate_dataset, built_dir=_built_dir))
-    vsubmission = vsub.add_parser(
-        "submission", parents=[scene_options], help="report every problem of a submission, with line numbers"
-    )
+    vsubmission = _command(
+        vsub, "submission", parents=[scene_options],
+        summary="report every problem of a submission, with line numbers",
+        examples=("navverse validate submission run.jsonl",
+                  f"navverse validate submission run.jsonl.gz --dataset {MINI} --split eval"),
+    )  # fmt: skip
     vsubmission.add_argument("submission", help="JSONL file (optionally .gz), one episode per line")
     vsubmission.add_argument(
         "--dataset", default=None, help="episodes/<name>/v<version> (without it: the format alone)"
@@ -447,10 +527,17 @@ def build_parser() -> argparse.ArgumentParser:
     vsubmission.add_argument("--split", default="eval", help="the split it answers (default: eval)")
     vsubmission.set_defaults(func=partial(cli_data.cmd_validate_submission, built_dir=_built_dir))
 
-    evaluate = sub.add_parser(
-        "eval", parents=[scene_options], help="score a submission against a dataset split"
-    )
-    evaluate.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
+
+def _eval_parser(sub, scene_options: argparse.ArgumentParser) -> None:
+    """``navverse eval``."""
+    evaluate = _command(
+        sub, "eval", parents=[scene_options], summary="score a submission against a dataset split",
+        examples=(f"navverse eval --dataset {MINI} --submission run.jsonl --out eval-out",
+                  f"navverse eval --dataset {MINI} --submission run.jsonl --episodes submitted",
+                  f"navverse eval --dataset {OUTDOOR} --submission oracle-category.jsonl \\\n"
+                  "--submission oracle-route.jsonl --submission oracle-intention.jsonl"),
+    )  # fmt: skip
+    evaluate.add_argument("--dataset", required=True, help=DATASET_VERSION_HELP)
     evaluate.add_argument(
         "--submission", required=True, action="append",
         help="JSONL file (optionally .gz). Repeatable: the same agent's runs under different PlaceNav "
@@ -470,17 +557,27 @@ def build_parser() -> argparse.ArgumentParser:
     )
     evaluate.set_defaults(func=partial(cli_data.cmd_eval, built_dir=_built_dir))
 
-    run = sub.add_parser(
-        "run-agent",
-        parents=[scene_options],
-        help="run an agent over a dataset split and write its submission",
-    )
-    run.add_argument("--dataset", required=True, help="episodes/<name>/v<version>")
+
+def _run_parser(sub, scene_options: argparse.ArgumentParser) -> None:
+    """``navverse run-agent``."""
+    from navverse.dataset import INSTRUCTION_TYPES
+
+    run = _command(
+        sub, "run-agent", parents=[scene_options],
+        summary="run an agent over a dataset split and write its submission",
+        examples=(f"navverse run-agent --dataset {MINI} --agent oracle --out oracle.jsonl.gz",
+                  f"navverse run-agent --dataset {MINI} --agent examples/my_agent.py:GoalSeekingAgent \\\n"
+                  "--limit 10 --out mine.jsonl",
+                  f"navverse run-agent --dataset {OUTDOOR} --agent frontier --embodiment turtlebot \\\n"
+                  "--instruction-type route --out frontier-route.jsonl.gz"),
+    )  # fmt: skip
+    run.add_argument("--dataset", required=True, help=DATASET_VERSION_HELP)
     run.add_argument("--split", default="eval", help="split run (default: eval)")
     run.add_argument(
         "--agent",
         required=True,
-        help="oracle, gt_goal, random, frontier, or your own 'module:Class' / 'path/to/file.py:Class'",
+        help="oracle, gt_goal, random, frontier (navverse list agents), or your own 'module:Class' / "
+        "'path/to/file.py:Class'",
     )
     run.add_argument("--embodiment", default=None, help="spot or turtlebot (default: the dataset's)")
     run.add_argument("--out", required=True, help="submission to write (.jsonl or .jsonl.gz)")
@@ -508,27 +605,138 @@ def build_parser() -> argparse.ArgumentParser:
     )  # fmt: skip
     run.set_defaults(func=partial(cli_data.cmd_run_agent, built_dir=_built_dir))
 
-    show = sub.add_parser("show", help="draw or print what was built")
-    ssub = show.add_subparsers(dest="what", required=True, metavar="WHAT")
-    scene = ssub.add_parser("scene", help="bird's-eye-view picture of a built scene (or a scene directory)")
+
+def _show_parser(sub, scene_options: argparse.ArgumentParser) -> None:
+    """``navverse show scene | presets | dataset | episode``."""
+    show = _command(
+        sub, "show", summary="draw or print what was built",
+        examples=("navverse show scene office-s1 -o office.png", "navverse show presets",
+                  f"navverse show dataset {OUTDOOR}"),
+    )  # fmt: skip
+    ssub = show.add_subparsers(
+        dest="what", required=True, metavar="WHAT", help="what to show (navverse show WHAT --help)"
+    )
+    scene = _command(
+        ssub, "scene", summary="bird's-eye-view picture of a built scene (or a scene directory)",
+        examples=("navverse show scene office-s1 -o office.png",
+                  "navverse show scene data/built/targets/corridor/scene --meters-per-pixel 0.02"),
+    )  # fmt: skip
     scene.add_argument("scene", help="a built scene's id, or a directory holding scene.json")
     scene.add_argument("-o", "--output", help="PNG path (default: <scene>-bev.png)")
-    scene.add_argument("--meters-per-pixel", type=float, default=None)
+    scene.add_argument(
+        "--meters-per-pixel", type=float, default=None, metavar="M",
+        help="the picture's scale (default: chosen from the scene's size)",
+    )  # fmt: skip
     scene.set_defaults(func=partial(cli_data.cmd_show_scene, built_dir=_built_dir))
-    presets = ssub.add_parser("presets", help="navmesh presets and the scene-type profiles that pick them")
+    presets = _command(
+        ssub, "presets", summary="navmesh presets and the scene-type profiles that pick them",
+        examples=("navverse show presets",),
+    )  # fmt: skip
     presets.set_defaults(func=cli_data.cmd_show_presets)
-    dataset = ssub.add_parser("dataset", help="episode counts and goal categories of a dataset")
-    dataset.add_argument("dataset", help="episodes/<name>/v<version> (or episodes/<name>: the newest)")
-    dataset.add_argument("--top", type=int, default=25, help="goal categories listed")
+    dataset = _command(
+        ssub, "dataset", summary="episode counts and goal categories of a dataset",
+        examples=(f"navverse show dataset {MINI}",
+                  "navverse show dataset episodes/navverse-outdoor --top 10"),
+    )  # fmt: skip
+    dataset.add_argument("dataset", help=DATASET_HELP)
+    dataset.add_argument("--top", type=int, default=25, help="goal categories listed (default: 25)")
     dataset.set_defaults(func=cli_data.cmd_show_dataset)
-    episode = ssub.add_parser(
-        "episode", parents=[scene_options], help="draw an episode on its scene's bird's-eye view"
-    )
-    episode.add_argument("dataset")
-    episode.add_argument("episode_id")
+    episode = _command(
+        ssub, "episode", parents=[scene_options], summary="draw an episode on its scene's bird's-eye view",
+        examples=(f"navverse show episode {MINI} school-s1-vln-0003 -o ep.png",
+                  f"navverse show episode {OUTDOOR} west-oakland-vln-0000"),
+    )  # fmt: skip
+    episode.add_argument("dataset", help=DATASET_HELP)
+    episode.add_argument("episode_id", help="the episode's id, e.g. school-s1-vln-0003 (see show dataset)")
     episode.add_argument("-o", "--output", help="PNG path (default: <episode_id>.png)")
     episode.set_defaults(func=partial(cli_data.cmd_show_episode, built_dir=_built_dir))
+
+
+def _export_parser(sub, scene_options: argparse.ArgumentParser) -> None:
+    """``navverse export WHAT``: a dataset's parts for use elsewhere (one sub-command per format)."""
+    export = _command(
+        sub, "export", summary="write a dataset's scenes (or the dataset) for use elsewhere",
+        examples=(f"navverse export scenes {MINI} mini-scenes",
+                  f"navverse export habitat {MINI} mini-habitat"),
+    )  # fmt: skip
+    esub = export.add_subparsers(
+        dest="what", required=True, metavar="WHAT", help="what to write (navverse export WHAT --help)"
+    )
+    scenes = _command(
+        esub, "scenes", parents=[scene_options],
+        summary="copy the scenes a dataset needs into a scene pack, to use it where the scenes are not built",
+        description=EXPORT_SCENES_DESCRIPTION,
+        examples=(f"navverse export scenes {MINI} mini-scenes",
+                  f"navverse export scenes {OUTDOOR} outdoor-eval-scenes --split eval",
+                  f"navverse eval --dataset {MINI} --submission run.jsonl --scenes mini-scenes"),
+    )  # fmt: skip
+    scenes.add_argument("dataset", help=DATASET_HELP)
+    scenes.add_argument("out", help="the pack directory to create (must not exist, or be empty)")
+    scenes.add_argument("--split", default=None, help="only the scenes of this split (default: every split)")
+    scenes.set_defaults(func=partial(cli_data.cmd_export_scenes, built_dir=_built_dir))
+    habitat = _command(
+        esub, "habitat", parents=[scene_options],
+        summary="write a dataset and its scenes in habitat-lab's layouts (ObjectNav-v1, R2R-VLN, GLB)",
+        description=EXPORT_HABITAT_DESCRIPTION,
+        examples=(f"navverse export habitat {MINI} mini-habitat",
+                  f"navverse export habitat {OUTDOOR} outdoor-habitat --scenes outdoor-scenes"),
+    )  # fmt: skip
+    habitat.add_argument("dataset", help=DATASET_VERSION_HELP)
+    habitat.add_argument("out", help="the export directory to create (must not exist, or be empty)")
+    habitat.set_defaults(func=partial(cli_data.cmd_export_habitat, built_dir=_built_dir))
+
+
+def _list_parser(sub) -> None:
+    """``navverse list WHAT``."""
+    listing = _command(
+        sub, "list", summary="list building types, room types, categories, agents or embodiments",
+        examples=("navverse list building-types", "navverse list categories --kind places",
+                  "navverse list agents --json"),
+    )  # fmt: skip
+    listing.add_argument(
+        "what", choices=cli_list.LIST_KINDS, metavar="WHAT",
+        help=f"one of: {', '.join(cli_list.LIST_KINDS)} (navmesh presets: navverse show presets)",
+    )  # fmt: skip
+    listing.add_argument(
+        "--kind", choices=cli_list.CATEGORY_KINDS, default=None,
+        help="for categories: only object categories (goal objects, furniture, street objects) or only "
+        "place categories (PlaceNav goals); default: both",
+    )  # fmt: skip
+    listing.add_argument(
+        "--json", action="store_true", help="print the rows as one JSON list (for scripts) instead of tables"
+    )
+    listing.set_defaults(func=cli_list.cmd_list)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of every sub-command."""
+    parser = argparse.ArgumentParser(
+        prog="navverse",
+        description="Build navigation scenes and episode datasets from recipes, and evaluate agents.",
+        epilog=_examples(
+            "navverse build office-s1",
+            f"navverse run-agent --dataset {MINI} --agent oracle --out run.jsonl",
+            f"navverse eval --dataset {MINI} --submission run.jsonl",
+        ),
+        formatter_class=HelpFormatter,
+    )
+    parser.add_argument(
+        "--version",
+        action=_VersionAction,
+        help="print the version and the dataset and scene formats, and exit",
+    )
+    sub = parser.add_subparsers(
+        dest="command", required=True, metavar="COMMAND", help="what to do (navverse COMMAND --help)"
+    )
+    recipe_options = _recipe_options()
+    scene_options = _scene_options()
+    _build_parsers(sub, recipe_options)
+    _validate_parser(sub, recipe_options, scene_options)
+    _eval_parser(sub, scene_options)
+    _run_parser(sub, scene_options)
+    _show_parser(sub, scene_options)
     _export_parser(sub, scene_options)
+    _list_parser(sub)
     return parser
 
 

@@ -14,12 +14,17 @@ from __future__ import annotations
 
 import argparse
 import os
-from collections.abc import Callable
+import sys
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 from rich.console import Console
 
 __all__ = [
+    "PLAIN_PROGRESS_SECONDS",
+    "PlainProgress",
     "cmd_eval",
     "cmd_export_scenes",
     "cmd_run_agent",
@@ -29,6 +34,108 @@ __all__ = [
     "cmd_validate_dataset",
     "cmd_validate_submission",
 ]
+
+
+PLAIN_PROGRESS_SECONDS = 10.0
+"""Without a terminal, the least wall time between two progress lines (s)."""
+
+PLAIN_PROGRESS_PARTS = 20
+"""Without a terminal, the least work between two progress lines: this fraction of the total (1/20)."""
+
+
+def _stderr_line(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)
+
+
+def _duration(seconds: float) -> str:
+    """A wall time for people: ``45 s``, ``9 min``, ``2.5 h``."""
+    if seconds < 99.5:
+        return f"{seconds:.0f} s"
+    if seconds < 99.5 * 60:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+class PlainProgress:
+    """Progress as plain lines, for output that is not a terminal (a log file, a pipe, a batch job).
+
+    Called as ``progress(done, total)``. A line is written once both ``every`` more items are done and
+    ``seconds`` have passed since the last line (whichever comes later), and once when the last item is
+    done, e.g. ``run-agent oracle on eval: 12/157 episodes, 45 s, ~9 min left``. The time left is
+    estimated from the rate since the first call, so items already done then (resumed from an
+    interrupted run) do not count.
+
+    Parameters
+    ----------
+    label : str
+        What is going on; starts each line.
+    unit : str
+        What is counted (``episodes``, ``scenes``).
+    write : callable, optional
+        Called with each line (default: print it to stderr and flush).
+    every : int, optional
+        Items between lines (default: the total / :data:`PLAIN_PROGRESS_PARTS`, at least 1).
+    seconds : float, optional
+        Wall time between lines (default: :data:`PLAIN_PROGRESS_SECONDS`).
+    clock : callable, optional
+        Seconds of a monotonic clock (default: :func:`time.monotonic`).
+    """
+
+    def __init__(
+        self,
+        label: str,
+        *,
+        unit: str,
+        write: Callable[[str], None] = _stderr_line,
+        every: int | None = None,
+        seconds: float | None = None,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
+        self.label, self.unit, self.write, self.every, self.clock = label, unit, write, every, clock
+        self.seconds = PLAIN_PROGRESS_SECONDS if seconds is None else seconds
+        self._start: tuple[float, int] | None = None
+        self._last: tuple[float, int] = (0.0, 0)
+        self._finished = False
+
+    def __call__(self, done: int, total: int) -> None:
+        """Take the count of items done of ``total``; write a line when one is due."""
+        now = self.clock()
+        if self._start is None:
+            self._start = self._last = (now, done)
+        every = self.every if self.every is not None else max(1, total // PLAIN_PROGRESS_PARTS)
+        last_time, last_done = self._last
+        finished = total > 0 and done >= total
+        due = done - last_done >= every and now - last_time >= self.seconds
+        if (finished and not self._finished) or (due and not finished):
+            self.write(self.line(done, total, now))
+            self._last = (now, done)
+        self._finished = self._finished or finished
+
+    def line(self, done: int, total: int, now: float) -> str:
+        """The progress line for ``done`` of ``total`` items at clock time ``now``."""
+        start_time, start_done = self._start if self._start is not None else (now, done)
+        elapsed = now - start_time
+        text = f"{self.label}: {done}/{total} {self.unit}, {_duration(elapsed)}"
+        if done < total and done > start_done and elapsed > 0:
+            left = (total - done) * elapsed / (done - start_done)
+            text += f", ~{_duration(left)} left"
+        return text
+
+
+@contextmanager
+def _progress(
+    console: Console, label: str, *, unit: str, columns: tuple = ()
+) -> Iterator[Callable[[int, int], None]]:
+    """A ``progress(done, total)`` callable: a rich bar on a terminal (with ``columns``, or rich's
+    default ones), plain lines on stderr otherwise (:class:`PlainProgress`), where a bar is not shown."""
+    if not console.is_terminal:
+        yield PlainProgress(label, unit=unit)
+        return
+    from rich.progress import Progress
+
+    with Progress(*columns, console=console, transient=True) as bar:
+        task = bar.add_task(label, total=None)
+        yield lambda done, total: bar.update(task, completed=done, total=total)
 
 
 def _warn(text: str) -> None:
@@ -172,7 +279,6 @@ def cmd_validate_dataset(args: argparse.Namespace, console: Console, *, built_di
 def _replay(args: argparse.Namespace, console: Console, dataset, episodes: list, built_dir) -> bool:
     """Run the oracle rollouts of ``--replay`` N sampled episodes (or all) again; True if one fails."""
     import numpy as np
-    from rich.progress import Progress
 
     from navverse.episodes.inspect import replay
 
@@ -184,14 +290,10 @@ def _replay(args: argparse.Namespace, console: Console, dataset, episodes: list,
             episodes[i] for i in sorted(rng.choice(len(episodes), min(count, len(episodes)), replace=False))
         ]
     scene_dirs = _dataset_scene_dirs(args, dataset, chosen, built_dir)
-    with Progress(console=console, transient=True) as bar:
-        task = bar.add_task("replaying (scenes)", total=len(scene_dirs))
+    with _progress(console, "validate dataset: replaying", unit="scenes") as progress:
+        progress(0, len(scene_dirs))
         report = replay(
-            chosen,
-            scene_dirs,
-            embodiment=dataset.manifest.embodiment,
-            jobs=args.jobs,
-            progress=lambda done, total: bar.update(task, completed=done),
+            chosen, scene_dirs, embodiment=dataset.manifest.embodiment, jobs=args.jobs, progress=progress
         )
     console.print(f"replayed oracle rollouts: {report.reached} of {report.replayed} reach a goal")
     for episode_id, reason in report.failures[:10]:
@@ -339,15 +441,13 @@ def _read_for_eval(args: argparse.Namespace, dataset, scene_dirs: dict) -> list:
 
 
 def _score_for_eval(args: argparse.Namespace, console: Console, dataset, submissions: list, scene_dirs: dict):
-    """Each submission's :class:`~navverse.eval.scoring.EvalResult`, with a progress bar."""
-    from rich.progress import Progress
-
+    """Each submission's :class:`~navverse.eval.scoring.EvalResult`, showing progress."""
     from navverse.eval.scoring import score
 
     results = []
     for submission in submissions:
-        with Progress(console=console, transient=True) as bar:
-            task = bar.add_task(f"scoring {submission.path.name}", total=len(submission.records) or 1)
+        with _progress(console, f"eval: scoring {submission.path.name}", unit="episodes") as progress:
+            progress(0, len(submission.records))
             results.append(
                 score(
                     dataset,
@@ -356,7 +456,7 @@ def _score_for_eval(args: argparse.Namespace, console: Console, dataset, submiss
                     scene_dirs=scene_dirs,
                     embodiment=args.embodiment,
                     episodes=args.episodes,
-                    progress=lambda done, total, task=task, bar=bar: bar.update(task, completed=done),
+                    progress=progress,
                 )
             )
     return results
@@ -377,8 +477,6 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
     """Score a submission: metrics.json, tables (md, csv), report.html, and the headline table. Several
     submissions (one per PlaceNav instruction type) add rows to the instruction-type table; the other
     outputs are the first one's."""
-    from rich.progress import Progress
-
     from navverse import __version__
     from navverse.dataset import Dataset
     from navverse.eval.protocol import describe
@@ -409,8 +507,8 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
         "toolkit_version": __version__,
     }
     out = write_outputs(result, args.out, meta=meta, others=results[1:])
-    with Progress(console=console, transient=True) as bar:
-        task = bar.add_task("report", total=len(result.episodes) or 1)
+    with _progress(console, "eval: drawing the report", unit="episodes") as progress:
+        progress(0, len(result.episodes))
         report = write_report(
             result,
             dataset=dataset,
@@ -418,7 +516,7 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
             scene_dirs=scene_dirs,
             out_dir=Path(out),
             embodiment=args.embodiment,
-            progress=lambda done, total: bar.update(task, completed=done),
+            progress=progress,
         )
     if submission.problems:
         count = _problem_count(submission)
@@ -457,7 +555,7 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
 
 def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
     """Run an agent online over a split and write its submission."""
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+    from rich.progress import BarColumn, MofNCompleteColumn, TextColumn, TimeRemainingColumn
 
     from navverse.dataset import Dataset
     from navverse.eval.runner import EPISODE_TIMEOUT, STEP_TIMEOUT, run_agent
@@ -469,8 +567,8 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
     scene_dirs = _dataset_scene_dirs(args, dataset, dataset.episodes(split=args.split), built_dir)
     jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
-    with Progress(*columns, console=console, transient=True) as bar:
-        task = bar.add_task(f"{args.agent} on {args.split}", total=None)
+    label = f"run-agent {args.agent} on {args.split}"
+    with _progress(console, label, unit="episodes", columns=columns) as progress:
         summary = run_agent(
             dataset,
             agent=args.agent,
@@ -486,7 +584,7 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
             step_timeout=STEP_TIMEOUT if args.step_timeout is None else args.step_timeout,
             episode_timeout=EPISODE_TIMEOUT if args.episode_timeout is None else args.episode_timeout,
             instruction_type=args.instruction_type,
-            progress=lambda done, total: bar.update(task, completed=done, total=total),
+            progress=progress,
         )
     for episode_id, reason in summary.timeouts[:10]:
         console.print(

@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 from rich.table import Table
 
-from navverse.scene_types import SCENE_TYPES
 from navverse.dataset import Dataset, Episode
+from navverse.scene_types import SCENE_TYPES
 
 __all__ = ["ReplayReport", "category_table", "check_bounds", "counts_table", "draw_episode", "replay"]
 

@@ -8,7 +8,6 @@ from pathlib import Path
 
 import numpy as np
 
-from navverse.files import atomic_write
 from navverse.dataset import (
     FORMAT_VERSION,
     DatasetError,
@@ -20,6 +19,7 @@ from navverse.dataset import (
     file_sha256,
     write_json_gz,
 )
+from navverse.files import atomic_write
 
 __all__ = ["assign_splits", "difficulty_of", "difficulty_thresholds", "write_dataset"]
 
