@@ -53,6 +53,7 @@ from habitat.tasks.nav.object_nav_task import ObjectViewLocation
 root = Path(sys.argv[1])
 scenes = str(root / "scenes")
 result = {}
+loaded = {}  # NavVerse episode id -> what habitat-lab read: start position and rotation, goal positions
 
 def config(kind, layout, split):
     path = str(root / layout / "{split}" / "{split}.json.gz")
@@ -64,6 +65,12 @@ for split_dir in sorted((root / "objectnav_v1").glob("*")):
     views = [v for g in goals for v in g.view_points]
     assert all(isinstance(v, ObjectViewLocation) for v in views)
     missing = [e.scene_id for e in data.episodes if not Path(e.scene_id).is_file()]
+    for e in data.episodes:
+        loaded[e.info["navverse_episode_id"]] = {
+            "start_position": list(map(float, e.start_position)),
+            "start_rotation": list(map(float, e.start_rotation)),
+            "goals": [list(map(float, g.position)) for g in e.goals],
+        }
     result[f"ObjectNav-v1 {split_dir.name}"] = {
         "episodes": len(data.episodes), "episodes_without_goals": sum(not e.goals for e in data.episodes),
         "goal_keys": len(data.goals_by_category), "view_points": len(views),
@@ -72,6 +79,12 @@ for split_dir in sorted((root / "objectnav_v1").glob("*")):
 for split_dir in sorted((root / "vln_r2r").glob("*")):
     data = VLNDatasetV1(config("R2RVLN-v1", "vln_r2r", split_dir.name))
     vocab = data.instruction_vocab
+    for e in data.episodes:
+        loaded[e.info["navverse_episode_id"]] = {
+            "start_position": list(map(float, e.start_position)),
+            "start_rotation": list(map(float, e.start_rotation)),
+            "reference_path": [list(map(float, p)) for p in e.reference_path],
+        }
     first = data.episodes[0] if data.episodes else None
     text = " ".join(vocab.idx2word(t) for t in first.instruction.instruction_tokens) if first else ""
     result[f"R2RVLN-v1 {split_dir.name}"] = {
@@ -79,6 +92,7 @@ for split_dir in sorted((root / "vln_r2r").glob("*")):
         "unk": vocab.UNK_INDEX, "first_tokens_decoded": text,
     }
 print(json.dumps(result, indent=2))
+(root / "habitat_loaded.json").write_text(json.dumps(loaded)) if len(sys.argv) > 2 else None
 """
 
 
@@ -102,6 +116,42 @@ def ensure_venv(venv: Path, *, python: str, version: str) -> None:
         raise SystemExit(f"pip could not install habitat-lab=={version} into {venv} (see its output above)")
 
 
+def compare(dataset_dir: Path, loaded_file: Path) -> int:
+    """Map what habitat-lab loaded back to NavVerse's frame and compare it with the dataset; 0 when
+    every position is within 1e-6 m and every heading within 1e-5 rad."""
+    import json
+    import math
+
+    import numpy as np
+
+    from navverse.dataset import Dataset
+    from navverse.export.habitat_scenes import from_habitat, habitat_yaw
+
+    loaded = json.loads(loaded_file.read_text())
+    loaded_file.unlink()
+    episodes = {e.episode_id: e for e in Dataset(dataset_dir).episodes()}
+    position_error = heading_error = 0.0
+    for episode_id, seen in loaded.items():
+        episode = episodes[episode_id]
+        pairs = [(seen["start_position"], episode.start_position)]
+        if "reference_path" in seen:
+            pairs.append((seen["reference_path"], episode.reference_path))
+        for habitat, navverse in pairs:
+            gap = np.abs(from_habitat(habitat) - np.asarray(navverse, dtype=float)).max()
+            position_error = max(position_error, float(gap))
+        turn = float(habitat_yaw(seen["start_rotation"])) - episode.start_yaw
+        heading_error = max(heading_error, abs(math.remainder(turn, math.tau)))
+    missing = sorted(set(episodes) - set(loaded))
+    ok = not missing and position_error <= 1e-6 and heading_error <= 1e-5
+    print(
+        f"round trip of {len(loaded)} of {len(episodes)} episodes through habitat-lab: largest position "
+        f"error {position_error:.1e} m, largest heading error {heading_error:.1e} rad"
+        + (f"; not loaded: {', '.join(missing[:5])}" if missing else "")
+        + ("" if ok else " — FAILED")
+    )
+    return 0 if ok else 1
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the check; 0 when habitat-lab read every split of the export."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -109,14 +159,21 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--venv", type=Path, default=Path("/tmp/habitat-venv-py310"))
     parser.add_argument("--python", default="python3.10", help="interpreter for a new venv (3.10: see above)")
     parser.add_argument("--habitat-lab", default=HABITAT_LAB, help="habitat-lab version for a new venv")
+    parser.add_argument(
+        "--dataset",
+        type=Path,
+        help="the NavVerse dataset version exported: what habitat-lab loaded is mapped back to NavVerse's "
+        "frame and compared with it (positions within 1e-6 m, headings within 1e-5 rad)",
+    )
     args = parser.parse_args(argv)
     if not (args.export / "export.json").is_file():
         raise SystemExit(f"{args.export} is not a habitat export (no export.json)")
     ensure_venv(args.venv, python=args.python, version=args.habitat_lab)
-    run = subprocess.run(
-        [str(_python(args.venv)), "-c", _CHILD, str(args.export.resolve())], capture_output=True, text=True
-    )
+    dump = [str(args.export.resolve()), *(["dump"] if args.dataset else [])]
+    run = subprocess.run([str(_python(args.venv)), "-c", _CHILD, *dump], capture_output=True, text=True)
     sys.stdout.write(run.stdout)
+    if run.returncode == 0 and args.dataset is not None:
+        return compare(args.dataset, args.export / "habitat_loaded.json")
     if run.returncode != 0:
         sys.stderr.write(run.stderr[-6000:])
         print(

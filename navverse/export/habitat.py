@@ -159,7 +159,9 @@ def build_vocabulary(texts: Iterable[str]) -> dict[str, Any]:
 
 
 def _round(values: np.ndarray) -> list:
-    return np.round(np.asarray(values, dtype=np.float64), 4).tolist()
+    """Values as written: to the micrometre (and 1e-6 of a quaternion component), so that positions
+    read back (:func:`~navverse.export.habitat_scenes.from_habitat`) within 1e-6 m."""
+    return np.round(np.asarray(values, dtype=np.float64), 6).tolist()
 
 
 def view_points(finder: PathFinder, goal: Goal, *, success: float) -> list[dict[str, Any]]:
@@ -168,7 +170,7 @@ def view_points(finder: PathFinder, goal: Goal, *, success: float) -> list[dict[
     regions = goal_regions(finder, [goal], success=success)
     if not regions:
         return []
-    points = np.round(regions[0].points, 4)  # as written; a point rounded off the mesh is dropped
+    points = np.round(regions[0].points, 6)  # as written; a point rounded off the mesh is dropped
     points = points[finder.is_navigable(points)]
     if len(points) == 0:
         return []

@@ -28,7 +28,9 @@ from navverse.scene import MeshData, Scene, SceneAnnotations, default_color
 
 __all__ = [
     "SEMANTIC_HEADER",
+    "from_habitat",
     "habitat_rotation",
+    "habitat_yaw",
     "scene_triangles",
     "storefront_objects",
     "to_habitat",
@@ -44,6 +46,20 @@ def to_habitat(points: np.ndarray) -> np.ndarray:
     """Points ``(..., 3)`` of the z-up world in the habitat frame: ``(x, y, z) -> (x, z, -y)``."""
     p = np.asarray(points, dtype=np.float64)
     return np.stack([p[..., 0], p[..., 2], -p[..., 1]], axis=-1)
+
+
+def from_habitat(points: np.ndarray) -> np.ndarray:
+    """Points ``(..., 3)`` of the habitat frame back in the z-up world: ``(x, y, z) -> (x, -z, y)``."""
+    p = np.asarray(points, dtype=np.float64)
+    return np.stack([p[..., 0], -p[..., 2], p[..., 1]], axis=-1)
+
+
+def habitat_yaw(rotation: np.ndarray) -> np.ndarray:
+    """The z-up yaws (rad, in (-pi, pi]) of habitat ``[x, y, z, w]`` rotations about +y (the inverse of
+    :func:`habitat_rotation`)."""
+    q = np.asarray(rotation, dtype=np.float64)
+    angle = 2.0 * np.arctan2(q[..., 1], q[..., 3]) + np.pi / 2
+    return np.angle(np.exp(1j * angle))
 
 
 def habitat_rotation(yaw: np.ndarray | float) -> np.ndarray:

@@ -19,7 +19,7 @@ import pytest
 from rich.console import Console
 
 from navverse import cli_data
-from navverse.cli import main
+from navverse.cli import build_parser, main
 from navverse.eval.measures import EpisodeTarget, Robot, measure
 from navverse.eval.metrics import compute_metrics
 from navverse.eval.submission import (
@@ -341,8 +341,8 @@ def test_eval_scores_a_far_record_as_invalid(tmp_path: Path, toy, capsys, monkey
     dataset, store = toy
     monkeypatch.setenv("NAVVERSE_CACHE_DIR", str(tmp_path / "cache"))
     path = write(tmp_path / "s.jsonl", [record("room-objnav-0000", far(1e9))])
-    args = argparse.Namespace(
-        submission=str(path), dataset=str(dataset), split="eval", embodiment=None, out=str(tmp_path / "out")
+    args = build_parser().parse_args(  # every option's default, as the command gets them
+        ["eval", "--submission", str(path), "--dataset", str(dataset), "--out", str(tmp_path / "out")]
     )
     assert cli_data.cmd_eval(args, Console(width=300), built_dir=lambda: store) == 0
     metrics = json.loads((tmp_path / "out" / "metrics.json").read_text())

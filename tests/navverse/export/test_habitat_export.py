@@ -12,11 +12,18 @@ import numpy as np
 import pytest
 
 from navverse import nav
-from navverse.dataset import Episode, EpisodeInfo, Goal, Instruction, goal_distance
+from navverse.dataset import Dataset, Episode, EpisodeInfo, Goal, Instruction, goal_distance
 from navverse.export import HabitatExportError, export_habitat
 from navverse.export.habitat import build_vocabulary, habitat_rotation, to_habitat, tokenize
 from navverse.export.habitat_navmesh import POLYFLAGS_WALK, tiles_from_mset
-from navverse.export.habitat_scenes import SEMANTIC_HEADER, STOREFRONT_ID_BASE, id_colors, scene_triangles
+from navverse.export.habitat_scenes import (
+    SEMANTIC_HEADER,
+    STOREFRONT_ID_BASE,
+    from_habitat,
+    habitat_yaw,
+    id_colors,
+    scene_triangles,
+)
 from navverse.nav.fileformat import read_navmesh, write_navmesh
 from navverse.nav.pathfinder import PathFinder
 from navverse.nav.scene_navmesh import build_scene_navmesh
@@ -91,11 +98,6 @@ def _rotate(q, v) -> np.ndarray:
     return np.asarray(v, float) + w * t + np.cross(u, t)
 
 
-def _from_habitat(p) -> np.ndarray:
-    p = np.asarray(p, float)
-    return np.stack([p[..., 0], -p[..., 2], p[..., 1]], axis=-1)
-
-
 def test_frame_maps_points_and_the_agent_forward():
     np.testing.assert_allclose(to_habitat([1.0, 2.0, 3.0]), [1.0, 3.0, -2.0])
     for yaw in (0.0, 0.5, math.pi / 2, 2.0, -2.7):
@@ -149,12 +151,12 @@ def test_view_points_are_navigable_within_success_and_face_the_goal(built):
     for goal in content["goals_by_category"][f"{SCENE}.glb_chair"]:
         views = goal["view_points"]
         assert 4 <= len(views) <= 16
-        points = _from_habitat([v["agent_state"]["position"] for v in views])
+        points = from_habitat([v["agent_state"]["position"] for v in views])
         assert finder.is_navigable(points).all()
         source = goals[goal["object_id"]]
         assert all(goal_distance(p + np.array([0.0, 0.0, 0.55]), source) <= 1.6 for p in points)
         for view, point in zip(views, points, strict=True):
-            forward = _from_habitat(_rotate(view["agent_state"]["rotation"], [0.0, 0.0, -1.0]))
+            forward = from_habitat(_rotate(view["agent_state"]["rotation"], [0.0, 0.0, -1.0]))
             towards = np.subtract(source.position[:2], point[:2])
             assert forward[:2] @ (towards / np.linalg.norm(towards)) > 0.999
 
@@ -219,3 +221,31 @@ def test_missing_scene_names_it_and_writes_nothing(built, tmp_path):
     assert not out.exists() and not out.parent.exists()
     with pytest.raises(HabitatExportError, match="not empty"):
         export_habitat(built["dataset"], built["out"], scenes=lambda s: nowhere / s)
+
+
+def test_positions_and_headings_round_trip_from_the_export(built):
+    """Everything exported maps back to the NavVerse episode it came from: positions within 1e-6 m,
+    start headings within 1e-5 rad."""
+    episodes = {e.episode_id: e for e in Dataset(built["dataset"]).episodes()}
+    content = _json(built["out"] / "objectnav_v1" / "eval" / "content" / f"{SCENE}.json.gz")
+    vln = _json(built["out"] / "vln_r2r" / "eval" / "eval.json.gz")["episodes"]
+    exported = content["episodes"] + vln
+    assert len(exported) == len(episodes)
+    for habitat in exported:
+        episode = episodes[habitat["info"]["navverse_episode_id"]]
+        np.testing.assert_allclose(from_habitat(habitat["start_position"]), episode.start_position, atol=1e-6)
+        turn = habitat_yaw(habitat["start_rotation"]) - episode.start_yaw
+        assert abs(math.remainder(float(turn), math.tau)) < 1e-5
+        if "reference_path" in habitat:
+            np.testing.assert_allclose(
+                from_habitat(habitat["reference_path"]), episode.reference_path, atol=1e-6
+            )
+    goals = [g for key in content["goals_by_category"] for g in content["goals_by_category"][key]]
+    for goal in goals:  # a place's object id is its storefront's semantic id: matched by category
+        sources = [
+            g.position for e in episodes.values() for g in e.goals if g.category == goal["object_category"]
+        ]
+        gaps = np.abs(np.asarray(sources) - from_habitat(goal["position"])).max(axis=1)
+        assert gaps.min() < 1e-6, goal
+    for yaw in np.linspace(-3.1, 3.1, 13):  # the heading's inverse, all round
+        assert abs(math.remainder(float(habitat_yaw(habitat_rotation(yaw))) - yaw, math.tau)) < 1e-12
