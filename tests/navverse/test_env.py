@@ -13,6 +13,7 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 from navverse import nav
+from navverse.dataset import Episode, EpisodeInfo, Goal
 from navverse.env import ACTION_MODES, EnvError, NavVerseEnv
 from navverse.nav.scene_navmesh import build_scene_navmesh
 from navverse.scene import Scene
@@ -42,6 +43,34 @@ def build_room(root: Path) -> Path:
     write_scene_dir(scene, root, bev=False)
     build_scene_navmesh(scene, nav.INDOOR, jobs=1).save(SceneFiles(root).navmesh)
     return root
+
+
+def table_episodes(
+    count: int,
+    *,
+    first_y: float,
+    step: float,
+    end: tuple[float, float],
+    info: EpisodeInfo,
+) -> list[Episode]:
+    """``count`` ObjNav episodes to the room's table, starting at x = 2 m, y = ``first_y + step * i``,
+    their reference paths straight to ``end``."""
+    goal = Goal(object_id=1, category="table", position=TABLE_CENTER, radius=0.6, size=(1.2, 0.8, 0.75))
+    return [
+        Episode(
+            episode_id=f"env_room-objnav-{i:04d}",
+            scene_id="env_room",
+            scene_type="indoor",
+            task="objnav",
+            start_position=(2.0, first_y + step * i, 0.0),
+            start_rotation=(0.0, 0.0, 0.0, 1.0),
+            object_category="table",
+            goals=[goal],
+            reference_path=[(2.0, first_y + step * i, 0.0), (*end, 0.0)],
+            info=info,
+        )
+        for i in range(count)
+    ]
 
 
 @pytest.fixture(scope="module")

@@ -14,11 +14,11 @@ from pathlib import Path
 
 import pytest
 
-from navverse.dataset import Dataset, DatasetError, Episode, EpisodeInfo, Goal, Verification, file_sha256
+from navverse.dataset import Dataset, DatasetError, Episode, EpisodeInfo, Verification, file_sha256
 from navverse.episodes.packaging import write_dataset
 from navverse.errors import SceneError
 from navverse.scene.directory import scene_hash
-from tests.navverse.test_env import TABLE_CENTER, build_room
+from tests.navverse.test_env import build_room, table_episodes
 
 NAVVERSE = str(Path(sys.executable).with_name("navverse"))
 DATASET = Path("episodes") / "room" / "v1.0"
@@ -27,7 +27,6 @@ DATASET = Path("episodes") / "room" / "v1.0"
 def _episodes() -> list[Episode]:
     """Three short ObjNav episodes to the table of the test room (their figures within the dataset's
     bounds, so `validate dataset` passes them)."""
-    goal = Goal(object_id=1, category="table", position=TABLE_CENTER, radius=0.6, size=(1.2, 0.8, 0.75))
     verification = Verification(embodiment="spot", duration_s=8.0, traveled_m=5.5, oracle_success_time_s=6.0)
     info = EpisodeInfo(
         geodesic_distance=5.5,
@@ -36,21 +35,7 @@ def _episodes() -> list[Episode]:
         success_distance=1.6,
         verification=verification,
     )
-    return [
-        Episode(
-            episode_id=f"env_room-objnav-{i:04d}",
-            scene_id="env_room",
-            scene_type="indoor",
-            task="objnav",
-            start_position=(2.0, 3.0 + 0.8 * i, 0.0),
-            start_rotation=(0.0, 0.0, 0.0, 1.0),
-            object_category="table",
-            goals=[goal],
-            reference_path=[(2.0, 3.0 + 0.8 * i, 0.0), (5.5, 5.0, 0.0)],
-            info=info,
-        )
-        for i in range(3)
-    ]
+    return table_episodes(3, first_y=3.0, step=0.8, end=(5.5, 5.0), info=info)
 
 
 def _run(cwd: Path, *args: str, **env: str) -> subprocess.CompletedProcess[str]:

@@ -11,11 +11,11 @@ from pathlib import Path
 import pytest
 
 from navverse import cli
-from navverse.dataset import Dataset, Episode, EpisodeInfo, Goal
+from navverse.dataset import Dataset, Episode, EpisodeInfo
 from navverse.episodes.packaging import write_dataset
 from navverse.eval.runner import RunError, RunSummary, run_agent
 from navverse.sim.terminations import AGENT_TIMEOUT
-from tests.navverse.test_env import TABLE_CENTER, build_room
+from tests.navverse.test_env import build_room, table_episodes
 
 STUCK = "env_room-objnav-0002"
 AGENTS = f'''
@@ -94,25 +94,10 @@ class CrashingAgent(SlowAgent):
 
 
 def _episodes() -> list[Episode]:
-    goal = Goal(object_id=1, category="table", position=TABLE_CENTER, radius=0.6, size=(1.2, 0.8, 0.75))
     info = EpisodeInfo(
         geodesic_distance=3.0, euclidean_distance=3.0, closest_goal_object_id=1, success_distance=1.6
     )
-    return [
-        Episode(
-            episode_id=f"env_room-objnav-{i:04d}",
-            scene_id="env_room",
-            scene_type="indoor",
-            task="objnav",
-            start_position=(2.0, 2.0 + 0.6 * i, 0.0),
-            start_rotation=(0.0, 0.0, 0.0, 1.0),
-            object_category="table",
-            goals=[goal],
-            reference_path=[(2.0, 2.0 + 0.6 * i, 0.0), (4.5, 5.0, 0.0)],
-            info=info,
-        )
-        for i in range(6)
-    ]
+    return table_episodes(6, first_y=2.0, step=0.6, end=(4.5, 5.0), info=info)
 
 
 @pytest.fixture(scope="module")
