@@ -3,7 +3,7 @@
 The ``oracle`` agent follows every reference path of a split with each robot, with every terrain
 class's friction set to each μ, and the table gives SR and mean speed (path length / duration):
 
-    python scripts/kinodynamics.py --dataset episodes/navverse-mini/v1.0 --split eval --out kinodynamics
+    python scripts/kinodynamics.py --dataset episodes/navverse-mini/v2.0 --split eval --out kinodynamics
 
 SR is given twice: with the robot's own success distance (1.0 + r_robot) and with the episode's (the
 one its goal regions were built for, the dataset's embodiment): a path that ends at the edge of a

@@ -1,0 +1,63 @@
+"""The merge_datasets stage: one versioned dataset made of the built versions of several dataset recipes."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from pydantic import Field
+
+from pipeline import Input, Params, StageContext, stage
+
+
+class MergeDatasetsParams(Params):
+    """Parameters of :func:`merge_datasets`.
+
+    The recipe links the parts (``links: {parts: {artifact: dataset, targets: [...]}}``): built dataset
+    versions over different scenes, verified with the same robot. Each scene keeps the split its part
+    gave it; difficulties are relabelled over all the episodes. ``version`` and ``name`` are the merged
+    dataset's, as for ``package_dataset``.
+    """
+
+    version: Annotated[str, Field(pattern=r"^\d+\.\d+$")]
+    name: Annotated[str, Field(pattern=r"^[a-z0-9][a-z0-9._-]*$")] | None = None
+
+
+@stage(name="merge_datasets", inputs=[Input("parts", artifact="dataset", many=True)], outputs=["dataset"])
+def merge_datasets(ctx: StageContext, params: MergeDatasetsParams) -> None:
+    """<name>/v<version>/: the linked datasets' episodes and rollouts packaged as one dataset."""
+    from navverse import __version__
+    from navverse.dataset import Dataset, built_version
+    from navverse.episodes.merging import merge_parts
+    from navverse.episodes.packaging import write_dataset
+
+    parts = sorted(
+        (Dataset(built_version(path)) for path in ctx.inputs["parts"]), key=lambda d: d.manifest.name
+    )
+    ctx.progress(0, 2, "merging")
+    merged = merge_parts(parts)
+    ctx.progress(1, 2, "writing")
+    name = params.name or ctx.target
+    manifest = write_dataset(
+        ctx.output / name / f"v{params.version}",
+        merged.episodes,
+        merged.rollouts,
+        name=name,
+        version=params.version,
+        splits=merged.splits,
+        embodiment=merged.embodiment,
+        recipe=f"recipes/{ctx.recipe}",
+        recipe_hash=ctx.recipe_hash,
+        scene_hashes=merged.scene_hashes,
+        toolkit_version=__version__,
+    )
+    ctx.progress(2, 2, "done")
+    ctx.record(
+        parts=merged.parts,
+        episodes=len(merged.episodes),
+        counts=manifest.counts,
+        difficulty_thresholds={k: list(v) for k, v in manifest.difficulty_thresholds.items()},
+    )
+    ctx.log.info(
+        "dataset %s v%s: %d episodes from %s",
+        manifest.name, manifest.version, len(merged.episodes), ", ".join(p["name"] for p in merged.parts),
+    )  # fmt: skip
