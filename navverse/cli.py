@@ -108,6 +108,8 @@ def cmd_build(args: argparse.Namespace, console: Console) -> int:
     from pipeline.executors import make_executor
     from pipeline.runner import describe_plan, find_corrupt, plan, print_corrupt, run_build
 
+    if args.address is not None and args.executor != "ray":
+        raise PipelineError("--address names a Ray cluster: use it with --executor ray")
     _, chosen, graph, store = _graph_for(args.targets)
     force = [t.id for t in chosen] if args.force else []
     verify = "hash" if args.verify else "size"
@@ -121,7 +123,12 @@ def cmd_build(args: argparse.Namespace, console: Console) -> int:
     try:
         with _locked(store, wait=not args.no_wait):
             report = run_build(
-                graph, store, lambda: make_executor(args.jobs), force=force, verify=verify, console=console
+                graph,
+                store,
+                lambda: make_executor(args.jobs, kind=args.executor, address=args.address),
+                force=force,
+                verify=verify,
+                console=console,
             )
             if not report.ok:
                 return 1
@@ -395,7 +402,7 @@ EXPORT_HABITAT_DESCRIPTION = (
     "scripts/habitat_check.py does so in a separate environment."
 )
 
-MINI = "episodes/navverse-mini/v1.1"
+MINI = "episodes/navverse-mini/v2.0"
 """The default dataset (``make episodes``), in the examples of ``--help``."""
 
 OUTDOOR = "episodes/navverse-outdoor/v1.0"
@@ -440,7 +447,22 @@ def _build_parsers(sub, recipe_options: argparse.ArgumentParser) -> None:
         "-j",
         type=int,
         default=None,
-        help="parallel processes (default: number of cores; 0 runs in this process)",
+        help="parallel processes (default: number of cores; 0 runs in this process); with --executor ray, "
+        "the CPUs of the Ray instance started here, or a cap on the tasks sent to a cluster",
+    )
+    build.add_argument(
+        "--executor",
+        choices=("local", "ray"),
+        default="local",
+        help="where stages run: local processes (default) or Ray tasks (needs navverse[cluster]; the "
+        "build store must be on a filesystem every Ray node mounts at the same path)",
+    )
+    build.add_argument(
+        "--address",
+        default=None,
+        metavar="ADDR",
+        help="with --executor ray: the cluster to use ('auto', host:port or ray://host:port; "
+        "default: start Ray on this machine)",
     )
     build.add_argument(
         "--force", action="store_true", help="rebuild the selected targets even if cached (replacing them)"

@@ -1,16 +1,252 @@
-"""What a stage function receives besides its params."""
+"""What a stage function receives besides its params, and fan-out inside a stage (``ctx.map``).
+
+Fan-out inside a stage
+----------------------
+``ctx.map(fn, items)`` applies ``fn`` to every item and returns the results in item order, running on
+the executor the build uses: a process pool next to the stage's worker locally (spawned processes
+that end with the worker, the stage's share of the cores: ``cores // --jobs``), Ray tasks when
+the build runs on Ray (``--executor ray``: the items spread over the cluster), and in the stage's
+own process when its share is one core, when the items make one chunk, or when the build runs
+in-process (``--jobs 0``). ``fn`` must be a module-level function (it is pickled by reference, on every
+executor, so a lambda fails the same way everywhere) and items and results must pickle.
+
+Items are cut into chunks of ``chunksize`` consecutive items (default: about four chunks per
+worker); a chunk is one pool job or one Ray task. Results do not depend on the executor or the
+number of workers: each item's result is ``fn(item)`` alone, so ``fn`` must draw no randomness of
+its own — give each item its seed (e.g. ``ctx.rng.integers(2**63, size=len(items))``, drawn before
+the call). If ``fn`` raises, the stage fails with :class:`MapError` naming the lowest failing
+item's index (``ctx.map: fn raised on item 17 of 50: ValueError: ...``), the same index whatever
+ran it: later chunks are cancelled, earlier ones are waited for. Progress is reported per chunk.
+"""
 
 from __future__ import annotations
 
+import concurrent.futures as cf
+import ctypes
 import logging
-from collections.abc import Callable
+import math
+import multiprocessing
+import os
+import pickle
+import signal
+import sys
+import threading
+import time
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
 ProgressSink = Callable[[int, int, str], None]
+
+FanOutKind = Literal["inline", "processes", "ray"]
+
+CHUNKS_PER_WORKER = 4
+"""Default number of chunks per worker of ``ctx.map`` (small enough to balance, few enough to be cheap)."""
+
+
+@dataclass(frozen=True)
+class FanOut:
+    """Where ``ctx.map`` runs; set by the executor on each task it starts.
+
+    Attributes
+    ----------
+    kind : {"inline", "processes", "ray"}
+        In the stage's process, in a local process pool, or as Ray tasks.
+    workers : int
+        Pool processes (``processes``), or the cluster's CPUs (``ray``: used to size the chunks).
+        The executor picks ``inline`` rather than a pool of one.
+    """
+
+    kind: FanOutKind = "inline"
+    workers: int = 1
+
+
+class MapError(RuntimeError):
+    """``fn`` raised on an item of ``ctx.map``; the message names the item's index.
+
+    Attributes
+    ----------
+    index : int
+        The failing item's index.
+    """
+
+    def __init__(self, message: str, index: int) -> None:
+        super().__init__(message, index)
+        self.index = index
+
+    def __str__(self) -> str:
+        return str(self.args[0])
+
+
+def apply_chunk(fn: Callable[[Any], Any], start: int, total: int, chunk: Sequence[Any]) -> list[Any]:
+    """``[fn(item) for item in chunk]``; an exception becomes a :class:`MapError` naming the item's index.
+
+    Parameters
+    ----------
+    fn : callable
+        The mapped function.
+    start : int
+        Index of the chunk's first item among all items.
+    total : int
+        How many items the whole map has (for the message).
+    chunk : sequence
+        The items.
+    """
+    results = []
+    for offset, item in enumerate(chunk):
+        try:
+            results.append(fn(item))
+        except Exception as exc:
+            name = getattr(fn, "__qualname__", repr(fn))
+            text = str(exc).strip() or type(exc).__name__
+            index = start + offset
+            message = f"ctx.map: {name} raised on item {index} of {total}: {type(exc).__name__}: {text}"
+            raise MapError(message, index) from exc
+    return results
+
+
+def chunk_bounds(count: int, workers: int, chunksize: int | None = None) -> list[tuple[int, int]]:
+    """``[(start, stop), ...]``: chunks of ``count`` items (default: :data:`CHUNKS_PER_WORKER` per worker)."""
+    if chunksize is None:
+        chunksize = max(1, math.ceil(count / (max(1, workers) * CHUNKS_PER_WORKER)))
+    if chunksize < 1:
+        raise ValueError(f"ctx.map: chunksize must be at least 1, not {chunksize}")
+    return [(start, min(start + chunksize, count)) for start in range(0, count, chunksize)]
+
+
+def run_map(
+    fn: Callable[[Any], Any],
+    items: Iterable[Any],
+    *,
+    fanout: FanOut,
+    chunksize: int | None = None,
+    progress: ProgressSink | None = None,
+) -> list[Any]:
+    """Apply ``fn`` to every item where ``fanout`` says; the engine of :meth:`StageContext.map`.
+
+    Parameters
+    ----------
+    fn : callable
+        A module-level function of one item.
+    items : iterable
+        The items (materialised into a list).
+    fanout : FanOut
+        Where to run.
+    chunksize : int, optional
+        Items per chunk.
+    progress : callable, optional
+        Called with ``(done items, total, description)`` after each chunk.
+
+    Returns
+    -------
+    list
+        ``[fn(item) for item in items]``.
+
+    Raises
+    ------
+    MapError
+        ``fn`` raised on an item (the lowest failing index).
+    TypeError
+        ``fn`` cannot be pickled by reference (a lambda or a nested function).
+    """
+    values = list(items)
+    _check_picklable(fn)
+    bounds = chunk_bounds(len(values), fanout.workers, chunksize)
+    chunks = [(start, values[start:stop]) for start, stop in bounds]
+    description = f"map {getattr(fn, '__name__', 'fn')}"
+
+    def report(done: int) -> None:
+        if progress is not None:
+            progress(done, len(values), description)
+
+    if fanout.kind == "inline" or len(chunks) <= 1:
+        return _map_inline(fn, chunks, len(values), report)
+    if fanout.kind == "ray":
+        from pipeline.ray_executor import ray_map  # only a build on Ray gets here
+
+        return ray_map(fn, chunks, len(values), report)
+    return _map_processes(fn, chunks, len(values), report, workers=fanout.workers)
+
+
+def _check_picklable(fn: Callable[[Any], Any]) -> None:
+    try:
+        pickle.dumps(fn)
+    except Exception as exc:
+        raise TypeError(
+            f"ctx.map needs a module-level function (pickled by reference), not {fn!r}: {exc}"
+        ) from None
+
+
+def _map_inline(
+    fn: Callable[[Any], Any], chunks: list[tuple[int, list[Any]]], total: int, report: Callable[[int], None]
+) -> list[Any]:
+    results: list[Any] = []
+    for start, chunk in chunks:
+        results += apply_chunk(fn, start, total, chunk)
+        report(len(results))
+    return results
+
+
+def _map_processes(
+    fn: Callable[[Any], Any],
+    chunks: list[tuple[int, list[Any]]],
+    total: int,
+    report: Callable[[int], None],
+    *,
+    workers: int,
+) -> list[Any]:
+    """The chunks on a pool of spawned processes that end with this one; results collected in order."""
+    context = multiprocessing.get_context("spawn")
+    pool = cf.ProcessPoolExecutor(
+        max_workers=min(workers, len(chunks)), mp_context=context, initializer=end_with_parent
+    )
+    try:
+        futures = [pool.submit(apply_chunk, fn, start, total, chunk) for start, chunk in chunks]
+        results: list[Any] = []
+        for future in futures:
+            try:
+                results += future.result()
+            except MapError:
+                for later in futures:
+                    later.cancel()
+                raise
+            report(len(results))
+        return results
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+# -- pool processes end with the stage's worker ---------------------------------------------------
+_PR_SET_PDEATHSIG = 1
+
+
+def end_with_parent() -> None:
+    """Initializer of ``ctx.map``'s pool processes: ignore SIGINT, end when the parent ends.
+
+    At once on Linux (``PR_SET_PDEATHSIG``), else within 0.5 s (a watchdog thread); so a killed
+    build or stage worker leaves no pool process behind.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    parent = os.getppid()
+    if sys.platform.startswith("linux"):
+        try:
+            armed = ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0) == 0
+        except (OSError, AttributeError):
+            armed = False
+        if armed:
+            if os.getppid() != parent:  # the parent ended before the signal was armed
+                os._exit(1)
+            return
+    threading.Thread(target=_watch_parent, args=(parent,), name="parent-watch", daemon=True).start()
+
+
+def _watch_parent(parent: int) -> None:
+    while os.getppid() == parent:
+        time.sleep(0.5)
+    os._exit(1)
 
 
 @dataclass
@@ -40,6 +276,8 @@ class StageContext:
         ``{name: Path}`` empty directories to write into.
     log : logging.Logger
         Writes to the stage's log file.
+    fanout : FanOut
+        Where :meth:`map` runs (set by the executor).
     """
 
     target: str
@@ -53,6 +291,7 @@ class StageContext:
     log: logging.Logger
     stats: dict[str, Any] = field(default_factory=dict)
     progress_sink: ProgressSink | None = None
+    fanout: FanOut = FanOut()
 
     @property
     def output(self) -> Path:
@@ -76,3 +315,29 @@ class StageContext:
         """Report inner progress (shown as a bar while the stage runs)."""
         if self.progress_sink is not None:
             self.progress_sink(done, total, description)
+
+    def map(
+        self, fn: Callable[[Any], Any], items: Iterable[Any], *, chunksize: int | None = None
+    ) -> list[Any]:
+        """``[fn(item) for item in items]``, fanned out on the executor in use (see the module docstring).
+
+        Parameters
+        ----------
+        fn : callable
+            A module-level function of one item; it must draw no randomness of its own.
+        items : iterable
+            The items; they and the results must pickle.
+        chunksize : int, optional
+            Items per chunk (one pool job or Ray task); default about four chunks per worker.
+
+        Returns
+        -------
+        list
+            The results, in item order; the same whatever executor and number of workers.
+
+        Raises
+        ------
+        MapError
+            ``fn`` raised; the message names the (lowest) failing item's index.
+        """
+        return run_map(fn, items, fanout=self.fanout, chunksize=chunksize, progress=self.progress)

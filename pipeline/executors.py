@@ -4,7 +4,12 @@ distributed engine (e.g. Ray) can be added beside these without touching stages 
 :class:`LocalProcessExecutor` starts one spawned process per task (so peak memory is per task) and
 talks to it over a pipe of its own: no server process (no ``multiprocessing.Manager``), nothing a
 killed build leaves behind. Workers ignore SIGINT and die with the build process; :meth:`abort`
-ends them (and their own children) at once.
+ends them (and their own children) at once. :class:`~pipeline.ray_executor.RayExecutor` runs the
+same tasks as Ray tasks (``make_executor(kind="ray")``).
+
+Each executor tells the tasks it starts where their ``ctx.map`` runs (:class:`~pipeline.context.FanOut`):
+in the stage's process (:class:`InlineExecutor`), on a pool of the stage's share of the cores
+(:class:`LocalProcessExecutor`: ``cores // jobs`` processes), or as Ray tasks.
 """
 
 from __future__ import annotations
@@ -18,12 +23,14 @@ import threading
 import time
 from collections.abc import Iterator
 from concurrent.futures import Future
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from multiprocessing import connection, resource_tracker
-from typing import Any, Protocol, runtime_checkable
+from typing import Any, Literal, Protocol, runtime_checkable
 
 import psutil
 
+from pipeline.context import FanOut
+from pipeline.errors import PipelineError
 from pipeline.worker import StageTask, TaskResult, child_main, run_task, salvage_log
 
 TERMINATE_GRACE_S = 3.0
@@ -100,10 +107,15 @@ class LocalProcessExecutor:
     ----------
     jobs : int, optional
         Parallel processes; default: the number of cores.
+    map_workers : int, optional
+        Pool processes of a stage's ``ctx.map``; default: the stage's share of the cores
+        (``cores // jobs``); with one, ``ctx.map`` runs in the stage's process.
     """
 
-    def __init__(self, jobs: int | None = None) -> None:
+    def __init__(self, jobs: int | None = None, *, map_workers: int | None = None) -> None:
         self.jobs = max(1, jobs or os.cpu_count() or 1)
+        share = max(1, map_workers or (os.cpu_count() or 1) // self.jobs)
+        self.fanout = FanOut("processes", share) if share > 1 else FanOut("inline", 1)
         self.progress: queue.Queue[tuple[str, int, int, str]] = queue.Queue()
         self._context = multiprocessing.get_context("spawn")
         self._jobs: list[_Job] = []
@@ -114,6 +126,7 @@ class LocalProcessExecutor:
 
     def submit(self, task: StageTask) -> Future[TaskResult]:
         """Start a worker process for ``task``."""
+        task = replace(task, fanout=self.fanout)
         reader, writer = self._context.Pipe(duplex=False)
         process = self._context.Process(
             target=child_main, args=(task, writer, os.getpid()), name=f"navverse-stage {task.node_id}"
@@ -273,8 +286,40 @@ def _running(process: psutil.Process) -> bool:
         return False
 
 
-def make_executor(jobs: int | None) -> Executor:
-    """``jobs == 0``: in this process; otherwise local processes (default: one per core)."""
+ExecutorKind = Literal["local", "ray"]
+
+
+def make_executor(jobs: int | None, *, kind: ExecutorKind = "local", address: str | None = None) -> Executor:
+    """The executor of a build.
+
+    Parameters
+    ----------
+    jobs : int or None
+        Tasks at once. Local: ``0`` runs in this process, default one process per core. Ray: the
+        CPUs of the Ray instance started here, or a cap on the tasks sent to a cluster (default: its CPUs).
+    kind : {"local", "ray"}
+        Local processes, or Ray tasks (:class:`~pipeline.ray_executor.RayExecutor`).
+    address : str, optional
+        Ray only: ``None`` starts a Ray instance on this machine; ``"auto"``, ``host:port`` or
+        ``ray://host:port`` connects to a running cluster.
+
+    Raises
+    ------
+    PipelineError
+        Ray is not installed, ``jobs == 0`` with Ray, or ``address`` without Ray.
+    """
+    if kind == "local":
+        if address is not None:
+            raise PipelineError("--address names a Ray cluster: use it with --executor ray")
+        return InlineExecutor() if jobs == 0 else LocalProcessExecutor(jobs)
+    if kind != "ray":
+        raise PipelineError(f"unknown executor {kind!r}: use 'local' or 'ray'")
     if jobs == 0:
-        return InlineExecutor()
-    return LocalProcessExecutor(jobs)
+        raise PipelineError("--jobs 0 runs stages in this process; it does not combine with --executor ray")
+    try:
+        from pipeline.ray_executor import RayExecutor
+    except ImportError as exc:
+        raise PipelineError(
+            f"--executor ray needs Ray ({exc}): pip install 'navverse[cluster]' (ray>=2.40,<3)"
+        ) from None
+    return RayExecutor(address, jobs)

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from pipeline.context import StageContext
+from pipeline.context import FanOut, StageContext
 from pipeline.hashing import hash_tree
 from pipeline.seeds import make_rng
 from pipeline.stage import import_stage
@@ -73,6 +73,9 @@ class StageTask:
         The build directory.
     code_version : str
         Stage code version (for the manifest).
+    fanout : FanOut
+        Where the stage's ``ctx.map`` runs; the executor sets it when it starts the task (not part
+        of the cache key: results do not depend on it).
     """
 
     node_id: str
@@ -90,6 +93,7 @@ class StageTask:
     outputs: tuple[TaskOutput, ...]
     store_root: str
     code_version: str
+    fanout: FanOut = field(default_factory=FanOut)
 
 
 @dataclass
@@ -357,6 +361,7 @@ def _run_stage(
         outputs=dict(tmp_dirs),
         log=logger,
         progress_sink=sink,
+        fanout=task.fanout,
     )
     logger.info("stage %s for %s (key %s, seed %d)", task.stage, task.target, task.node_key, task.seed)
     spec.fn(ctx, params)
