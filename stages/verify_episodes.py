@@ -69,7 +69,7 @@ def verify_episodes(ctx: StageContext, params: VerifyEpisodesParams) -> None:
         scene_dirs,
         embodiment=candidates["embodiment"],
         settings=settings,
-        progress=lambda done, total: ctx.progress(done, total, "verifying"),
+        mapper=lambda fn, tasks: ctx.map(fn, tasks, chunksize=1),  # a scene per job, on the build's executor
     )
     accepted, rollouts, rejections = [], {}, []
     for episode, result in zip(episodes, results, strict=True):

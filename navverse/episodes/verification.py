@@ -203,6 +203,7 @@ def verify_episodes(
     settings: VerificationSettings = VerificationSettings(),
     jobs: int | None = None,
     progress: Callable[[int, int], None] | None = None,
+    mapper: Callable[[Callable, list], list] | None = None,
 ) -> list[VerificationResult]:
     """Verify candidates of many scenes, a process per scene at a time; results in the candidates' order.
 
@@ -220,13 +221,21 @@ def verify_episodes(
         Processes (default: the number of CPUs; 0 or 1 verifies in this process).
     progress : callable, optional
         Called with (scenes done, scenes) as scenes finish.
+    mapper : callable, optional
+        ``mapper(fn, items) -> [fn(item) for item in items]`` run elsewhere: a build stage's
+        ``ctx.map`` (local processes or Ray tasks, as the build runs); then ``jobs`` and ``progress``
+        are the mapper's business.
     """
     by_scene: dict[str, list[Episode]] = {}
     for episode in episodes:
         by_scene.setdefault(episode.scene_id, []).append(episode)
     tasks = [(scene_dirs[scene], eps, embodiment, settings) for scene, eps in sorted(by_scene.items())]
-    jobs = min(len(tasks), os.cpu_count() or 1) if jobs is None else jobs
     results: dict[str, VerificationResult] = {}
+    if mapper is not None:
+        for scene_results in mapper(_verify_task, tasks):
+            results.update((r.episode_id, r) for r in scene_results)
+        return [results[e.episode_id] for e in episodes]
+    jobs = min(len(tasks), os.cpu_count() or 1) if jobs is None else jobs
     done = 0
     if jobs <= 1:
         for task in tasks:
