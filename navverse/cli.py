@@ -674,6 +674,34 @@ def _show_parser(sub, scene_options: argparse.ArgumentParser) -> None:
     episode.set_defaults(func=partial(cli_data.cmd_show_episode, built_dir=_built_dir))
 
 
+def _review_parser(sub, scene_options: argparse.ArgumentParser) -> None:
+    """``navverse review DATASET``: the local page where a person accepts or rejects episodes."""
+    from navverse.review.cli import cmd_review
+
+    review = _command(
+        sub, "review", parents=[scene_options],
+        summary="serve a local page to accept or reject a dataset's episodes (manual quality control)",
+        description=(
+            "List a dataset version's episodes with their bird's-eye view, keyframes along the verification "
+            "rollout and instruction texts, on a page served at 127.0.0.1; each Accept or Reject (with a "
+            "reason) is saved at once to recipes/datasets/<name>.review.yml. Name that file in the "
+            "recipe (package_dataset or merge_datasets: {review: <name>.review.yml}) and build again: a "
+            "new minor version is published without the rejected episodes; the reviewed one is untouched."
+        ),
+        examples=(f"navverse review {MINI}",
+                  "navverse review episodes/navverse-outdoor --port 8765 --no-browser"),
+    )  # fmt: skip
+    review.add_argument(
+        "dataset", help="episodes/<name>[/v<version>], or a name under episodes/ (newest version)"
+    )
+    review.add_argument("--port", type=int, default=0, help="port on 127.0.0.1 (default: any free one)")
+    review.add_argument("--no-browser", action="store_true", help="only print the URL, do not open a browser")
+    review.add_argument(
+        "--recipe", help="the dataset recipe (default: the manifest's recipe in this workspace)"
+    )
+    review.set_defaults(func=partial(cmd_review, built_dir=_built_dir))
+
+
 def _export_parser(sub, scene_options: argparse.ArgumentParser) -> None:
     """``navverse export WHAT``: a dataset's parts for use elsewhere (one sub-command per format)."""
     export = _command(
@@ -758,6 +786,7 @@ def build_parser() -> argparse.ArgumentParser:
     _run_parser(sub, scene_options)
     _show_parser(sub, scene_options)
     _export_parser(sub, scene_options)
+    _review_parser(sub, scene_options)
     _list_parser(sub)
     return parser
 

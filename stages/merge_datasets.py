@@ -6,7 +6,8 @@ from typing import Annotated
 
 from pydantic import Field
 
-from pipeline import Input, Params, StageContext, stage
+from pipeline import Input, Params, SourceFile, StageContext, stage
+from stages._review_step import apply_review
 
 
 class MergeDatasetsParams(Params):
@@ -14,12 +15,13 @@ class MergeDatasetsParams(Params):
 
     The recipe links the parts (``links: {parts: {artifact: dataset, targets: [...]}}``): built dataset
     versions over different scenes, verified with the same robot. Each scene keeps the split its part
-    gave it; difficulties are relabelled over all the episodes. ``version`` and ``name`` are the merged
-    dataset's, as for ``package_dataset``.
+    gave it; difficulties are relabelled over all the episodes. ``version``, ``name`` and ``review``
+    (the decisions file of ``navverse review``) are as for ``package_dataset``.
     """
 
     version: Annotated[str, Field(pattern=r"^\d+\.\d+$")]
     name: Annotated[str, Field(pattern=r"^[a-z0-9][a-z0-9._-]*$")] | None = None
+    review: SourceFile | None = None
 
 
 @stage(name="merge_datasets", inputs=[Input("parts", artifact="dataset", many=True)], outputs=["dataset"])
@@ -37,12 +39,13 @@ def merge_datasets(ctx: StageContext, params: MergeDatasetsParams) -> None:
     merged = merge_parts(parts)
     ctx.progress(1, 2, "writing")
     name = params.name or ctx.target
+    episodes, version = apply_review(ctx, params.review, params.version, name, merged.episodes)
     manifest = write_dataset(
-        ctx.output / name / f"v{params.version}",
-        merged.episodes,
+        ctx.output / name / f"v{version}",
+        episodes,
         merged.rollouts,
         name=name,
-        version=params.version,
+        version=version,
         splits=merged.splits,
         embodiment=merged.embodiment,
         recipe=f"recipes/{ctx.recipe}",
@@ -53,11 +56,11 @@ def merge_datasets(ctx: StageContext, params: MergeDatasetsParams) -> None:
     ctx.progress(2, 2, "done")
     ctx.record(
         parts=merged.parts,
-        episodes=len(merged.episodes),
+        episodes=len(episodes),
         counts=manifest.counts,
         difficulty_thresholds={k: list(v) for k, v in manifest.difficulty_thresholds.items()},
     )
     ctx.log.info(
         "dataset %s v%s: %d episodes from %s",
-        manifest.name, manifest.version, len(merged.episodes), ", ".join(p["name"] for p in merged.parts),
+        manifest.name, manifest.version, len(episodes), ", ".join(p["name"] for p in merged.parts),
     )  # fmt: skip

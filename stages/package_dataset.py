@@ -6,7 +6,8 @@ from typing import Annotated
 
 from pydantic import Field, field_validator
 
-from pipeline import Input, Params, StageContext, stage
+from pipeline import Input, Params, SourceFile, StageContext, stage
+from stages._review_step import apply_review
 
 
 class PackageDatasetParams(Params):
@@ -16,11 +17,18 @@ class PackageDatasetParams(Params):
     published version never changes, so bump it when the content changes. ``name`` defaults to the
     target id. ``splits`` maps split names to glob patterns over scene ids; every scene must fall in
     exactly one split (splits are scene-disjoint).
+
+    ``review`` names the decisions file of ``navverse review`` (``<name>.review.yml`` beside the
+    recipe, :mod:`navverse.review.decisions`): the episodes rejected there are left out, and when any
+    is, the version published is ``version``'s major with its minor bumped past the reviewed version
+    (reviewed 1.1 publishes 1.2). Its content is part of the cache key, so a new decision rebuilds the
+    dataset.
     """
 
     version: Annotated[str, Field(pattern=r"^\d+\.\d+$")]
     name: Annotated[str, Field(pattern=r"^[a-z0-9][a-z0-9._-]*$")] | None = None
     splits: dict[Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*$")], list[str]]
+    review: SourceFile | None = None
 
     @field_validator("splits")
     @classmethod
@@ -66,12 +74,13 @@ def package_dataset(ctx: StageContext, params: PackageDatasetParams) -> None:
     scene_dirs = {read_annotations(path).scene_id: path for path in ctx.inputs["scene"]}
     splits = assign_splits(sorted(scene_dirs), params.splits)
     name = params.name or ctx.target
+    episodes, version = apply_review(ctx, params.review, params.version, name, episodes)
     manifest = write_dataset(
-        ctx.output / name / f"v{params.version}",  # laid out as published under episodes/
+        ctx.output / name / f"v{version}",  # laid out as published under episodes/
         episodes,
         rollouts,
         name=name,
-        version=params.version,
+        version=version,
         splits=splits,
         embodiment=verified["embodiment"],
         recipe=f"recipes/{ctx.recipe}",
