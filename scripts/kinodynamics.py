@@ -1,7 +1,8 @@
 """The embodiment and friction diagnostic (the paper's ``tab:robot_performance_main``).
 
 The ``oracle`` agent follows every reference path of a split with each robot, with every terrain
-class's friction set to each μ, and the table gives SR and mean speed (path length / duration):
+class's friction set to each μ, and the table gives SR and mean speed (path length / duration) per
+scene type and over all:
 
     python scripts/kinodynamics.py --dataset episodes/navverse-mini/v2.0 --split eval --out kinodynamics
 
@@ -29,7 +30,30 @@ from navverse.eval.runner import run_agent
 from navverse.eval.scoring import score
 from navverse.eval.submission import read_submission
 from navverse.scene.locate import built_scene_dirs
+from navverse.scene_types import SCENE_TYPES
 from pipeline.workspace import Workspace
+
+
+def _rows(robot: str, mu: float, own: list[dict], by_episode: list[dict]) -> list[dict]:
+    """Per scene type (and ``all``): episodes run, SR with the robot's own and with the episode's success
+    distance, falls and mean speed, over the episodes with a valid trajectory."""
+    episode_label = {r["episode_id"]: r["label"] for r in by_episode}
+    run = [r for r in own if r["label"] != "invalid"]
+    rows = []
+    for scene_type in [*sorted({r["scene_type"] for r in run}, key=SCENE_TYPES.index), "all"]:
+        group = [r for r in run if scene_type in ("all", r["scene_type"])]
+        reached = sum(episode_label[r["episode_id"]] == "success" for r in group)
+        rows.append({
+            "robot": robot,
+            "friction": mu,
+            "scene_type": scene_type,
+            "episodes": len(group),
+            "sr_own_tolerance": sum(r["label"] == "success" for r in group) / len(group),
+            "sr_episode_tolerance": reached / len(group),
+            "falls": sum(r["label"] == "fall" for r in group),
+            "mean_speed": sum(r["speed"] for r in group) / len(group),
+        })  # fmt: skip
+    return rows
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -66,20 +90,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                     who: score(dataset, submission, split=args.split, scene_dirs=scene_dirs, embodiment=who)
                     for who in (robot, dataset.manifest.embodiment)
                 }
-                run = [r for r in scored[robot].episodes if r["label"] != "invalid"]
-                kept = {r["episode_id"] for r in run}
-                by_episode = [
-                    r for r in scored[dataset.manifest.embodiment].episodes if r["episode_id"] in kept
-                ]
-                rows.append({
-                    "robot": robot,
-                    "friction": mu,
-                    "episodes": len(run),
-                    "sr_own_tolerance": sum(r["label"] == "success" for r in run) / len(run),
-                    "sr_episode_tolerance": sum(r["label"] == "success" for r in by_episode) / len(run),
-                    "falls": sum(r["label"] == "fall" for r in run),
-                    "mean_speed": sum(r["speed"] for r in run) / len(run),
-                })  # fmt: skip
+                rows += _rows(robot, mu, scored[robot].episodes, scored[dataset.manifest.embodiment].episodes)
     except NavverseError as exc:
         Console(stderr=True).print(f"error: {exc}", style="red", markup=False, highlight=False)
         return 1
@@ -89,6 +100,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     for column in (
         "robot",
         "μ",
+        "scene type",
         "episodes",
         "SR own tol. (%)",
         "SR episode tol. (%)",
@@ -97,7 +109,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ):
         table.add_column(column, justify="left" if column == "robot" else "right")
     for row in rows:
-        table.add_row(row["robot"], f"{row['friction']:g}", str(row["episodes"]),
+        table.add_row(row["robot"], f"{row['friction']:g}", row["scene_type"], str(row["episodes"]),
                       f"{100 * row['sr_own_tolerance']:.1f}", f"{100 * row['sr_episode_tolerance']:.1f}",
                       str(row["falls"]), f"{row['mean_speed']:.2f}")  # fmt: skip
     console.print(table)
