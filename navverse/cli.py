@@ -665,11 +665,11 @@ def _show_parser(sub, scene_options: argparse.ArgumentParser) -> None:
     dataset.set_defaults(func=cli_data.cmd_show_dataset)
     episode = _command(
         ssub, "episode", parents=[scene_options], summary="draw an episode on its scene's bird's-eye view",
-        examples=(f"navverse show episode {MINI} school-s1-vln-0003 -o ep.png",
+        examples=(f"navverse show episode {MINI} office-s1-vln-0003 -o ep.png",
                   f"navverse show episode {OUTDOOR} west-oakland-vln-0000"),
     )  # fmt: skip
     episode.add_argument("dataset", help=DATASET_HELP)
-    episode.add_argument("episode_id", help="the episode's id, e.g. school-s1-vln-0003 (see show dataset)")
+    episode.add_argument("episode_id", help="the episode's id, e.g. office-s1-vln-0003 (see show dataset)")
     episode.add_argument("-o", "--output", help="PNG path (default: <episode_id>.png)")
     episode.set_defaults(func=partial(cli_data.cmd_show_episode, built_dir=_built_dir))
 
