@@ -22,22 +22,18 @@ ran it: later chunks are cancelled, earlier ones are waited for. Progress is rep
 from __future__ import annotations
 
 import concurrent.futures as cf
-import ctypes
 import logging
 import math
 import multiprocessing
-import os
 import pickle
-import signal
-import sys
-import threading
-import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
+
+from pipeline.processes import end_with_parent
 
 ProgressSink = Callable[[int, int, str], None]
 
@@ -220,33 +216,6 @@ def _map_processes(
 
 
 # -- pool processes end with the stage's worker ---------------------------------------------------
-_PR_SET_PDEATHSIG = 1
-
-
-def end_with_parent() -> None:
-    """Initializer of ``ctx.map``'s pool processes: ignore SIGINT, end when the parent ends.
-
-    At once on Linux (``PR_SET_PDEATHSIG``), else within 0.5 s (a watchdog thread); so a killed
-    build or stage worker leaves no pool process behind.
-    """
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    parent = os.getppid()
-    if sys.platform.startswith("linux"):
-        try:
-            armed = ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0) == 0
-        except (OSError, AttributeError):
-            armed = False
-        if armed:
-            if os.getppid() != parent:  # the parent ended before the signal was armed
-                os._exit(1)
-            return
-    threading.Thread(target=_watch_parent, args=(parent,), name="parent-watch", daemon=True).start()
-
-
-def _watch_parent(parent: int) -> None:
-    while os.getppid() == parent:
-        time.sleep(0.5)
-    os._exit(1)
 
 
 @dataclass

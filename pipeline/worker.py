@@ -10,7 +10,6 @@ error is kept and the stage fails with one line saying what to do.
 from __future__ import annotations
 
 import contextlib
-import ctypes
 import errno
 import logging
 import os
@@ -27,6 +26,7 @@ from typing import Any
 
 from pipeline.context import FanOut, StageContext
 from pipeline.hashing import hash_tree
+from pipeline.processes import die_with_parent
 from pipeline.seeds import make_rng
 from pipeline.stage import import_stage
 from pipeline.store import LOG_NAME, MANIFEST_NAME, ArtifactStore
@@ -438,7 +438,7 @@ def child_main(task: StageTask, conn: Any, parent_pid: int) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})  # the parent blocked it for the start
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    _die_with_parent(parent_pid)
+    die_with_parent(parent_pid)
     logging.raiseExceptions = False
     lock = threading.Lock()
 
@@ -448,24 +448,3 @@ def child_main(task: StageTask, conn: Any, parent_pid: int) -> None:
 
     send(("result", run_task(task, _PipeProgress(send))))
     conn.close()
-
-
-def _die_with_parent(parent_pid: int) -> None:
-    """Make this process end when ``parent_pid`` does (at once on Linux, else within a second)."""
-    if sys.platform.startswith("linux"):
-        try:
-            prctl = ctypes.CDLL(None, use_errno=True).prctl
-            armed = prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0) == 0
-        except (OSError, AttributeError):
-            armed = False
-        if armed:
-            if os.getppid() != parent_pid:  # the parent died before the signal was armed
-                os._exit(1)
-            return
-    threading.Thread(target=_watch_parent, args=(parent_pid,), name="parent-watchdog", daemon=True).start()
-
-
-def _watch_parent(parent_pid: int) -> None:
-    while os.getppid() == parent_pid:
-        time.sleep(0.5)
-    os._exit(1)
