@@ -65,12 +65,9 @@ class SampleEpisodesParams(Params):
 @stage(name="sample_episodes", inputs=[Input("scene", many=True)], outputs=["candidates"])
 def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
     """candidates.json.gz: episode candidates of every task in every linked scene, with their statistics."""
-    import numpy as np
-
     from navverse.dataset import write_json_gz
     from navverse.episodes import files
-    from navverse.episodes.sampling import SamplingSettings, object_goals, place_goals, sample_scene_episodes
-    from navverse.nav.scene_navmesh import load_scene_navmesh
+    from navverse.episodes.sampling import SamplingSettings
     from navverse.scene import read_annotations
     from navverse.sim.embodiments import make_embodiment
 
@@ -85,41 +82,22 @@ def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
         start_region=params.start_region,
     )
     scenes = sorted((read_annotations(path).scene_id, path) for path in ctx.inputs["scene"])
+    jobs = [(scene_id, path, ctx.seed, params, settings) for scene_id, path in scenes]
+    ctx.progress(0, len(scenes), "sampling")
     episodes = []
     per_scene: dict[str, dict[str, int]] = {}
     hits = [0] * len(params.goal_rules)
     found: dict[str, set[str]] = {"objnav": set(), "placenav": set()}  # goal categories with an instance
-    for done, (scene_id, path) in enumerate(scenes):
-        ctx.progress(done, len(scenes), scene_id)
-        annotations = read_annotations(path)
-        finder = load_scene_navmesh(path)
-        counts = per_scene.setdefault(scene_id, {})
-        for task_index, (task, spec) in enumerate(sorted(params.tasks.items())):
-            if task == "placenav":
-                goals = place_goals(annotations, categories=params.place_categories)
-            else:
-                goals = object_goals(
-                    annotations, rules=params.goal_rules, categories=params.categories, hits=hits
-                )
-            found["placenav" if task == "placenav" else "objnav"].update(goals)
-            rng = np.random.default_rng([ctx.seed, zlib.crc32(scene_id.encode()), task_index])
-            sample = sample_scene_episodes(
-                finder,
-                annotations,
-                goals,
-                task=task,
-                count=spec.episodes_per_scene,
-                rng=rng,
-                settings=settings,
-            )
-            episodes.extend(sample.episodes)
-            counts[task] = len(sample.episodes)
-            if len(sample.episodes) < spec.episodes_per_scene:
-                why = "no reachable goal category" if not sample.categories else "attempts used up"
-                ctx.log.warning(
-                    "%s: %d of %d %s candidates (%s)",
-                    scene_id, len(sample.episodes), spec.episodes_per_scene, task, why,
-                )  # fmt: skip
+    for scene_id, sampled in zip(
+        (s for s, _ in scenes), ctx.map(_sample_scene, jobs, chunksize=1), strict=True
+    ):
+        episodes.extend(sampled["episodes"])
+        per_scene[scene_id] = sampled["counts"]
+        hits = [a + b for a, b in zip(hits, sampled["hits"], strict=True)]
+        for key, names in sampled["found"].items():
+            found[key].update(names)
+        for message in sampled["short"]:
+            ctx.log.warning("%s", message)
     for warning in unmatched_rules(params.goal_rules, hits):
         ctx.log.warning("%s", warning)
     for kind, asked, key in (("categories", params.categories, "objnav"),
@@ -141,3 +119,39 @@ def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
     )
     ctx.record(candidates=len(episodes), scenes=len(scenes), per_scene=per_scene)
     ctx.log.info("%d candidates in %d scenes", len(episodes), len(scenes))
+
+
+def _sample_scene(job: tuple) -> dict:
+    """The candidates of one scene (a ``ctx.map`` job): per task, drawn with a generator seeded from
+    (stage seed, scene id, task), so the result does not depend on where or in which order it runs."""
+    import numpy as np
+
+    from navverse.episodes.sampling import object_goals, place_goals, sample_scene_episodes
+    from navverse.nav.scene_navmesh import load_scene_navmesh
+    from navverse.scene import read_annotations
+
+    scene_id, path, seed, params, settings = job
+    annotations = read_annotations(path)
+    finder = load_scene_navmesh(path)
+    out: dict = {"episodes": [], "counts": {}, "hits": [0] * len(params.goal_rules), "short": []}
+    out["found"] = {"objnav": set(), "placenav": set()}
+    for task_index, (task, spec) in enumerate(sorted(params.tasks.items())):
+        if task == "placenav":
+            goals = place_goals(annotations, categories=params.place_categories)
+        else:
+            goals = object_goals(
+                annotations, rules=params.goal_rules, categories=params.categories, hits=out["hits"]
+            )
+        out["found"]["placenav" if task == "placenav" else "objnav"].update(goals)
+        rng = np.random.default_rng([seed, zlib.crc32(scene_id.encode()), task_index])
+        sample = sample_scene_episodes(
+            finder, annotations, goals, task=task, count=spec.episodes_per_scene, rng=rng, settings=settings
+        )
+        out["episodes"].extend(sample.episodes)
+        out["counts"][task] = len(sample.episodes)
+        if len(sample.episodes) < spec.episodes_per_scene:
+            why = "no reachable goal category" if not sample.categories else "attempts used up"
+            out["short"].append(
+                f"{scene_id}: {len(sample.episodes)} of {spec.episodes_per_scene} {task} candidates ({why})"
+            )
+    return out
