@@ -14,9 +14,9 @@ Everything the command line does with recipes and datasets, from Python::
     house = nv.generate_building("apartment", seed=3)           # no engine, no files: a Scene
     town = nv.generate_city(seed=0, size=(300, 300))            # a synthetic city's map and scene
 
-:func:`build` runs the engine (:mod:`pipeline`) on the workspace, with its cache, lock and store, as
-``navverse build`` does; it is, with :mod:`navverse.cli`, a composition root: the only navverse modules
-that import the engine and the stages (lazily, inside :func:`build`). The other functions need no
+:func:`build` runs the engine on the workspace, with its cache, lock and store, through
+:func:`navverse.cli.build_targets`, the code of ``navverse build``: :mod:`navverse.cli` stays the one
+navverse module that imports the engine and the stages. The other functions need no
 workspace. (The API is not re-exported from ``navverse`` itself: every stage's cache key covers the
 package's ``__init__`` and all it imports.)
 """
@@ -157,42 +157,20 @@ def build(
     """
     from rich.console import Console
 
-    from pipeline.errors import PipelineError
-    from pipeline.executors import make_executor
-    from pipeline.lock import workspace_lock
-    from pipeline.recipes import RecipeLoader
-    from pipeline.runner import run_build
-    from pipeline.selection import select_loaded
-    from pipeline.stage import discover
-    from pipeline.store import ArtifactStore
-    from pipeline.workspace import Workspace
+    from navverse.cli import build_targets, workspace_built_dir
 
+    root = Path(root) if root is not None else None
+    extra: list[Path] = []
+    if isinstance(recipe, Mapping):
+        target, path = _recipe_file(recipe, name, workspace_built_dir(root))
+        selectors, extra = [target], [path]
+    else:
+        selectors = [recipe] if isinstance(recipe, str) else list(recipe)
     try:
-        workspace = Workspace(root=Path(root).resolve()) if root is not None else Workspace.find()
-        loader = RecipeLoader(workspace, stages=discover("stages"))
-        files = loader.recipe_files()
-        if isinstance(recipe, Mapping):
-            target, path = _recipe_file(recipe, name, workspace.built_dir)
-            files, selectors = [*files, path], [target]
-        else:
-            selectors = [recipe] if isinstance(recipe, str) else list(recipe)
-        recipes = loader.load_all(files)
-        chosen = select_loaded(recipes, selectors)
-        from pipeline.dag import build_graph
-
-        graph = build_graph(chosen, universe=recipes.targets)
-        store = ArtifactStore(workspace.built_dir)
-        console = Console(quiet=quiet)
-        with workspace_lock(store.lock_path, wait=True):
-            report = run_build(
-                graph,
-                store,
-                lambda: make_executor(jobs),
-                force=[t.id for t in chosen] if force else [],
-                verify="size",
-                console=console,
-            )
-    except PipelineError as exc:
+        outputs, report = build_targets(
+            selectors, root=root, extra_files=extra, jobs=jobs, force=force, console=Console(quiet=quiet)
+        )
+    except NavverseError as exc:
         raise ApiError(str(exc)) from None
     if not report.ok:
         failed = "; ".join(f"{node}: {result.error}" for node, result in list(report.failed.items())[:5])
@@ -200,15 +178,6 @@ def build(
             f"the build failed ({len(report.failed)} stage runs failed, {len(report.skipped)} skipped): "
             + failed
         )
-    outputs = {
-        t.id: {
-            out: store.target_output(t.id, out)
-            for call in t.stages
-            for out in call.spec.outputs
-            if store.target_output(t.id, out) is not None
-        }
-        for t in chosen
-    }
     return BuildResult(targets=outputs, built=len(report.built), cached=len(report.cached))
 
 
@@ -245,22 +214,18 @@ def load_scene(
     if (given / "scene.json").is_file():
         directory = given
     else:
-        directory = find_scene_dirs([str(scene)], search=scenes, built_dir=_workspace_store)[str(scene)]
+        directory = find_scene_dirs([str(scene)], search=scenes, built_dir=_workspace_built_dir)[str(scene)]
     has_navmesh = SceneFiles(directory).navmesh.is_file()
     return LoadedScene(
         directory, read_scene(directory), load_scene_navmesh(directory) if has_navmesh else None
     )
 
 
-def _workspace_store() -> Path:
-    """The build store of the workspace here (for the scene search path)."""
-    from pipeline.errors import PipelineError
-    from pipeline.workspace import Workspace
+def _workspace_built_dir() -> Path:
+    """The build store of the workspace here (the last place of the scene search path)."""
+    from navverse.cli import workspace_built_dir
 
-    try:
-        return Workspace.find().built_dir
-    except PipelineError as exc:
-        raise NavverseError(str(exc)) from None
+    return workspace_built_dir()
 
 
 # ---------------------------------------------------------------------------------------------- env
@@ -335,7 +300,7 @@ def make_env(
         if not every:
             raise ApiError(f"split {split!r} of {data.root} has no episodes")
         episodes = [e for e in every if e.scene_id == every[0].scene_id]
-    directory = data.scene_dir(episodes[0], search=scenes, built_dir=_workspace_store)
+    directory = data.scene_dir(episodes[0], search=scenes, built_dir=_workspace_built_dir)
     env_options.setdefault("embodiment", data.manifest.embodiment)
     env = NavVerseEnv(directory, **env_options)
     ids = {task: data.file(split, task).category_to_task_category_id for task in data.tasks(split)}

@@ -28,14 +28,15 @@ from pipeline.errors import PipelineError
 STAGES_PACKAGE = "stages"
 
 
-def _workspace():
+def _workspace(root: Path | None = None):
+    """The workspace at ``root``, else the one found from here (or ``$NAVVERSE_ROOT``)."""
     from pipeline.workspace import Workspace
 
-    return Workspace.find()
+    return Workspace(root=Path(root).resolve()) if root is not None else Workspace.find()
 
 
-def _built_dir() -> Path:
-    """The build store of the workspace (``data/built``).
+def workspace_built_dir(root: Path | None = None) -> Path:
+    """The build store of the workspace (``data/built``): at ``root``, else the one found from here.
 
     Raises
     ------
@@ -44,7 +45,7 @@ def _built_dir() -> Path:
         name it as the reason the build store was not searched).
     """
     try:
-        return _workspace().built_dir
+        return _workspace(root).built_dir
     except PipelineError as exc:
         raise NavverseError(str(exc)) from None
 
@@ -62,8 +63,15 @@ def _warn(warnings: Sequence[str]) -> None:
         console.print(f"warning: {text}", style="yellow", highlight=False, markup=False, soft_wrap=True)
 
 
-def _graph_for(selectors: Sequence[str], *, every_target: bool = False):
-    """The selected targets and their build graph.
+def _graph_for(
+    selectors: Sequence[str],
+    *,
+    every_target: bool = False,
+    root: Path | None = None,
+    extra_files: Sequence[Path] = (),
+):
+    """The selected targets and their build graph (recipes of the workspace at ``root``, or found from
+    here, and ``extra_files``).
 
     Recipe files with problems do not block a selection that does not need them: their targets are
     left out, with a warning per file (see :func:`pipeline.selection.select_loaded`).
@@ -71,8 +79,9 @@ def _graph_for(selectors: Sequence[str], *, every_target: bool = False):
     from pipeline.selection import select_loaded
     from pipeline.store import ArtifactStore
 
-    workspace = _workspace()
-    recipes = _loader(workspace).load_all()
+    workspace = _workspace(root)
+    loader = _loader(workspace)
+    recipes = loader.load_all([*loader.recipe_files(), *extra_files] if extra_files else None)
     if every_target and recipes.broken:
         raise recipes.error()
     chosen = list(recipes.targets) if every_target else select_loaded(recipes, selectors)
@@ -103,10 +112,9 @@ def _graph_over(chosen, recipes, *, selectors: Sequence[str]):
 
 def cmd_build(args: argparse.Namespace, console: Console) -> int:
     """Build targets (default: all), holding the workspace lock; exit 1 if a stage failed."""
-    import logging
 
     from pipeline.executors import make_executor
-    from pipeline.runner import describe_plan, find_corrupt, plan, print_corrupt, run_build
+    from pipeline.runner import describe_plan, find_corrupt, plan, print_corrupt
 
     if args.address is not None and args.executor != "ray":
         raise PipelineError("--address names a Ray cluster: use it with --executor ray")
@@ -119,23 +127,62 @@ def cmd_build(args: argparse.Namespace, console: Console) -> int:
         print_corrupt(corrupt, store, console, action="would rebuild")
         describe_plan(graph, plan(graph, store, force=force, corrupt=corrupt), console)
         return 0
+    executor = partial(make_executor, args.jobs, kind=args.executor, address=args.address)
+    report = _run_locked(graph, store, executor, force=force, verify=verify, wait=not args.no_wait,
+                         console=console, then=lambda: _publish_datasets(chosen, store, console))  # fmt: skip
+    return 0 if report.ok else 1
+
+
+def _run_locked(graph, store, executor, *, force, verify, wait: bool, console: Console, then=None):
+    """Run a build graph holding the workspace lock, without logging tracebacks; ``then()`` after a
+    build that succeeded, still under the lock. The engine's report."""
+    import logging
+
+    from pipeline.runner import run_build
+
     raise_exceptions, logging.raiseExceptions = logging.raiseExceptions, False  # no logging tracebacks
     try:
-        with _locked(store, wait=not args.no_wait):
-            report = run_build(
-                graph,
-                store,
-                lambda: make_executor(args.jobs, kind=args.executor, address=args.address),
-                force=force,
-                verify=verify,
-                console=console,
-            )
-            if not report.ok:
-                return 1
-            _publish_datasets(chosen, store, console)
+        with _locked(store, wait=wait):
+            report = run_build(graph, store, executor, force=force, verify=verify, console=console)
+            if report.ok and then is not None:
+                then()
     finally:
         logging.raiseExceptions = raise_exceptions
-    return 0
+    return report
+
+
+def build_targets(
+    selectors: Sequence[str],
+    *,
+    root: Path | None = None,
+    extra_files: Sequence[Path] = (),
+    jobs: int | None = None,
+    force: bool = False,
+    console: Console,
+) -> tuple[dict[str, dict[str, Path]], object]:
+    """Build the selected targets as ``navverse build`` does, for :func:`navverse.api.build`: their
+    outputs ``{target: {artifact: directory}}`` and the engine's report.
+
+    Raises
+    ------
+    NavverseError
+        The engine's error (a recipe problem, an unknown target), as a navverse one.
+    """
+    from pipeline.executors import make_executor
+
+    try:
+        _, chosen, graph, store = _graph_for(selectors, root=root, extra_files=extra_files)
+        force_ids = [t.id for t in chosen] if force else []
+        report = _run_locked(graph, store, partial(make_executor, jobs), force=force_ids, verify="size",
+                             wait=True, console=console)  # fmt: skip
+    except PipelineError as exc:
+        raise NavverseError(str(exc)) from None
+    outputs = {
+        t.id: {out: path for call in t.stages for out in call.spec.outputs
+               if (path := store.target_output(t.id, out)) is not None}
+        for t in chosen
+    }  # fmt: skip
+    return outputs, report
 
 
 @contextmanager
@@ -535,7 +582,7 @@ def _validate_parser(sub, recipe_options: argparse.ArgumentParser, scene_options
     )
     vdataset.add_argument("--seed", type=int, default=0, help="which episodes --replay N samples")
     vdataset.add_argument("--jobs", "-j", type=int, default=None, help=f"{JOBS_HELP}, for --replay")
-    vdataset.set_defaults(func=partial(cli_data.cmd_validate_dataset, built_dir=_built_dir))
+    vdataset.set_defaults(func=partial(cli_data.cmd_validate_dataset, built_dir=workspace_built_dir))
     vsubmission = _command(
         vsub, "submission", parents=[scene_options],
         summary="report every problem of a submission, with line numbers",
@@ -547,7 +594,7 @@ def _validate_parser(sub, recipe_options: argparse.ArgumentParser, scene_options
         "--dataset", default=None, help="episodes/<name>/v<version> (without it: the format alone)"
     )
     vsubmission.add_argument("--split", default="eval", help="the split it answers (default: eval)")
-    vsubmission.set_defaults(func=partial(cli_data.cmd_validate_submission, built_dir=_built_dir))
+    vsubmission.set_defaults(func=partial(cli_data.cmd_validate_submission, built_dir=workspace_built_dir))
 
 
 def _eval_parser(sub, scene_options: argparse.ArgumentParser) -> None:
@@ -577,7 +624,7 @@ def _eval_parser(sub, scene_options: argparse.ArgumentParser) -> None:
         "benchmark's number; default); submitted: only the episodes the submission has a line for "
         "(a partial scoring, labelled PARTIAL in every output)",
     )
-    evaluate.set_defaults(func=partial(cli_data.cmd_eval, built_dir=_built_dir))
+    evaluate.set_defaults(func=partial(cli_data.cmd_eval, built_dir=workspace_built_dir))
 
 
 def _run_parser(sub, scene_options: argparse.ArgumentParser) -> None:
@@ -625,7 +672,7 @@ def _run_parser(sub, scene_options: argparse.ArgumentParser) -> None:
         "--episode-timeout", type=float, default=None, metavar="SECONDS",
         help="wall-clock limit of the agent's calls in one episode, together (default: 600)",
     )  # fmt: skip
-    run.set_defaults(func=partial(cli_data.cmd_run_agent, built_dir=_built_dir))
+    run.set_defaults(func=partial(cli_data.cmd_run_agent, built_dir=workspace_built_dir))
 
 
 def _show_parser(sub, scene_options: argparse.ArgumentParser) -> None:
@@ -649,7 +696,7 @@ def _show_parser(sub, scene_options: argparse.ArgumentParser) -> None:
         "--meters-per-pixel", type=float, default=None, metavar="M",
         help="the picture's scale (default: chosen from the scene's size)",
     )  # fmt: skip
-    scene.set_defaults(func=partial(cli_data.cmd_show_scene, built_dir=_built_dir))
+    scene.set_defaults(func=partial(cli_data.cmd_show_scene, built_dir=workspace_built_dir))
     presets = _command(
         ssub, "presets", summary="navmesh presets and the scene-type profiles that pick them",
         examples=("navverse show presets",),
@@ -671,7 +718,7 @@ def _show_parser(sub, scene_options: argparse.ArgumentParser) -> None:
     episode.add_argument("dataset", help=DATASET_HELP)
     episode.add_argument("episode_id", help="the episode's id, e.g. office-s1-vln-0003 (see show dataset)")
     episode.add_argument("-o", "--output", help="PNG path (default: <episode_id>.png)")
-    episode.set_defaults(func=partial(cli_data.cmd_show_episode, built_dir=_built_dir))
+    episode.set_defaults(func=partial(cli_data.cmd_show_episode, built_dir=workspace_built_dir))
 
 
 def _review_parser(sub, scene_options: argparse.ArgumentParser) -> None:
@@ -699,7 +746,7 @@ def _review_parser(sub, scene_options: argparse.ArgumentParser) -> None:
     review.add_argument(
         "--recipe", help="the dataset recipe (default: the manifest's recipe in this workspace)"
     )
-    review.set_defaults(func=partial(cmd_review, built_dir=_built_dir))
+    review.set_defaults(func=partial(cmd_review, built_dir=workspace_built_dir))
 
 
 def _export_parser(sub, scene_options: argparse.ArgumentParser) -> None:
@@ -723,7 +770,7 @@ def _export_parser(sub, scene_options: argparse.ArgumentParser) -> None:
     scenes.add_argument("dataset", help=DATASET_HELP)
     scenes.add_argument("out", help="the pack directory to create (must not exist, or be empty)")
     scenes.add_argument("--split", default=None, help="only the scenes of this split (default: every split)")
-    scenes.set_defaults(func=partial(cli_data.cmd_export_scenes, built_dir=_built_dir))
+    scenes.set_defaults(func=partial(cli_data.cmd_export_scenes, built_dir=workspace_built_dir))
     habitat = _command(
         esub, "habitat", parents=[scene_options],
         summary="write a dataset and its scenes in habitat-lab's layouts (ObjectNav-v1, R2R-VLN, GLB)",
@@ -733,7 +780,7 @@ def _export_parser(sub, scene_options: argparse.ArgumentParser) -> None:
     )  # fmt: skip
     habitat.add_argument("dataset", help=DATASET_VERSION_HELP)
     habitat.add_argument("out", help="the export directory to create (must not exist, or be empty)")
-    habitat.set_defaults(func=partial(cli_data.cmd_export_habitat, built_dir=_built_dir))
+    habitat.set_defaults(func=partial(cli_data.cmd_export_habitat, built_dir=workspace_built_dir))
 
 
 def _list_parser(sub) -> None:

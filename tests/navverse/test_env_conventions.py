@@ -244,7 +244,8 @@ def test_collisions_count_events_and_contact_steps_the_old_figure(env: NavVerseE
     assert info["collisions"] == 0 and info["contact_steps"] == 0
     for _ in range(5):
         _, _, _, _, info = env.step("forward")
-    assert 1 <= info["collisions"] <= 5
+    assert info["collisions"] >= 1  # pushing against the wall is a contact event
+    assert info["collisions"] <= 5  # at most one per blocked action, not one per physics step
     assert info["contact_steps"] > 50 * info["collisions"]
     assert info["contact_steps"] == len(env.sim.collisions)
     _, _, _, _, info = env.step("stop")

@@ -8,6 +8,7 @@ from typing import Annotated
 
 import numpy as np
 import pytest
+import ray  # a dev dependency: these tests must run wherever the suite does
 from pydantic import Field
 from rich.console import Console
 
@@ -21,8 +22,6 @@ from pipeline.stage import registered_stages
 from pipeline.store import ArtifactStore
 from pipeline.workspace import Workspace
 from tests.pipeline.conftest import write
-
-ray = pytest.importorskip("ray", reason="ray is not installed (pip install 'navverse[cluster]')")
 
 ITEMS = list(range(50))
 

@@ -11,23 +11,26 @@ from typing import Annotated
 
 import numpy as np
 import pytest
+import ray  # a dev dependency: these tests must run wherever the suite does
 from pydantic import Field
 from rich.console import Console
 
-from pipeline import Input, Params, StageContext, stage
+from pipeline import (
+    Input,
+    Params,
+    StageContext,
+    ray_executor,
+    stage,
+)
 from pipeline.dag import build_graph
 from pipeline.executors import LocalProcessExecutor, make_executor
+from pipeline.ray_executor import RayExecutor, StoreNotSharedError, check_store_shared, worker_env
 from pipeline.recipes import RecipeLoader
 from pipeline.runner import BuildReport, run_build
 from pipeline.stage import registered_stages
 from pipeline.store import LOG_NAME, MANIFEST_NAME, ArtifactStore
 from pipeline.workspace import Workspace
 from tests.pipeline.conftest import write
-
-ray = pytest.importorskip("ray", reason="ray is not installed (pip install 'navverse[cluster]')")
-
-from pipeline import ray_executor  # noqa: E402  (needs ray)
-from pipeline.ray_executor import RayExecutor, StoreNotSharedError, check_store_shared, worker_env  # noqa: E402
 
 ENV_MARK = "NAVVERSE_RAY_TEST_MARK"
 

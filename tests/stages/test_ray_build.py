@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 import psutil
-import pytest
+import ray  # a dev dependency: these tests must run wherever the suite does
 from rich.console import Console
 
 from pipeline.dag import build_graph
@@ -21,8 +21,6 @@ from pipeline.runner import run_build
 from pipeline.stage import discover
 from pipeline.store import LOG_NAME, MANIFEST_NAME, ArtifactStore
 from tests.stages.conftest import DATASET, SCENES, workspace_with
-
-ray = pytest.importorskip("ray", reason="Ray is installed with the dev extra")
 
 BLOCKOUT = [f"scenes/blockout/{name}.yaml" for name in ("box-room", "corridor", "two-rooms")]
 

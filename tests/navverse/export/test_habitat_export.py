@@ -180,7 +180,8 @@ def test_vln_file_and_vocabulary_round_trip(built):
 
 
 def test_scene_glbs_load_back_with_their_triangles(built):
-    trimesh = pytest.importorskip("trimesh")
+    import trimesh
+
     scene_out = built["out"] / "scenes" / SCENE
     corners, _, ids = scene_triangles(read_scene(built["scene_dir"]))
     mesh = trimesh.load(scene_out / f"{SCENE}.glb", force="mesh", process=False)
