@@ -67,3 +67,17 @@ def workspace(tmp_path: Path) -> Workspace:
     """,
     )
     return ws
+
+
+@pytest.fixture(scope="module")
+def ray_instance():
+    """A local Ray with 2 worker CPUs for the module (executors use it and leave it running); shut down
+    after the module if it started it."""
+    import ray
+
+    started = not ray.is_initialized()
+    if started:
+        ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False, configure_logging=False)
+    yield ray
+    if started:
+        ray.shutdown()

@@ -8,7 +8,6 @@ from typing import Annotated
 
 import numpy as np
 import pytest
-import ray  # a dev dependency: these tests must run wherever the suite does
 from pydantic import Field
 from rich.console import Console
 
@@ -49,16 +48,6 @@ def cm_map(ctx: StageContext, params: MapParams) -> None:
     seeds = ctx.rng.integers(0, 2**31, size=params.count).tolist()
     np.save(ctx.output / "values.npy", np.array(ctx.map(kernel, seeds, chunksize=4)))
     ctx.record(fanout=ctx.fanout.kind)
-
-
-@pytest.fixture(scope="module")
-def ray_instance():
-    started = not ray.is_initialized()
-    if started:
-        ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False, configure_logging=False)
-    yield ray
-    if started:
-        ray.shutdown()
 
 
 EXPECTED = [kernel(i) for i in ITEMS]

@@ -91,17 +91,6 @@ def rx_crash(ctx: StageContext, params: CrashParams) -> None:
 STAGES = ("rx_draw", "rx_sum", "rx_gather", "rx_crash")
 
 
-@pytest.fixture(scope="module")
-def ray_instance():
-    """A local Ray with 2 worker CPUs for the module (the executors use it and leave it running)."""
-    started = not ray.is_initialized()
-    if started:
-        ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False, configure_logging=False)
-    yield ray
-    if started:
-        ray.shutdown()
-
-
 def _workspace(root: Path, *, crash_marker: Path | None = None) -> Workspace:
     workspace = Workspace(root)
     write(
