@@ -35,25 +35,18 @@ class InstructionsParams(Params):
 def instructions(ctx: StageContext, params: InstructionsParams) -> None:
     """instructions.json.gz (per VLN episode id its instruction, per PlaceNav one {type: instruction}) and
     dropped.json.gz (episode id -> reason)."""
-    import zlib
     from collections import Counter
 
     import numpy as np
 
-    from navverse.dataset import Episode, Instruction, read_json_gz, write_json_gz
+    from navverse.dataset import Episode, read_json_gz, write_json_gz
     from navverse.episodes import files
-    from navverse.episodes.instructions import (
-        PLACE_NAMES,
-        RoadFollowing,
-        category_instruction,
-        intention_instruction,
-    )
     from navverse.episodes.instructions.settings import InstructionSettings
-    from navverse.episodes.instructions.writer import InstructionWriter, load_refiner
-    from navverse.scene import read_annotations, read_scene
-    from navverse.sim.embodiments import make_embodiment
+    from navverse.episodes.instructions.writer import load_refiner
+    from navverse.scene import read_annotations
 
-    refiner = load_refiner(params.refiner) if params.refiner else None
+    if params.refiner:
+        load_refiner(params.refiner)  # a wrong name fails here, before any scene is read
     verified = read_json_gz(ctx.input("verified") / files.EPISODES)
     rollouts = read_json_gz(ctx.input("verified") / files.ROLLOUTS)
     by_scene: dict[str, list[Episode]] = {}
@@ -68,47 +61,24 @@ def instructions(ctx: StageContext, params: InstructionsParams) -> None:
     settings = InstructionSettings(
         min_landmarks=params.min_landmarks, max_distance=params.max_landmark_distance
     )
-    camera_to_base = make_embodiment(verified["embodiment"]).camera_to_base
+    total = sum(map(len, by_scene.values()))
+    ctx.progress(0, total, "writing")
+    jobs = [
+        (
+            scene_dirs[scene_id],
+            episodes,
+            {e.episode_id: rollouts[e.episode_id] for e in episodes},
+            verified["embodiment"],
+            settings,
+            params.refiner,
+            ctx.seed,
+        )
+        for scene_id, episodes in sorted(by_scene.items())
+    ]
     written, dropped = {}, {}
-    total, done = sum(map(len, by_scene.values())), 0
-    for scene_id, episodes in sorted(by_scene.items()):
-        ctx.progress(done, total, scene_id)
-        scene = read_scene(scene_dirs[scene_id])
-        writer = InstructionWriter(scene, camera_to_base=camera_to_base, settings=settings, refiner=refiner)
-        roads = RoadFollowing(scene)
-        for episode in episodes:
-            rng = np.random.default_rng([ctx.seed, zlib.crc32(episode.episode_id.encode())])
-            rollout = np.asarray(rollouts[episode.episode_id])
-            if episode.task == "vln":
-                instruction, reason = writer.write(episode, rollout, rng, roads=roads)
-                if instruction is None:
-                    dropped[episode.episode_id] = reason
-                else:
-                    written[episode.episode_id] = instruction.model_dump(mode="json")
-                continue
-            category = episode.goal_category
-            route, reason = writer.write(episode, rollout, rng, goal=PLACE_NAMES[category], roads=roads)
-            if route is None:
-                dropped[episode.episode_id] = reason
-                continue
-            texts = {
-                "category": category_instruction(category, rng),
-                "intention": intention_instruction(category, rng),
-            }
-            written[episode.episode_id] = {
-                "category": Instruction(
-                    instruction_text=texts["category"],
-                    template_text=texts["category"],
-                    instruction_type="category",
-                ).model_dump(mode="json"),
-                "route": route.model_copy(update={"instruction_type": "route"}).model_dump(mode="json"),
-                "intention": Instruction(
-                    instruction_text=texts["intention"],
-                    template_text=texts["intention"],
-                    instruction_type="intention",
-                ).model_dump(mode="json"),
-            }
-        done += len(episodes)
+    for scene_written, scene_dropped in ctx.map(_write_scene, jobs, chunksize=1):  # a scene per job
+        written.update(scene_written)
+        dropped.update(scene_dropped)
     ctx.progress(total, total, "written")
     write_json_gz(written, ctx.output / files.INSTRUCTIONS)
     write_json_gz(dropped, ctx.output / files.DROPPED)
@@ -130,3 +100,65 @@ def instructions(ctx: StageContext, params: InstructionsParams) -> None:
 def _route(written: dict) -> dict:
     """The landmark-bearing instruction of a written record (a VLN one, or a PlaceNav one's route)."""
     return written.get("route", written)
+
+
+def _write_scene(job: tuple) -> tuple[dict[str, dict], dict[str, str]]:
+    """The instructions of one scene's episodes (a ``ctx.map`` job: its renderer and landmark views
+    are this process's own); each episode draws from a generator seeded from (stage seed, episode id),
+    so the texts do not depend on where or in which order scenes are written."""
+    import zlib
+
+    import numpy as np
+
+    from navverse.dataset import Instruction
+    from navverse.episodes.instructions import (
+        PLACE_NAMES,
+        RoadFollowing,
+        category_instruction,
+        intention_instruction,
+    )
+    from navverse.episodes.instructions.writer import InstructionWriter, load_refiner
+    from navverse.scene import read_scene
+    from navverse.sim.embodiments import make_embodiment
+
+    scene_dir, episodes, rollouts, embodiment, settings, refiner_name, seed = job
+    refiner = load_refiner(refiner_name) if refiner_name else None
+    scene = read_scene(scene_dir)
+    camera_to_base = make_embodiment(embodiment).camera_to_base
+    writer = InstructionWriter(scene, camera_to_base=camera_to_base, settings=settings, refiner=refiner)
+    roads = RoadFollowing(scene)
+    written: dict[str, dict] = {}
+    dropped: dict[str, str] = {}
+    for episode in episodes:
+        rng = np.random.default_rng([seed, zlib.crc32(episode.episode_id.encode())])
+        rollout = np.asarray(rollouts[episode.episode_id])
+        if episode.task == "vln":
+            instruction, reason = writer.write(episode, rollout, rng, roads=roads)
+            if instruction is None:
+                dropped[episode.episode_id] = reason
+            else:
+                written[episode.episode_id] = instruction.model_dump(mode="json")
+            continue
+        category = episode.goal_category
+        route, reason = writer.write(episode, rollout, rng, goal=PLACE_NAMES[category], roads=roads)
+        if route is None:
+            dropped[episode.episode_id] = reason
+            continue
+        texts = {
+            "category": category_instruction(category, rng),
+            "intention": intention_instruction(category, rng),
+        }
+        written[episode.episode_id] = {
+            "category": Instruction(
+                instruction_text=texts["category"],
+                template_text=texts["category"],
+                instruction_type="category",
+            ).model_dump(mode="json"),
+            "route": route.model_copy(update={"instruction_type": "route"}).model_dump(mode="json"),
+            "intention": Instruction(
+                instruction_text=texts["intention"],
+                template_text=texts["intention"],
+                instruction_type="intention",
+            ).model_dump(mode="json"),
+        }
+    return written, dropped
