@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Literal
 
 from pydantic import Field, field_validator
 
@@ -23,12 +23,24 @@ class PackageDatasetParams(Params):
     is, the version published is ``version``'s major with its minor bumped past the reviewed version
     (reviewed 1.1 publishes 1.2). Its content is part of the cache key, so a new decision rebuilds the
     dataset.
+
+    ``quota`` caps the episodes of each split and task (``{train: {objnav: 2200}, eval: {objnav:
+    150}}``): a recipe samples more candidates than it needs, from measured acceptance rates, and the
+    quota keeps that many, spread evenly over the split's scenes (:func:`~navverse.episodes.packaging.
+    apply_quota`). A split and task left short of its quota is a warning in the build summary.
     """
 
     version: Annotated[str, Field(pattern=r"^\d+\.\d+$")]
     name: Annotated[str, Field(pattern=r"^[a-z0-9][a-z0-9._-]*$")] | None = None
     splits: dict[Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*$")], list[str]]
     review: SourceFile | None = None
+    quota: (
+        dict[
+            Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*$")],
+            dict[Literal["objnav", "placenav", "vln"], Annotated[int, Field(ge=1, le=1_000_000)]],
+        ]
+        | None
+    ) = None
 
     @field_validator("splits")
     @classmethod
@@ -50,7 +62,7 @@ def package_dataset(ctx: StageContext, params: PackageDatasetParams) -> None:
     from navverse import __version__
     from navverse.dataset import Episode, Instruction, read_json_gz
     from navverse.episodes import files
-    from navverse.episodes.packaging import assign_splits, write_dataset
+    from navverse.episodes.packaging import apply_quota, assign_splits, write_dataset
     from navverse.scene import read_annotations
     from navverse.scene.directory import scene_hash
 
@@ -74,6 +86,16 @@ def package_dataset(ctx: StageContext, params: PackageDatasetParams) -> None:
     scene_dirs = {read_annotations(path).scene_id: path for path in ctx.inputs["scene"]}
     splits = assign_splits(sorted(scene_dirs), params.splits)
     name = params.name or ctx.target
+    quota_report = {}
+    if params.quota:
+        episodes, quota_report = apply_quota(episodes, splits, params.quota, seed=ctx.seed)
+        for split, tasks in quota_report.items():
+            for task, cell in tasks.items():
+                if cell["kept"] < cell["quota"]:
+                    ctx.log.warning(
+                        "%s %s: %d episodes, short of its quota of %d: sample more candidates per scene",
+                        split, task, cell["kept"], cell["quota"],
+                    )  # fmt: skip
     episodes, version = apply_review(ctx, params.review, params.version, name, episodes)
     manifest = write_dataset(
         ctx.output / name / f"v{version}",  # laid out as published under episodes/
@@ -91,6 +113,7 @@ def package_dataset(ctx: StageContext, params: PackageDatasetParams) -> None:
     ctx.record(
         episodes=len(episodes),
         counts=manifest.counts,
+        quota=quota_report,
         difficulty_thresholds={k: list(v) for k, v in manifest.difficulty_thresholds.items()},
     )
     ctx.log.info(

@@ -21,7 +21,7 @@ from navverse.dataset import (
 )
 from navverse.files import atomic_write
 
-__all__ = ["assign_splits", "difficulty_of", "difficulty_thresholds", "write_dataset"]
+__all__ = ["apply_quota", "assign_splits", "difficulty_of", "difficulty_thresholds", "write_dataset"]
 
 
 def assign_splits(scene_ids: Sequence[str], patterns: Mapping[str, Sequence[str]]) -> dict[str, list[str]]:
@@ -53,6 +53,74 @@ def assign_splits(scene_ids: Sequence[str], patterns: Mapping[str, Sequence[str]
             + ". Fix the patterns under package_dataset: splits"
         )
     return splits
+
+
+def apply_quota(
+    episodes: Sequence[Episode],
+    splits: Mapping[str, Sequence[str]],
+    quota: Mapping[str, Mapping[str, int]],
+    *,
+    seed: int,
+) -> tuple[list[Episode], dict[str, dict[str, dict[str, int]]]]:
+    """Keep at most ``quota[split][task]`` episodes of each split and task, spread over the scenes.
+
+    Where a split and task has more episodes than its quota, the scenes give one episode each in
+    turn (scenes by id, each scene's episodes in an order drawn from `seed` and the episode id) until
+    the quota is met, so every scene keeps about the same share and the choice does not depend on
+    the order of `episodes`. Splits and tasks without a quota keep everything.
+
+    Parameters
+    ----------
+    episodes : sequence of Episode
+        The packaged candidates.
+    splits : mapping
+        Scene ids of each split (from :func:`assign_splits`).
+    quota : mapping
+        Most episodes per split and task, e.g. ``{"eval": {"objnav": 150}}``.
+    seed : int
+        Draws the order within each scene.
+
+    Returns
+    -------
+    kept : list of Episode
+        The episodes kept, in the order of `episodes`.
+    report : dict
+        ``{split: {task: {"available": n, "quota": q, "kept": k}}}`` for every quota given.
+    """
+    import zlib
+
+    unknown = sorted(set(quota) - set(splits))
+    if unknown:
+        raise DatasetError(
+            f"quota names splits {', '.join(unknown)} that package_dataset: splits does not define "
+            f"({', '.join(sorted(splits))})"
+        )
+    split_of = {scene: split for split, scenes in splits.items() for scene in scenes}
+    by_cell: dict[tuple[str, str], dict[str, list[Episode]]] = {}
+    for episode in episodes:
+        by_cell.setdefault((split_of[episode.scene_id], episode.task), {}).setdefault(
+            episode.scene_id, []
+        ).append(episode)
+    dropped: set[str] = set()
+    report: dict[str, dict[str, dict[str, int]]] = {}
+    for split, tasks in sorted(quota.items()):
+        for task, limit in sorted(tasks.items()):
+            by_scene = by_cell.get((split, task), {})
+            available = sum(map(len, by_scene.values()))
+            queues = [
+                sorted(group, key=lambda e: (zlib.crc32(f"{seed}:{e.episode_id}".encode()), e.episode_id))
+                for _, group in sorted(by_scene.items())
+            ]
+            chosen: set[str] = set()
+            depth = 0
+            while len(chosen) < min(limit, available):
+                for queue in queues:
+                    if depth < len(queue) and len(chosen) < limit:
+                        chosen.add(queue[depth].episode_id)
+                depth += 1
+            dropped.update(e.episode_id for queue in queues for e in queue if e.episode_id not in chosen)
+            report.setdefault(split, {})[task] = {"available": available, "quota": limit, "kept": len(chosen)}
+    return [e for e in episodes if e.episode_id not in dropped], report
 
 
 def difficulty_thresholds(episodes: Sequence[Episode]) -> dict[str, tuple[float, float]]:
