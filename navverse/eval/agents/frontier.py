@@ -23,6 +23,9 @@ Each :meth:`FrontierAgent.act`:
 4. **Acts**: turns (30 or 15 degrees) towards a point a little way along the path, then steps forward.
    At the start it turns on the spot to look around (cut short once the goal is in view); with no
    target left it turns to look, and stops after two full turns with none.
+   Told an instruction instead of a category (VLN; PlaceNav under ``route`` or ``intention``), it
+   looks for the category the instruction names last (:func:`~navverse.eval.agents.goal_text.
+   named_goal_category`); it does not follow the route's directions, and an intention names none.
 5. **Stops** when the base is within ``stop_distance`` (horizontally) of a goal point, or after
    ``max_steps`` actions.
 
@@ -43,6 +46,7 @@ import numpy as np
 from scipy import ndimage
 
 from navverse.eval.agents.base import AgentTask
+from navverse.eval.agents.goal_text import named_goal_category
 from navverse.eval.agents.grid_planning import grid_dijkstra, trace_path, traversal_costs
 from navverse.eval.agents.mapping import (
     LOGODDS_CLAMP,
@@ -212,8 +216,9 @@ class FrontierAgent:
     def reset(self, task: AgentTask) -> None:
         """Start an episode: forget the map, the goal points and the plan."""
         self.task = task
+        sought = task.goal_category or named_goal_category(task.goal, task.semantic_categories.values())
         self._goal_ids = np.array(
-            sorted(i for i, c in task.semantic_categories.items() if c == task.goal_category), dtype=np.int64
+            sorted(i for i, c in task.semantic_categories.items() if c == sought), dtype=np.int64
         )
         self._grid: LogOddsGrid | None = None
         self._goal_points = np.zeros((0, 3))
