@@ -2,40 +2,21 @@
 
 from __future__ import annotations
 
-import math
 from collections import Counter
 
 import pytest
 
-from navverse.dataset import DatasetError, Episode, EpisodeInfo, Goal
+from navverse.dataset import DatasetError, Episode
 from navverse.episodes.packaging import apply_quota
-
-
-def _episode(scene: str, task: str, number: int) -> Episode:
-    goal = Goal(object_id=3, category="sofa", position=(4.0, 1.0, 0.4), radius=1.0, size=(2.0, 0.9, 0.8))
-    return Episode(
-        episode_id=f"{scene}-{task}-{number:04d}",
-        scene_id=scene,
-        scene_type="indoor",
-        task=task,
-        start_position=(0.0, 0.0, 0.0),
-        start_rotation=(0.0, 0.0, math.sin(0.1), math.cos(0.1)),
-        object_category="sofa",
-        goals=[goal],
-        reference_path=[(0.0, 0.0, 0.0), (4.0, 1.0, 0.0)],
-        info=EpisodeInfo(
-            geodesic_distance=6.0, euclidean_distance=4.1, closest_goal_object_id=3, success_distance=1.6
-        ),
-    )
-
+from tests.navverse.test_dataset import episode
 
 SPLITS = {"train": ["a", "b", "c"], "eval": ["d"]}
 
 
 def _candidates() -> list[Episode]:
     sizes = {"a": 9, "b": 3, "c": 6, "d": 5}  # per scene, objnav; vln has 4 per scene
-    episodes = [_episode(scene, "objnav", i) for scene, n in sizes.items() for i in range(n)]
-    return episodes + [_episode(scene, "vln", i) for scene in sizes for i in range(4)]
+    episodes = [episode(i, scene, task="objnav") for scene, n in sizes.items() for i in range(n)]
+    return episodes + [episode(i, scene, task="vln") for scene in sizes for i in range(4)]
 
 
 def test_a_quota_keeps_that_many_spread_over_the_scenes():
