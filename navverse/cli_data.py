@@ -578,6 +578,7 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
             out=args.out,
             jobs=jobs,
             limit=args.limit,
+            task=args.task,
             seed=args.seed,
             max_steps=args.max_steps,
             terrain_friction=args.friction,

@@ -209,6 +209,7 @@ def run_agent(
     out: str | os.PathLike[str],
     jobs: int = 1,
     limit: int | None = None,
+    task: str | None = None,
     seed: int = 0,
     max_steps: int | None = None,
     terrain_friction: float | None = None,
@@ -236,6 +237,8 @@ def run_agent(
         Worker processes; 0 runs in this process (time limits by alarm only, in the main thread).
     limit : int, optional
         Run only this many episodes, spread evenly over the split.
+    task : str, optional
+        Run only this task's episodes (``objnav``, ``placenav`` or ``vln``); `limit` then spreads over them.
     seed : int
         Seed of the agents' per-episode seeds.
     max_steps : int, optional
@@ -279,9 +282,10 @@ def run_agent(
     out = Path(out)
     if out.parent and not out.parent.is_dir():
         raise RunError(f"the folder of --out {out} does not exist")
-    episodes = pick_episodes(list(dataset.episodes(split=split)), limit)
+    episodes = pick_episodes(list(dataset.episodes(split=split, task=task)), limit)
     if not episodes:
-        raise RunError(f"split {split!r} of {dataset.root} has no episodes")
+        which = f"{task} episodes" if task else "episodes"
+        raise RunError(f"split {split!r} of {dataset.root} has no {which}")
     _check_instruction_type(episodes, instruction_type)
     tasks = dataset.tasks(split)
     settings = RunSettings(

@@ -152,6 +152,28 @@ def test_splits_that_miss_a_scene_fail_the_build_with_what_to_change(built: Buil
     assert "apartment-s1" in str(report) and "split" in str(report)
 
 
+def test_a_quota_keeps_that_many_and_a_shortfall_warns(built: Built, dataset: Dataset, tmp_path: Path):
+    counts = dataset.manifest.counts
+    available = sum(counts["eval"]["objnav"].values())
+    assert available >= 2  # the quota below must bite
+    text = DATASET.replace(
+        'splits: {train: ["*-s0"], eval: ["*-s1"]}',
+        'splits: {train: ["*-s0"], eval: ["*-s1"]}\n    quota: {eval: {objnav: 1, vln: 999}}',
+    )
+    root = tmp_path / "w"
+    workspace = workspace_with(root, [SCENES], {"datasets/tiny.yaml": text})
+    shutil.copytree(built.workspace.built_dir, workspace.built_dir, symlinks=True)
+    result = navverse_command(root, "build", "tiny", "--jobs", "1")
+    output = " ".join((result.stdout + result.stderr).split())
+    assert result.returncode == 0, output
+    vln = sum(counts["eval"]["vln"].values())
+    assert f"warning tiny:package_dataset: eval vln: {vln} episodes, short of its quota of 999" in output
+    quota = Dataset(root / "episodes" / "tiny" / "v1.0").manifest.counts
+    assert sum(quota["eval"]["objnav"].values()) == 1
+    assert quota["train"] == counts["train"]  # no quota there: all kept
+    assert sum(quota["eval"]["vln"].values()) == vln
+
+
 # ---------------------------------------------------------------------------------------------- command line
 
 

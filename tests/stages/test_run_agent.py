@@ -104,6 +104,7 @@ def test_run_agent_refuses_bad_arguments_with_what_to_change(built: Built, datas
         ("--agent", "nope"): "unknown agent 'nope'",
         ("--agent", "oracle", "--split", "val"): "has no split 'val'",
         ("--agent", "oracle", "--limit", "0"): "--limit must be at least 1",
+        ("--agent", "oracle", "--task", "placenav"): "has no placenav episodes",
     }
     for extra, expected in cases.items():
         result = navverse_command(root, "run-agent", "--dataset", str(dataset.root), "--out",
@@ -111,6 +112,16 @@ def test_run_agent_refuses_bad_arguments_with_what_to_change(built: Built, datas
         assert result.returncode == 1, (extra, result.stdout)
         assert expected in " ".join(result.stderr.split()) and "Traceback" not in result.stderr
     assert not list(tmp_path.iterdir())  # nothing half-written
+
+
+def test_run_agent_runs_only_the_task_asked(built: Built, dataset: Dataset, tmp_path: Path):
+    out = tmp_path / "vln.jsonl"
+    run_agent(dataset, agent="oracle", split="eval", embodiment="spot", scene_dirs=scene_dirs(built),
+              out=out, jobs=0, task="vln", limit=2)  # fmt: skip
+    vln = {e.episode_id for e in dataset.episodes(split="eval", task="vln")}
+    ran = [record["episode_id"] for record in _records(out)]
+    assert len(ran) == 2 and set(ran) <= vln
+    assert len(vln) < len(list(dataset.episodes(split="eval")))  # other tasks were there to leave out
 
 
 SPY_AGENT = '''
