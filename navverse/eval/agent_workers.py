@@ -39,6 +39,7 @@ from typing import Any
 from navverse.dataset import Episode
 from navverse.errors import NavverseError
 from navverse.processes import end_with_parent
+from navverse.scene.semantics import semantic_categories
 from navverse.sim.recorder import RolloutRecorder
 from navverse.sim.terminations import AGENT_TIMEOUT
 
@@ -333,7 +334,7 @@ def _run_chunk(settings: RunSettings, chunk: Chunk, emit: Emit, *, alarm: bool, 
         instruction_type=settings.instruction_type,
     )
     try:
-        categories = {o.id: o.category for o in env.scene.annotations.objects if o.category}
+        categories = {i: c for i, c in semantic_categories(env.scene.annotations).items() if c}
         radius = float(env.sim.robot.radius)
         for data in chunk.episodes:
             episode = Episode.model_validate(data)

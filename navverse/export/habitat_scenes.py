@@ -24,14 +24,17 @@ import numpy as np
 
 from navverse.export.habitat_navmesh import mset_from_tiles
 from navverse.nav.fileformat import read_navmesh
-from navverse.scene import MeshData, Scene, SceneAnnotations, default_color
+from navverse.scene import MeshData, Scene, default_color
+from navverse.scene.semantics import STOREFRONT_ID_BASE, semantic_categories, storefront_objects
 
 __all__ = [
     "SEMANTIC_HEADER",
+    "STOREFRONT_ID_BASE",
     "from_habitat",
     "habitat_rotation",
     "habitat_yaw",
     "scene_triangles",
+    "semantic_categories",
     "storefront_objects",
     "to_habitat",
     "write_habitat_scene",
@@ -39,7 +42,6 @@ __all__ = [
 ]
 
 SEMANTIC_HEADER = "HM3D Semantic Annotations"
-_STOREFRONT = "storefront"
 
 
 def to_habitat(points: np.ndarray) -> np.ndarray:
@@ -68,34 +70,6 @@ def habitat_rotation(yaw: np.ndarray | float) -> np.ndarray:
     half = (np.asarray(yaw, dtype=np.float64) - np.pi / 2) / 2
     zero = np.zeros_like(half)
     return np.stack([zero, np.sin(half), zero, np.cos(half)], axis=-1)
-
-
-STOREFRONT_ID_BASE = 1 << 23
-"""A storefront without a geometry object of its own gets the semantic id ``STOREFRONT_ID_BASE + id``
-(listed in ``.semantic.txt``, with no faces in ``.semantic.glb``)."""
-
-
-def storefront_objects(annotations: SceneAnnotations) -> dict[int, int]:
-    """Storefront id -> its semantic object id: the object that is its geometry (category
-    ``storefront``, same centre within 1 cm), else ``STOREFRONT_ID_BASE + storefront id``."""
-    objects = [o for o in annotations.objects if o.category == _STOREFRONT]
-    centers = np.array([o.center for o in objects], dtype=np.float64).reshape(-1, 3)
-    found = {}
-    for store in annotations.storefronts:
-        gap = np.linalg.norm(centers - np.asarray(store.center), axis=1)
-        matched = len(gap) > 0 and gap.min() <= 0.01
-        found[store.id] = objects[int(gap.argmin())].id if matched else STOREFRONT_ID_BASE + store.id
-    return found
-
-
-def semantic_categories(annotations: SceneAnnotations) -> dict[int, str]:
-    """Semantic object id -> the category the semantic files give it: an object's category, a
-    storefront's place category (on its object, or on its own id when it has no object)."""
-    categories = {o.id: o.category for o in annotations.objects}
-    places = {s.id: s.place_category for s in annotations.storefronts}
-    for store, obj in storefront_objects(annotations).items():
-        categories[obj] = places[store]
-    return categories
 
 
 def _face_colors(mesh: MeshData, name: str) -> np.ndarray:
