@@ -629,7 +629,7 @@ def _eval_parser(sub, scene_options: argparse.ArgumentParser) -> None:
 
 def _run_parser(sub, scene_options: argparse.ArgumentParser) -> None:
     """``navverse run-agent``."""
-    from navverse.dataset import INSTRUCTION_TYPES
+    from navverse.dataset import INSTRUCTION_TYPES, TASKS
 
     run = _command(
         sub, "run-agent", parents=[scene_options],
@@ -652,9 +652,7 @@ def _run_parser(sub, scene_options: argparse.ArgumentParser) -> None:
     run.add_argument("--out", required=True, help="submission to write (.jsonl or .jsonl.gz)")
     run.add_argument("--jobs", "-j", type=int, default=None, help="processes (default: cores; 0: in process)")
     run.add_argument("--limit", type=int, default=None, help="run only K episodes, spread over the split")
-    run.add_argument(
-        "--task", choices=("objnav", "placenav", "vln"), default=None, help="run only this task's episodes"
-    )
+    run.add_argument("--task", choices=TASKS, default=None, help="run only this task's episodes")
     run.add_argument("--seed", type=int, default=0, help="seed of the agent's per-episode seeds")
     run.add_argument(
         "--instruction-type", choices=INSTRUCTION_TYPES, default="category",
