@@ -16,7 +16,8 @@ number of workers: each item's result is ``fn(item)`` alone, so ``fn`` must draw
 its own — give each item its seed (e.g. ``ctx.rng.integers(2**63, size=len(items))``, drawn before
 the call). If ``fn`` raises, the stage fails with :class:`MapError` naming the lowest failing
 item's index (``ctx.map: fn raised on item 17 of 50: ValueError: ...``), the same index whatever
-ran it: later chunks are cancelled, earlier ones are waited for. Progress is reported per chunk.
+ran it: earlier chunks are waited for, later ones are dropped (cancelled in a local pool; left to end
+on Ray, whose cancellation can abort the calling process). Progress is reported per chunk.
 """
 
 from __future__ import annotations

@@ -27,8 +27,14 @@ Shared store
     the store's ``tmp/`` and runs a tiny task on every alive node that reads it back; a node that
     cannot see it stops the build with :class:`StoreNotSharedError` naming the store.
 Stopping
-    :meth:`RayExecutor.abort` cancels running tasks (``ray.cancel(force=True)``: their workers
-    end); :meth:`RayExecutor.close` shuts Ray down only if it started it.
+    :meth:`RayExecutor.abort` ends the running tasks: a Ray instance the build started is shut down
+    (every worker ends with it); on a cluster it joined, each task is cancelled
+    (``ray.cancel(force=True)``). :meth:`RayExecutor.close` shuts Ray down only if it started it.
+Cancellation
+    Ray's owner process can abort when a task is cancelled while its reply is arriving (a check in
+    Ray's task manager: "Tried to complete task that was not pending"). So ``ctx.map`` never cancels
+    its chunks, and a build cancels tasks only on a cluster it does not own, where leaving them
+    running would hold the cluster's CPUs.
 """
 
 from __future__ import annotations
@@ -139,8 +145,9 @@ def ray_map(
     """Run the chunks of a ``ctx.map`` as Ray tasks (one per chunk); results in item order.
 
     Called inside a stage's Ray task (Ray is initialised there); a blocked stage task lends its CPU
-    to its chunks. On a :class:`~pipeline.context.MapError` the later chunks are cancelled and the
-    error of the lowest failing item is raised, as locally.
+    to its chunks. On a :class:`~pipeline.context.MapError` the error of the lowest failing item is
+    raised, as locally; later chunks are not cancelled (see "Cancellation" above), their results are
+    dropped.
     """
     refs = [_remote_chunk.remote(fn, start, total, chunk) for start, chunk in chunks]
     results: list[Any] = []
@@ -148,9 +155,6 @@ def ray_map(
         try:
             results += ray.get(ref)
         except ray.exceptions.RayTaskError as exc:
-            for later in refs:
-                with contextlib.suppress(Exception):
-                    ray.cancel(later, force=True)
             cause = getattr(exc, "cause", None)
             if isinstance(cause, MapError):
                 raise MapError(*cause.args) from None
@@ -338,14 +342,23 @@ class RayExecutor:
         return future
 
     def abort(self) -> None:
-        """Cancel every running task (its worker is ended); their futures raise :class:`WorkerDiedError`."""
+        """End every running task; their futures raise :class:`WorkerDiedError`.
+
+        A Ray instance this executor started is shut down (its workers end with it); on a cluster
+        it joined, each task is cancelled with ``force=True`` (see "Cancellation" above).
+        """
         self._stop_watching()
         with self._lock:
             jobs, self._jobs = self._jobs, {}
-        for ref in jobs:
-            with contextlib.suppress(Exception):
-                ray.cancel(ref, force=True)
         self._drain_mailbox()
+        if self._started:
+            with contextlib.suppress(Exception):
+                ray.shutdown()
+            self._started = False
+        else:
+            for ref in jobs:
+                with contextlib.suppress(Exception):
+                    ray.cancel(ref, force=True)
         for job in jobs.values():
             self._salvage(job, "interrupted: the build was stopped")
             if not job.future.done():
@@ -358,9 +371,11 @@ class RayExecutor:
         if busy:
             self.abort()
         self._stop_watching()
+        if not ray.is_initialized():  # abort shut down the Ray it started (a call now would start one)
+            return
         with contextlib.suppress(Exception):
             ray.kill(self._mailbox)
-        if self._started and ray.is_initialized():
+        if self._started:
             ray.shutdown()
         self._started = False
 
