@@ -27,14 +27,14 @@ Shared store
     the store's ``tmp/`` and runs a tiny task on every alive node that reads it back; a node that
     cannot see it stops the build with :class:`StoreNotSharedError` naming the store.
 Stopping
-    :meth:`RayExecutor.abort` ends the running tasks: a Ray instance the build started is shut down
-    (every worker ends with it); on a cluster it joined, each task is cancelled
-    (``ray.cancel(force=True)``). :meth:`RayExecutor.close` shuts Ray down only if it started it.
+    :meth:`RayExecutor.abort` ends the running tasks by leaving Ray: a Ray instance the build started
+    is shut down with its workers; from a cluster it joined the build disconnects, and the cluster
+    ends the workers of the build's job (within a second). :meth:`RayExecutor.close` shuts Ray down
+    only if it started it.
 Cancellation
-    Ray's owner process can abort when a task is cancelled while its reply is arriving (a check in
-    Ray's task manager: "Tried to complete task that was not pending"). So ``ctx.map`` never cancels
-    its chunks, and a build cancels tasks only on a cluster it does not own, where leaving them
-    running would hold the cluster's CPUs.
+    Nothing here calls ``ray.cancel``: Ray's owner process can abort when a task is cancelled while
+    its reply is arriving (a check in Ray's task manager: "Tried to complete task that was not
+    pending"). ``ctx.map`` lets the chunks after a failing one end on their own.
 """
 
 from __future__ import annotations
@@ -44,6 +44,7 @@ import logging
 import os
 import queue
 import secrets
+import signal
 import sys
 import threading
 from collections.abc import Callable, Mapping
@@ -111,8 +112,21 @@ class _MailboxProgress:
         self._mailbox.put.remote(("progress", item))
 
 
+def _end_at_once_on_sigterm() -> None:
+    """Make SIGTERM end this worker at once.
+
+    Ray stops a worker (its instance shut down, the build's job gone, the node drained) with
+    SIGTERM, which it turns into ``SystemExit`` inside the running task: the stage would log that as
+    its own failure and publish its log over the build's "interrupted" note, or report a failure
+    where Ray should retry. Ending the process instead leaves the task to the build and to Ray.
+    """
+    with contextlib.suppress(ValueError):  # not the main thread: keep Ray's handler
+        signal.signal(signal.SIGTERM, lambda signum, frame: os._exit(128 + signum))
+
+
 def _stage_on_ray(task: StageTask, mailbox: Any, cwd: str) -> TaskResult:
     """Body of a stage's Ray task: say which process runs it, then :func:`run_task` (as locally)."""
+    _end_at_once_on_sigterm()  # the worker runs one task (max_calls=1): the handler ends with it
     mailbox.put.remote(("started", task.node_id, os.getpid()))
     logging.raiseExceptions = False
     with contextlib.suppress(OSError):
@@ -342,23 +356,15 @@ class RayExecutor:
         return future
 
     def abort(self) -> None:
-        """End every running task; their futures raise :class:`WorkerDiedError`.
-
-        A Ray instance this executor started is shut down (its workers end with it); on a cluster
-        it joined, each task is cancelled with ``force=True`` (see "Cancellation" above).
-        """
+        """End every running task by leaving Ray (see "Stopping" above); their futures raise
+        :class:`WorkerDiedError`."""
         self._stop_watching()
         with self._lock:
             jobs, self._jobs = self._jobs, {}
         self._drain_mailbox()
-        if self._started:
-            with contextlib.suppress(Exception):
-                ray.shutdown()
-            self._started = False
-        else:
-            for ref in jobs:
-                with contextlib.suppress(Exception):
-                    ray.cancel(ref, force=True)
+        with contextlib.suppress(Exception):
+            ray.shutdown()
+        self._started = False
         for job in jobs.values():
             self._salvage(job, "interrupted: the build was stopped")
             if not job.future.done():
@@ -371,7 +377,7 @@ class RayExecutor:
         if busy:
             self.abort()
         self._stop_watching()
-        if not ray.is_initialized():  # abort shut down the Ray it started (a call now would start one)
+        if not ray.is_initialized():  # abort left Ray (a call now would start a new one)
             return
         with contextlib.suppress(Exception):
             ray.kill(self._mailbox)
