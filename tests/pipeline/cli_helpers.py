@@ -7,6 +7,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 import uuid
 from pathlib import Path
 from typing import Any
@@ -71,6 +72,36 @@ def marked(marker: str) -> list[psutil.Process]:
         except psutil.Error:
             continue
     return found
+
+
+GATED = "seeds: [1, 2, 3, 4]\nstages:\n  toy_slow: {{parts: 3, delay_s: 0, child: {child}, gate: gate}}\n"
+"""A recipe of four slow stages that wait for the file ``gate`` (``child``: each starts a child process)."""
+
+INTERRUPTED = "interrupted; 4 stages left unfinished, run the same command to resume"
+"""What an interrupted build of :data:`GATED` prints on stderr, last."""
+
+
+def start_mid_build(root: Path, marker: str, *args: str) -> subprocess.Popen[str]:
+    """Start ``navverse build -j 2 <args>`` and return once both workers wait at the gate, in the
+    middle of their stages (the build is killed and the test fails if they do not within 120 s)."""
+    process = start(root, "build", "-j", "2", *args, marker=marker)
+    running = root / "data" / "built" / "tmp"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:
+        logs = list(running.glob("log-*.log")) if running.is_dir() else []
+        if len(logs) == 2 and all("waiting for gate" in log.read_text() for log in logs):
+            return process
+        time.sleep(0.05)
+    process.kill()
+    raise AssertionError("the build did not start its stages")
+
+
+def none_left(marker: str, *, within: float = 5.0) -> list[str]:
+    """The processes tagged ``marker`` still running after ``within`` seconds (empty when all ended)."""
+    deadline = time.monotonic() + within
+    while (left := marked(marker)) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    return [" ".join(p.cmdline()) for p in left]
 
 
 def built_files(root: Path) -> dict[str, dict]:

@@ -24,7 +24,15 @@ from pipeline.runner import _task
 from pipeline.stage import registered_stages
 from pipeline.store import ArtifactStore
 from pipeline.workspace import Workspace
-from tests.pipeline.cli_helpers import marked, run, start, toy_workspace
+from tests.pipeline.cli_helpers import (
+    GATED,
+    INTERRUPTED,
+    marked,
+    none_left,
+    run,
+    start_mid_build,
+    toy_workspace,
+)
 from tests.pipeline.conftest import write
 
 
@@ -105,45 +113,25 @@ def fails_early(item: int) -> int:
     return -item
 
 
-def test_map_error_on_ray_leaves_the_caller_running():
-    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False, configure_logging=False)
-    try:
-        for _ in range(5):
-            with pytest.raises(MapError, match=r"raised on item 2 of 40: ValueError: bad item 2"):
-                run_map(fails_early, list(range(40)), fanout=FanOut("ray", 2), chunksize=1)
-        time.sleep(1.0)  # replies of the chunks still running arrive meanwhile
-        assert run_map(fails_early, [1, 3], fanout=FanOut("ray", 2), chunksize=1) == [-1, -3]
-    finally:
-        ray.shutdown()
-
-
-SLOW = "seeds: [1, 2, 3, 4]\nstages:\n  toy_slow: {parts: 3, delay_s: 0, child: true, gate: gate}\n"
+def test_map_error_on_ray_leaves_the_caller_running(ray_instance):
+    for _ in range(5):
+        with pytest.raises(MapError, match=r"raised on item 2 of 40: ValueError: bad item 2"):
+            run_map(fails_early, list(range(40)), fanout=FanOut("ray", 2), chunksize=1)
+    time.sleep(1.0)  # replies of the chunks still running arrive meanwhile
+    assert run_map(fails_early, [1, 3], fanout=FanOut("ray", 2), chunksize=1) == [-1, -3]
 
 
 def test_ctrl_c_on_a_ray_build_ends_every_process_and_the_build_resumes(tmp_path):
-    root = toy_workspace(tmp_path / "ws", {"slow.yaml": SLOW})
+    root = toy_workspace(tmp_path / "ws", {"slow.yaml": GATED.format(child="true")})
     marker = f"ray-interrupt-{os.getpid()}"
-    build = start(root, "build", "-j", "2", "--executor", "ray", marker=marker)
-    running = root / "data" / "built" / "tmp"
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline:
-        logs = list(running.glob("log-*.log")) if running.is_dir() else []
-        if len(logs) == 2 and all("waiting for gate" in log.read_text() for log in logs):
-            break
-        time.sleep(0.05)
-    else:
-        build.kill()
-        pytest.fail("the Ray build did not start its stages")
+    build = start_mid_build(root, marker, "--executor", "ray")
     assert len(marked(marker)) >= 5  # the build, Ray's own processes, the two stage workers
     os.killpg(build.pid, signal.SIGINT)  # what a terminal does on Ctrl-C
     out, err = build.communicate(timeout=60)
     assert build.returncode == 130
-    assert err.strip().endswith("interrupted; 4 stages left unfinished, run the same command to resume")
+    assert err.strip().endswith(INTERRUPTED)  # after Ray's own banner
     assert "Traceback" not in out + err
-    deadline = time.monotonic() + 15
-    while (left := marked(marker)) and time.monotonic() < deadline:
-        time.sleep(0.1)
-    assert [" ".join(p.cmdline()) for p in left] == []
+    assert none_left(marker, within=15) == []
     log = (root / "data" / "built" / "logs" / "slow-s1" / "toy_slow.log").read_text()
     assert "waiting for gate" in log and log.rstrip().endswith("interrupted: the build was stopped")
     (root / "gate").touch()

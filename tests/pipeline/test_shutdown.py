@@ -8,38 +8,20 @@ import os
 import signal
 import subprocess
 import sys
-import time
-from pathlib import Path
 
 import pytest
 
 from pipeline.worker import QuietFileHandler
-from tests.pipeline.cli_helpers import REPO, marked, run, start, toy_workspace
-
-SLOW = "seeds: [1, 2, 3, 4]\nstages:\n  toy_slow: {{parts: 3, delay_s: 0, child: {child}, gate: gate}}\n"
-INTERRUPTED = "interrupted; 4 stages left unfinished, run the same command to resume"
-
-
-def _start_mid_build(root: Path, marker: str):
-    """Start a build and return once both workers wait at the gate, in the middle of their stages."""
-    process = start(root, "build", "-j", "2", marker=marker)
-    running = root / "data" / "built" / "tmp"
-    deadline = time.monotonic() + 90
-    while time.monotonic() < deadline:
-        logs = list(running.glob("log-*.log")) if running.is_dir() else []
-        if len(logs) == 2 and all("waiting for gate" in log.read_text() for log in logs):
-            return process
-        time.sleep(0.05)
-    process.kill()
-    pytest.fail("the build did not start its stages")
-
-
-def _none_left(marker: str, *, within: float = 5.0) -> list[str]:
-    """The processes tagged ``marker`` still running after ``within`` seconds (empty when all ended)."""
-    deadline = time.monotonic() + within
-    while (left := marked(marker)) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    return [" ".join(p.cmdline()) for p in left]
+from tests.pipeline.cli_helpers import (
+    GATED,
+    INTERRUPTED,
+    REPO,
+    marked,
+    none_left,
+    run,
+    start_mid_build,
+    toy_workspace,
+)
 
 
 @pytest.mark.parametrize(
@@ -48,9 +30,9 @@ def _none_left(marker: str, *, within: float = 5.0) -> list[str]:
     ids=["ctrl-c-to-the-group", "sigterm-to-the-build"],
 )
 def test_interrupt_ends_every_process_with_one_line(tmp_path, signum, whole_group, code):
-    root = toy_workspace(tmp_path / "ws", {"slow.yaml": SLOW.format(child="true")})
+    root = toy_workspace(tmp_path / "ws", {"slow.yaml": GATED.format(child="true")})
     marker = f"interrupt-{os.getpid()}-{signum}"
-    build = _start_mid_build(root, marker)
+    build = start_mid_build(root, marker)
     assert len(marked(marker)) >= 6  # the build, its resource tracker, 2 workers and their children
     if whole_group:
         os.killpg(build.pid, signum)  # what a terminal does on Ctrl-C
@@ -60,7 +42,7 @@ def test_interrupt_ends_every_process_with_one_line(tmp_path, signum, whole_grou
     assert build.returncode == code
     assert err.strip() == INTERRUPTED
     assert "Traceback" not in out + err and "KeyboardInterrupt" not in out + err
-    assert _none_left(marker) == []
+    assert none_left(marker) == []
     assert not [p for p in (root / "data" / "built" / "tmp").iterdir() if p.is_dir()]
     log = (root / "data" / "built" / "logs" / "slow-s1" / "toy_slow.log").read_text()
     assert "waiting for gate" in log and log.rstrip().endswith("interrupted: the build was stopped")
@@ -70,15 +52,15 @@ def test_interrupt_ends_every_process_with_one_line(tmp_path, signum, whole_grou
 
 
 def test_killed_build_leaves_no_process_behind(tmp_path):
-    root = toy_workspace(tmp_path / "ws", {"slow.yaml": SLOW.format(child="false")})
+    root = toy_workspace(tmp_path / "ws", {"slow.yaml": GATED.format(child="false")})
     marker = f"killed-{os.getpid()}"
-    build = _start_mid_build(root, marker)
+    build = start_mid_build(root, marker)
     helpers = {p.pid: " ".join(p.cmdline()) for p in marked(marker) if p.pid != build.pid}
     assert any("resource_tracker" in c for c in helpers.values())
     assert sum("spawn_main" in c for c in helpers.values()) == 2
     os.kill(build.pid, signal.SIGKILL)
     build.communicate(timeout=30)
-    assert _none_left(marker) == []
+    assert none_left(marker) == []
 
 
 def test_a_killed_worker_fails_its_stage_only(tmp_path):
