@@ -14,7 +14,12 @@ discrete step (m)      0.25        1.0         1.0
 episode starts         anywhere    anywhere    inside an indoor building
 success margin (m)     1.0         1.0         1.0 (success distance = margin + r_robot)
 transition metrics     no          no          yes
+goals outside          no          yes         yes: indoor starts lead out of the building
+sky                    no          yes         yes (the renderer's default shading)
 =====================  ==========  ==========  ================================================
+
+The table's order (:data:`SCENE_TYPES`) is the natural order of scene types wherever they are
+listed (tables, reports, group keys).
 """
 
 from __future__ import annotations
@@ -68,6 +73,11 @@ class SceneTypeProfile:
         A goal is reached within ``success_margin_m + r_robot`` of its region (paper, A.5).
     transition_metrics : bool
         Whether the indoor-to-outdoor transition measures apply to its episodes.
+    goals_outside : bool
+        Whether the scene has ground outside its buildings: an episode that starts inside a building
+        (``start_region: indoor``) then has its goals outside, so that it leaves the building.
+    sky : bool
+        Whether the renderer's default shading shows a sky above the scene.
     """
 
     name: SceneType
@@ -78,6 +88,8 @@ class SceneTypeProfile:
     start_region: Literal["anywhere", "indoor"]
     success_margin_m: float
     transition_metrics: bool
+    goals_outside: bool
+    sky: bool
 
     def success_distance(self, robot_radius: float) -> float:
         """Largest goal distance that counts as success: ``success_margin_m + r_robot`` (m)."""
@@ -95,6 +107,8 @@ PROFILES: Mapping[str, SceneTypeProfile] = MappingProxyType(
             start_region="anywhere",
             success_margin_m=1.0,
             transition_metrics=False,
+            goals_outside=False,
+            sky=False,
         ),
         "outdoor": SceneTypeProfile(
             name="outdoor",
@@ -105,6 +119,8 @@ PROFILES: Mapping[str, SceneTypeProfile] = MappingProxyType(
             start_region="anywhere",
             success_margin_m=1.0,
             transition_metrics=False,
+            goals_outside=True,
+            sky=True,
         ),
         "i2o": SceneTypeProfile(
             name="i2o",
@@ -115,6 +131,8 @@ PROFILES: Mapping[str, SceneTypeProfile] = MappingProxyType(
             start_region="indoor",
             success_margin_m=1.0,
             transition_metrics=True,
+            goals_outside=True,
+            sky=True,
         ),
     }
 )

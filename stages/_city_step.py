@@ -1,5 +1,6 @@
-"""What the stages that change a built city scene share: reading the map, the scene and its street
-plan, and writing the changed scene with the plan and the map beside it."""
+"""What the stages that change a built city scene share: reading the map, the scene, its street
+plan and the settings it was built with, and writing the changed scene with the plan, the map and
+the settings (its own added) beside it."""
 
 from __future__ import annotations
 
@@ -8,13 +9,16 @@ from typing import TYPE_CHECKING
 from pipeline import StageContext
 
 if TYPE_CHECKING:
+    from navverse.city.city_settings import CitySettings
     from navverse.city.map import CityMap
     from navverse.city.street_plan import StreetPlan
     from navverse.scene.geometry import Scene
 
 
-def read_city_step(ctx: StageContext, scene_artifact: str) -> tuple[CityMap, Scene, StreetPlan]:
-    """The city map (artifact ``city_map``), the scene of `scene_artifact` and its street plan."""
+def read_city_step(ctx: StageContext, scene_artifact: str) -> tuple[CityMap, Scene, StreetPlan, CitySettings]:
+    """The city map (artifact ``city_map``), the scene of `scene_artifact`, its street plan and the
+    settings it was built with."""
+    from navverse.city.city_settings import CITY_SETTINGS_FILE, load_city_settings
     from navverse.city.map import read_city_map
     from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan
     from navverse.scene import read_scene
@@ -24,15 +28,20 @@ def read_city_step(ctx: StageContext, scene_artifact: str) -> tuple[CityMap, Sce
     city = read_city_map(ctx.input("city_map") / CITY_MAP_FILE)
     scene = read_scene(ctx.input(scene_artifact))
     plan = load_street_plan(ctx.input(scene_artifact) / STREET_PLAN_FILE)
+    settings = load_city_settings(ctx.input(scene_artifact) / CITY_SETTINGS_FILE)
     ctx.progress(1, 3, "placing")
-    return city, scene, plan
+    return city, scene, plan, settings
 
 
-def write_city_step(ctx: StageContext, scene: Scene, plan: StreetPlan, counts: dict) -> None:
-    """Write the changed scene, its street plan and a copy of its city map (so that a stage linking
-    the scene, such as ``assemble_i2o``, has the map it was made from) and record `counts`."""
+def write_city_step(
+    ctx: StageContext, scene: Scene, plan: StreetPlan, settings: CitySettings, counts: dict
+) -> None:
+    """Write the changed scene, its street plan, the settings it was built with and a copy of its
+    city map (so that a stage linking the scene, such as ``assemble_i2o``, has the map it was made
+    from and follows its settings) and record `counts`."""
     import shutil
 
+    from navverse.city.city_settings import CITY_SETTINGS_FILE, save_city_settings
     from navverse.city.street_plan import STREET_PLAN_FILE, save_street_plan
     from navverse.scene import write_scene_dir
     from stages.city import CITY_MAP_FILE
@@ -40,6 +49,7 @@ def write_city_step(ctx: StageContext, scene: Scene, plan: StreetPlan, counts: d
     ctx.progress(2, 3, "writing")
     write_scene_dir(scene, ctx.output)
     save_street_plan(plan, ctx.output / STREET_PLAN_FILE)
+    save_city_settings(settings, ctx.output / CITY_SETTINGS_FILE)
     shutil.copyfile(ctx.input("city_map") / CITY_MAP_FILE, ctx.output / CITY_MAP_FILE)
     ctx.progress(3, 3, "done")
     ctx.record(**counts)

@@ -5,8 +5,10 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from pydantic import AfterValidator, Field
+from pydantic import AfterValidator
 
+from navverse.city.densify import DensifySettings
+from navverse.city.i2o import AssemblySettings
 from pipeline import Input, Params, StageContext, stage
 
 
@@ -18,8 +20,9 @@ def _building_type(name: str) -> str:
     return name
 
 
-class AssembleI2OParams(Params):
-    """Parameters of :func:`assemble_i2o`.
+class AssembleI2OParams(Params, AssemblySettings, DensifySettings):
+    """Parameters of :func:`assemble_i2o`: those of :class:`navverse.city.i2o.AssemblySettings` and
+    :class:`navverse.city.densify.DensifySettings`.
 
     The recipe links the pair: ``city`` (the ``geometry`` of a city target, after its storefronts)
     and ``building`` (the ``geometry`` of an indoor building target); when a link's globs match
@@ -31,19 +34,9 @@ class AssembleI2OParams(Params):
     within ``nearby_radius`` of the exit is densified, as the paper does around the anchor: up to
     ``objects_nearby`` street objects and ``cars_nearby`` parked cars are added where they fit (clear
     of the doorway, of storefront doors and of what stands), and storefronts on road-facing facades
-    until ``storefronts_nearby`` stand there, so that PlaceNav has places near the building.
+    until ``storefronts_nearby`` stand there, so that PlaceNav has places near the building; what is
+    added follows the city's own population and storefront settings (``city_settings.json``).
     """
-
-    max_road_distance: Annotated[float, Field(gt=0.0, le=50.0)] = 30.0
-    sidewalk_gap: Annotated[float, Field(ge=0.0, le=20.0)] = 6.0
-    exit_margin: Annotated[float, Field(ge=0.0, le=5.0)] = 0.5
-    clear_depth: Annotated[float, Field(ge=0.0, le=10.0)] = 2.0
-    facade: Annotated[int, Field(ge=1, le=10_000_000)] | None = None
-    exit: Annotated[int, Field(ge=1, le=10_000)] | None = None
-    storefronts_nearby: Annotated[int, Field(ge=0, le=200)] = 8
-    objects_nearby: Annotated[int, Field(ge=0, le=1000)] = 30
-    cars_nearby: Annotated[int, Field(ge=0, le=500)] = 8
-    nearby_radius: Annotated[float, Field(gt=0.0, le=200.0)] = 50.0
 
 
 @stage(
@@ -56,11 +49,11 @@ def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
     from navverse.city.i2o import assemble_i2o as assemble
     from navverse.scene import read_scene
 
-    city, city_map, plan = _read_city(ctx)
+    city, city_map, plan, carried = _read_city(ctx)
     building = read_scene(_draw(ctx, "building"))
     ctx.progress(1, 3, "assembling")
-    result = assemble(city, plan, building, scene_id=ctx.target, settings=_settings(params))
-    _finish(ctx, params, result, city_map, plan, city=city.scene_id, building=building.scene_id)
+    result = assemble(city, plan, building, scene_id=ctx.target, settings=AssemblySettings.of(params))
+    _finish(ctx, params, result, city_map, plan, carried, city=city.scene_id, building=building.scene_id)
 
 
 class GenerateI2OParams(AssembleI2OParams):
@@ -75,16 +68,17 @@ def generate_i2o(ctx: StageContext, params: GenerateI2OParams) -> None:
     """An i2o scene: a procedural building sized to a road-facing city building, set in its place."""
     from navverse.city.i2o import generate_i2o as generate
 
-    city, city_map, plan = _read_city(ctx)
+    city, city_map, plan, carried = _read_city(ctx)
     ctx.progress(1, 3, "generating")
-    result = generate(
-        city, plan, params.building_type, ctx.rng, scene_id=ctx.target, settings=_settings(params)
-    )
-    _finish(ctx, params, result, city_map, plan, city=city.scene_id, building=params.building_type)
+    settings = AssemblySettings.of(params)
+    result = generate(city, plan, params.building_type, ctx.rng, scene_id=ctx.target, settings=settings)
+    _finish(ctx, params, result, city_map, plan, carried, city=city.scene_id, building=params.building_type)
 
 
 def _read_city(ctx: StageContext):
-    """The linked city scene, the map it was made from and its street plan (all in its directory)."""
+    """The linked city scene, the map it was made from, its street plan and the settings it was
+    built with (all in its directory)."""
+    from navverse.city.city_settings import CITY_SETTINGS_FILE, load_city_settings
     from navverse.city.i2o import AssemblyError
     from navverse.city.map import read_city_map
     from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan
@@ -93,50 +87,49 @@ def _read_city(ctx: StageContext):
 
     ctx.progress(0, 3, "reading")
     city_dir = _draw(ctx, "city")
-    missing = [name for name in (CITY_MAP_FILE, STREET_PLAN_FILE) if not (city_dir / name).is_file()]
+    needed = (CITY_MAP_FILE, STREET_PLAN_FILE, CITY_SETTINGS_FILE)
+    missing = [name for name in needed if not (city_dir / name).is_file()]
     if missing:
         raise AssemblyError(
             f"the linked city {city_dir} has no {' or '.join(missing)}: link the `geometry` of a city "
             "target (built by its storefronts stage), not another scene"
         )
     city_map = read_city_map(city_dir / CITY_MAP_FILE)
-    return read_scene(city_dir), city_map, load_street_plan(city_dir / STREET_PLAN_FILE)
-
-
-def _settings(params: AssembleI2OParams):
-    from navverse.city.i2o import AssemblySettings
-
-    return AssemblySettings(
-        max_road_distance=params.max_road_distance,
-        sidewalk_gap=params.sidewalk_gap,
-        exit_margin=params.exit_margin,
-        clear_depth=params.clear_depth,
-        facade=params.facade,
-        exit=params.exit,
-    )
+    plan = load_street_plan(city_dir / STREET_PLAN_FILE)
+    return read_scene(city_dir), city_map, plan, load_city_settings(city_dir / CITY_SETTINGS_FILE)
 
 
 def _finish(
-    ctx: StageContext, params: AssembleI2OParams, result, city_map, plan, *, city: str, building: str
+    ctx: StageContext,
+    params: AssembleI2OParams,
+    result,
+    city_map,
+    plan,
+    carried,
+    *,
+    city: str,
+    building: str,
 ) -> None:
-    """Densify the neighbourhood of the exit, write the scene and record how it was made."""
+    """Densify the neighbourhood of the exit by the city's own settings, write the scene and record
+    how it was made."""
     from shapely.geometry import Point
 
-    from navverse.city.densify import DensifySettings, densify_neighbourhood
+    from navverse.city.densify import densify_neighbourhood
     from navverse.scene import write_scene_dir
 
     anchor = result.scene.annotations.indoor_anchor
     doorway = Point(anchor[0], anchor[1]).buffer(params.clear_depth + 1.5)
+    densify = DensifySettings.of(params)
     nearby = densify_neighbourhood(
         result.scene,
         city_map,
         plan,
         ctx.rng,
-        region=Point(anchor[0], anchor[1]).buffer(params.nearby_radius, quad_segs=16),
+        region=densify.region_around(anchor[0], anchor[1]),
         keep_clear=[doorway],
-        settings=DensifySettings(
-            objects=params.objects_nearby, cars=params.cars_nearby, storefronts=params.storefronts_nearby
-        ),
+        settings=densify,
+        populate=carried.effective_populate,
+        storefronts=carried.effective_storefronts,
     )
     ctx.progress(2, 3, "writing")
     write_scene_dir(nearby.scene, ctx.output)

@@ -8,9 +8,9 @@ from typing import Annotated
 import numpy as np
 from pydantic import Field, model_validator
 
+from navverse.scene.terrain import TerrainName
 from navverse.scene_types import SceneType
 from pipeline import Params, StageContext, stage
-from stages._terrain_names import TerrainName
 
 MAX_SIZE_M = 2000.0
 """Longest side of a solid (m)."""

@@ -5,11 +5,12 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
-from pydantic import AfterValidator, Field, model_validator
+from pydantic import AfterValidator, model_validator
 
+from navverse.city.osm_window import OsmWindow
+from navverse.city.scene import CityGeometry
 from navverse.city.synthetic import SyntheticCityParams
 from pipeline import Params, SourceFile, StageContext, stage
-from stages._terrain_names import TerrainName
 
 if TYPE_CHECKING:
     from navverse.city.map import CityMap
@@ -25,12 +26,7 @@ def _osm_name(path: Path) -> Path:
     return path
 
 
-Latitude = Annotated[float, Field(ge=-90.0, le=90.0, description="Degrees north, -90 to 90.")]
-Longitude = Annotated[float, Field(ge=-180.0, le=180.0, description="Degrees east, -180 to 180.")]
-Side = Annotated[float, Field(gt=0.0, le=50_000.0, description="Meters, more than 0, at most 50 km.")]
-
-
-class OsmCityParams(Params):
+class OsmCityParams(Params, OsmWindow):
     """Parameters of :func:`osm_city`.
 
     ``source`` is a local ``.osm``, ``.osm.gz`` or ``.osm.pbf`` file. The window is ``center``
@@ -41,9 +37,6 @@ class OsmCityParams(Params):
     """
 
     source: Annotated[SourceFile, AfterValidator(_osm_name)]
-    center: tuple[Latitude, Longitude] | None = None
-    size_m: tuple[Side, Side] = (1000.0, 1000.0)
-    bbox: tuple[Latitude, Longitude, Latitude, Longitude] | None = None
 
     @model_validator(mode="after")
     def _window_on_the_data(self) -> OsmCityParams:
@@ -122,72 +115,24 @@ def _record_map(ctx: StageContext, city: CityMap) -> None:
     )  # fmt: skip
 
 
-Grade = Annotated[float, Field(ge=-0.3, le=0.3, description="Rise per meter, -0.3 to 0.3.")]
-
-
-class CityGeometryParams(Params):
-    """Parameters of :func:`city_geometry` (lengths in meters).
-
-    ``road_depression``: how far roads lie below the sidewalks (the curb height).
-    ``lowered_curb_height``: the step left where a crosswalk meets the curb (``kerb=lowered``).
-    ``ramp_length``: how far into the road a crosswalk ramps down from it.
-    ``junction_crosswalks``: add crosswalks across every arm of junctions of roads with sidewalks,
-    besides the mapped crossings. ``slope``: an analytic terrain (rise per meter east, north) that
-    every surface follows, curbs included. ``friction``: per terrain class, replacing the table's.
-    """
-
-    road_depression: Annotated[float, Field(ge=0.0, le=0.5)] = 0.2
-    lowered_curb_height: Annotated[float, Field(ge=0.0, le=0.05)] = 0.005
-    ramp_length: Annotated[float, Field(ge=0.3, le=5.0)] = 1.5
-    curb_width: Annotated[float, Field(ge=0.05, le=1.0)] = 0.15
-    crosswalk_width: Annotated[float, Field(ge=2.0, le=10.0)] = 4.0
-    water_depth: Annotated[float, Field(ge=0.1, le=5.0)] = 0.5
-    junction_crosswalks: bool = True
-    slope: tuple[Grade, Grade] = (0.0, 0.0)
-    friction: dict[
-        TerrainName,
-        Annotated[float, Field(ge=0, le=5, description="Friction coefficient, 0 to 5.")],
-    ] = {}
-
-    @model_validator(mode="after")
-    def _lip_below_curb(self) -> CityGeometryParams:
-        if self.lowered_curb_height > self.road_depression:
-            raise ValueError(
-                f"lowered_curb_height ({self.lowered_curb_height}) must not exceed road_depression "
-                f"({self.road_depression})"
-            )
-        return self
+class CityGeometryParams(Params, CityGeometry):
+    """Parameters of :func:`city_geometry`: those of :class:`navverse.city.scene.CityGeometry`
+    (lengths in meters): the ground's heights, curb and crosswalk widths, junction crosswalks, an
+    analytic ``slope`` every surface follows, and ``friction`` per terrain class."""
 
 
 @stage(name="city_geometry", inputs=["city_map"], outputs=["street_geometry"])
 def city_geometry(ctx: StageContext, params: CityGeometryParams) -> None:
-    """A scene (roads below curbs, crosswalks, sidewalks, land, buildings) and its street plan."""
-    import numpy as np
-
+    """A scene (roads below curbs, crosswalks, sidewalks, land, buildings), its street plan and settings."""
     import navverse
-    from navverse.city.ground import GroundSettings
+    from navverse.city.city_settings import CITY_SETTINGS_FILE, CitySettings, save_city_settings
     from navverse.city.map import read_city_map
-    from navverse.city.scene import CityGeometry, city_scene, geometry_plan
+    from navverse.city.scene import city_scene, geometry_plan
     from navverse.city.street_plan import STREET_PLAN_FILE, save_street_plan
     from navverse.scene import SceneSource, write_scene_dir
 
     city = read_city_map(ctx.input("city_map") / CITY_MAP_FILE)
-    geometry = CityGeometry(
-        ground=GroundSettings(
-            road_depression=params.road_depression,
-            lowered_curb_height=params.lowered_curb_height,
-            ramp_length=params.ramp_length,
-            water_depth=params.water_depth,
-        ),
-        curb_width=params.curb_width,
-        crosswalk_width=params.crosswalk_width,
-        junction_crosswalks=params.junction_crosswalks,
-        friction=dict(params.friction),
-    )
-    grade_x, grade_y = params.slope
-
-    def terrain(points: np.ndarray) -> np.ndarray:
-        return points[:, 0] * grade_x + points[:, 1] * grade_y
+    geometry = CityGeometry.of(params)
 
     ctx.progress(0, 3, "plan")
     plan = geometry_plan(city, geometry)
@@ -196,7 +141,6 @@ def city_geometry(ctx: StageContext, params: CityGeometryParams) -> None:
         city,
         scene_id=ctx.target,
         geometry=geometry,
-        terrain=terrain,
         plan=plan,
         source=SceneSource(
             recipe=ctx.recipe, recipe_hash=ctx.recipe_hash, toolkit_version=navverse.__version__
@@ -205,6 +149,7 @@ def city_geometry(ctx: StageContext, params: CityGeometryParams) -> None:
     ctx.progress(2, 3, "writing")
     write_scene_dir(scene, ctx.output)
     save_street_plan(plan, ctx.output / STREET_PLAN_FILE)
+    save_city_settings(CitySettings(geometry=geometry), ctx.output / CITY_SETTINGS_FILE)
     ctx.progress(3, 3, "done")
     stats = scene.annotations.statistics
     areas = {s.name: round(_top_area(s.mesh), 1) for s in scene.surfaces if s.terrain_class != "building"}

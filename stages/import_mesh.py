@@ -8,10 +8,10 @@ from typing import TYPE_CHECKING, Annotated, Literal
 
 from pydantic import AfterValidator, Field, ValidationInfo, field_validator, model_validator
 
+from navverse.scene.terrain import TerrainName, known_terrain_class
 from navverse.scene_types import SceneType
 from pipeline import Params, SourceFile, StageContext, stage
 from pipeline.params import ReadPolicy
-from stages._terrain_names import TerrainName, known_terrain_class
 
 if TYPE_CHECKING:
     from navverse.scene.mesh_import import MeshNode, NodeRole

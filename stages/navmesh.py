@@ -11,8 +11,8 @@ from typing import Annotated
 from pydantic import AfterValidator, Field
 
 from navverse.nav.settings import NavMeshOverrides
+from navverse.scene.terrain import known_terrain_class
 from pipeline import Params, StageContext, stage
-from stages._terrain_names import known_terrain_class
 
 
 def _navigable_class(name: str) -> str:

@@ -10,10 +10,12 @@ of a populated city scene:
    with the sidewalk zones clipped to the region; mapped furniture is already standing).
 3. **Parked cars** in the free street slots of the region (:func:`~navverse.city.parking.street_slots`).
 
-A new object or car keeps ``gap`` from every object already in the scene, from the buildings, from
+A new object or car keeps the city's ``gap`` (:class:`~navverse.city.street_zones.ZoneSettings`)
+from every object already in the scene, from the buildings, from
 the ``keep_clear`` areas the caller names (an exit's doorway, say) and from the approach of every
-storefront door. Of those that fit, ``objects`` and ``cars`` are drawn with the generator, so the same
-scene, region and seed give the same result.
+storefront door. Of those that fit, ``objects_nearby`` and ``cars_nearby`` are drawn with the
+generator, so the same scene, region and seed give the same result. What is added follows the city's
+own population and storefront settings (excluded categories, zone widths, storefront categories).
 """
 
 from __future__ import annotations
@@ -21,10 +23,12 @@ from __future__ import annotations
 import math
 from collections import Counter
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
+from typing import Annotated
 
 import numpy as np
 import shapely
+from pydantic import Field
 from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 
@@ -39,35 +43,28 @@ from navverse.scene.annotations import ObjectAnnotation, StorefrontAnnotation
 from navverse.scene.compose import object_parts, replace_parts
 from navverse.scene.geometry import Scene
 from navverse.scene.heights import SurfaceHeights
+from navverse.settings import Settings
 
 __all__ = ["Densified", "DensifySettings", "base_footprint", "densify_neighbourhood"]
 
 _DOOR_APPROACH = 3.0  # length of the corridor kept free straight out of a storefront's door (m)
 
 
-@dataclass(frozen=True)
-class DensifySettings:
-    """How much a neighbourhood gains.
+class DensifySettings(Settings):
+    """How much a neighbourhood gains (the i2o stages densify the neighbourhood of the exit)."""
 
-    Attributes
-    ----------
-    objects : int
-        Most street objects added.
-    cars : int
-        Most parked cars added.
-    storefronts : int
-        Storefronts the region should hold in the end (those standing count).
-    gap : float
-        Free space kept between a new object's footprint and anything standing (m).
-    populate : PopulateSettings
-        The city's population settings: excluded categories and sidewalk zone widths.
-    """
+    storefronts_nearby: Annotated[int, Field(ge=0, le=200)] = 8
+    """Storefronts the region should hold in the end (those standing count)."""
+    objects_nearby: Annotated[int, Field(ge=0, le=1000)] = 30
+    """Most street objects added."""
+    cars_nearby: Annotated[int, Field(ge=0, le=500)] = 8
+    """Most parked cars added."""
+    nearby_radius: Annotated[float, Field(gt=0.0, le=200.0)] = 50.0
+    """Radius of the neighbourhood densified around a point (:meth:`region_around`), m."""
 
-    objects: int = 30
-    cars: int = 8
-    storefronts: int = 8
-    gap: float = 0.3
-    populate: PopulateSettings = field(default_factory=PopulateSettings)
+    def region_around(self, x: float, y: float) -> BaseGeometry:
+        """The disc of ``nearby_radius`` around ``(x, y)``: the region to densify."""
+        return Point(x, y).buffer(self.nearby_radius, quad_segs=16)
 
 
 @dataclass(frozen=True)
@@ -150,7 +147,9 @@ def densify_neighbourhood(
     *,
     region: BaseGeometry,
     keep_clear: Sequence[BaseGeometry] = (),
-    settings: DensifySettings | None = None,
+    settings: DensifySettings,
+    populate: PopulateSettings,
+    storefronts: StorefrontSettings,
 ) -> Densified:
     """Add street objects, parked cars and storefronts inside `region` of a populated city scene.
 
@@ -168,8 +167,11 @@ def densify_neighbourhood(
         Where to add (e.g. a 50 m disc around an exit).
     keep_clear : sequence of BaseGeometry
         Areas no new object or car may cover.
-    settings : DensifySettings, optional
+    settings : DensifySettings
         How many of each.
+    populate, storefronts : PopulateSettings, StorefrontSettings
+        The settings the city was populated and given storefronts with (excluded categories, zone
+        widths, storefront sizes and categories): what is added follows the city's own rules.
 
     Returns
     -------
@@ -178,34 +180,32 @@ def densify_neighbourhood(
     """
     from navverse.assets.library import asset
 
-    settings = settings or DensifySettings()
-    excluded = settings.populate.excluded
-    zones = _clip(street_zones(city, plan, settings.populate.zones), region)
+    excluded = populate.excluded
+    zones = _clip(street_zones(city, plan, populate), region)
     counts: dict = {}
-    if settings.storefronts:  # first: a storefront clears the street objects in front of its door
+    if settings.storefronts_nearby:  # first: a storefront clears the objects in front of its door
         shops = densify_storefronts(
-            scene, plan, rng, StorefrontSettings(), region=region, count=settings.storefronts
+            scene, plan, rng, storefronts, region=region, count=settings.storefronts_nearby
         )
         scene, counts["storefronts"] = shops.scene, shops.counts
-    taken = _taken(scene, keep_clear, settings.gap)
+    taken = _taken(scene, keep_clear, populate.gap)
     planned = plan_street_objects(
         city.model_copy(update={"furniture": []}),
         plan,
         zones,
         lambda category: asset(category).size_max,
         rng,
-        settings=settings.populate.zones,
+        settings=populate,
         grammar=tuple(rule for rule in GRAMMAR if rule.category not in excluded),
         excluded=excluded,
-        gap=settings.gap,
     )
     placements = _free_placements(planned.placements, taken, region)
     car_types = {k: v for k, v in CAR_TYPES.items() if k not in excluded}
-    slots = street_slots(city, zones, rng, settings=settings.populate.zones) if car_types else []
+    slots = street_slots(city, zones, rng, settings=populate) if car_types else []
     slots = _free_slots(slots, taken, region)
     candidates = {"objects": len(placements), "cars": len(slots)}
-    placements = _draw(placements, settings.objects, rng)
-    slots = _draw(slots, settings.cars, rng)
+    placements = _draw(placements, settings.objects_nearby, rng)
+    slots = _draw(slots, settings.cars_nearby, rng)
     parts = stand_objects(placements, slots, car_types, SurfaceHeights(scene), rng)
     scene = replace_parts(scene, objects=[*object_parts(scene), *parts])
     counts["objects"] = dict(sorted(Counter(p.category for p in parts if p.source != "parking").items()))

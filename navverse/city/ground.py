@@ -26,10 +26,11 @@ face and no gap: the curb face between road and curb, the ramp's sides, the bank
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import Annotated
 
 import numpy as np
 import shapely
+from pydantic import Field, model_validator
 from shapely.geometry import Polygon, box
 from shapely.geometry.base import BaseGeometry
 from shapely.strtree import STRtree
@@ -39,6 +40,7 @@ from navverse.city.prisms import HeightFn, polygon_prism, polygons_of
 from navverse.city.shape_grid import ShapeGrid
 from navverse.city.surfaces import crosswalk_polygons
 from navverse.scene.geometry import MeshData, Surface
+from navverse.settings import Settings
 
 __all__ = ["TERRAIN_OF_SURFACE", "GroundSettings", "flat", "ground_surfaces"]
 
@@ -62,29 +64,29 @@ LIPS = {"lowered": None, "rolled": None, "flush": 0.0}
 """Lip of a crosswalk ramp by kerb (``None``: ``lowered_curb_height``); ``raised`` has no ramp."""
 
 
-@dataclass(frozen=True)
-class GroundSettings:
-    """Heights of the ground (m).
+class GroundSettings(Settings):
+    """Heights of the ground (m): how far roads, crosswalk ramps and water lie below the sidewalks."""
 
-    Attributes
-    ----------
-    road_depression : float
-        How far roads lie below the sidewalks: the curb height.
-    lowered_curb_height : float
-        The step left at a lowered curb (a crosswalk's edge). 5 mm by default: accessibility rules
-        allow at most 6 mm of vertical change at a curb ramp, and a wheel of 3.5 cm radius needs a
-        friction above tan(acos((r - h) / r)) to climb a step h on traction alone (0.97 for 1 cm,
-        0.59 for 5 mm), so a TurtleBot crosses at 5 mm and not at 1 cm on asphalt (0.85).
-    ramp_length : float
-        How far into the road a crosswalk ramp reaches from the curb.
-    water_depth : float
-        How far water lies below the ground.
-    """
+    road_depression: Annotated[float, Field(ge=0.0, le=0.5)] = 0.2
+    """How far roads lie below the sidewalks: the curb height."""
+    lowered_curb_height: Annotated[float, Field(ge=0.0, le=0.05)] = 0.005
+    """The step left at a lowered curb (a crosswalk's edge, ``kerb=lowered``). 5 mm by default:
+    accessibility rules allow at most 6 mm of vertical change at a curb ramp, and a wheel of 3.5 cm
+    radius needs a friction above tan(acos((r - h) / r)) to climb a step h on traction alone (0.97
+    for 1 cm, 0.59 for 5 mm), so a TurtleBot crosses at 5 mm and not at 1 cm on asphalt (0.85)."""
+    ramp_length: Annotated[float, Field(ge=0.3, le=5.0)] = 1.5
+    """How far into the road a crosswalk ramps down from the curb."""
+    water_depth: Annotated[float, Field(ge=0.1, le=5.0)] = 0.5
+    """How far water lies below the ground."""
 
-    road_depression: float = 0.2
-    lowered_curb_height: float = 0.005
-    ramp_length: float = 1.5
-    water_depth: float = 0.5
+    @model_validator(mode="after")
+    def _lip_below_curb(self) -> GroundSettings:
+        if self.lowered_curb_height > self.road_depression:
+            raise ValueError(
+                f"lowered_curb_height ({self.lowered_curb_height}) must not exceed road_depression "
+                f"({self.road_depression})"
+            )
+        return self
 
 
 def flat(points: np.ndarray) -> np.ndarray:

@@ -31,14 +31,16 @@ from __future__ import annotations
 
 import math
 from collections import Counter
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
+from typing import Annotated
 
 import numpy as np
 import shapely
+from pydantic import Field
 from shapely.affinity import affine_transform
 from shapely.geometry import LineString, Point, Polygon
 
-from navverse.city.storefronts import WALKABLE_FRONT, object_box
+from navverse.city.storefronts import WALKABLE_FRONT, FacadeReach, object_box
 from navverse.city.street_plan import StreetPlan
 from navverse.city.surfaces import union_of
 from navverse.errors import NavverseError, SceneError
@@ -60,32 +62,19 @@ class AssemblyError(NavverseError):
     """A building cannot be joined to a city as asked: the message names the constraint."""
 
 
-@dataclass(frozen=True)
-class AssemblySettings:
-    """How a building is joined to a city (see the module docstring).
+class AssemblySettings(FacadeReach):
+    """How a building is joined to a city (see the module docstring): its exit set into a
+    road-facing facade whose road is within ``max_road_distance`` and whose sidewalk is within
+    ``sidewalk_gap`` in front, with ``exit_margin`` of facade on each side."""
 
-    Attributes
-    ----------
-    max_road_distance : float
-        How far the road a facade faces may be (m).
-    sidewalk_gap : float
-        How much open ground may lie between the exit and the sidewalk in front (m).
-    exit_margin : float
-        Facade length kept beyond each side of the exit (m).
-    clear_depth : float
-        Depth in front of the exit cleared of street objects (m).
-    facade : int, optional
-        Use this city facade (its id) instead of choosing one.
-    exit : int, optional
-        Connect this exit of the building (its id); by default its first.
-    """
-
-    max_road_distance: float = 30.0
-    sidewalk_gap: float = 6.0
-    exit_margin: float = 0.5
-    clear_depth: float = 2.0
-    facade: int | None = None
-    exit: int | None = None
+    exit_margin: Annotated[float, Field(ge=0.0, le=50.0)] = 0.5
+    """Facade length kept beyond each side of the exit (m)."""
+    clear_depth: Annotated[float, Field(ge=0.0, le=10.0)] = 2.0
+    """Depth in front of the exit cleared of street objects (m)."""
+    facade: Annotated[int, Field(ge=1, le=10_000_000)] | None = None
+    """Use this city facade (its id) instead of choosing one."""
+    exit: Annotated[int, Field(ge=1, le=10_000)] | None = None
+    """Connect this exit of the building (its id); by default its first."""
 
 
 @dataclass(frozen=True)
@@ -278,7 +267,7 @@ def assemble_i2o(
     building: Scene,
     *,
     scene_id: str,
-    settings: AssemblySettings = AssemblySettings(),
+    settings: AssemblySettings | None = None,
 ) -> I2OAssembly:
     """Join an indoor building to a city through one of its exits (module docstring).
 
@@ -292,7 +281,7 @@ def assemble_i2o(
         A scene holding one indoor building with an exit (e.g. a procedural building).
     scene_id : str
         The assembled scene's id.
-    settings : AssemblySettings
+    settings : AssemblySettings, optional
         How to choose the facade.
 
     Returns
@@ -304,6 +293,7 @@ def assemble_i2o(
     AssemblyError
         If the building has no exit, the named facade cannot hold it, or no facade can.
     """
+    settings = settings or AssemblySettings()
     indoor, exit_ = _indoor_building(building, settings.exit)
     site = _Site(city, plan, settings)
     found, refused = _placements(site, indoor, exit_)
@@ -406,7 +396,7 @@ def generate_i2o(
     rng: np.random.Generator,
     *,
     scene_id: str,
-    settings: AssemblySettings = AssemblySettings(),
+    settings: AssemblySettings | None = None,
     tries: int = 6,
 ) -> I2OAssembly:
     """Generate a procedural building sized to a road-facing city building and join it there.
@@ -427,6 +417,7 @@ def generate_i2o(
     from navverse.indoor.floorplan import depth_range
     from navverse.indoor.programs import PROGRAMS
 
+    settings = settings or AssemblySettings()
     if building_type not in PROGRAMS:
         raise AssemblyError(f"unknown building type {building_type!r}; choose from: {', '.join(PROGRAMS)}")
     program = PROGRAMS[building_type]
@@ -460,7 +451,7 @@ def generate_i2o(
                 building_type, np.random.default_rng(seed), scene_id=f"{scene_id}-building", options=options
             )
             result = assemble_i2o(
-                city, plan, building, scene_id=scene_id, settings=replace(settings, facade=facade_id)
+                city, plan, building, scene_id=scene_id, settings=settings.of(settings, facade=facade_id)
             )
         except (AssemblyError, SceneError) as exc:
             refused.append(f"facade {facade_id}: {exc}")

@@ -92,7 +92,7 @@ from navverse.city.osm_files import (
     peek_osm_file,
 )
 from navverse.city.osm_read import read_extract
-from navverse.city.osm_window import Window, box_text, make_window
+from navverse.city.osm_window import OsmWindow, Window, box_text, make_window
 
 __all__ = ["OSM_ATTRIBUTION", "check_window", "read_osm"]
 
@@ -104,7 +104,7 @@ def read_osm(
     path: str | os.PathLike[str],
     *,
     center: tuple[float, float] | None = None,
-    size_m: tuple[float, float] = (1000.0, 1000.0),
+    size_m: tuple[float, float] | None = None,
     bbox: tuple[float, float, float, float] | None = None,
     seed: int = 0,
     progress: Progress | None = None,
@@ -117,8 +117,9 @@ def read_osm(
         A ``.osm`` (OSM XML), ``.osm.gz`` or ``.osm.pbf`` file.
     center : (lat, lon), optional
         Centre of the window (the frame's origin); default: the centre of the file's declared bounds.
-    size_m : (width, height)
-        Sides of a centred window (m), east-west and north-south.
+    size_m : (width, height), optional
+        Sides of a centred window (m), east-west and north-south; :class:`~.osm_window.OsmWindow`'s
+        default (1 km square) when omitted.
     bbox : (min_lat, min_lon, max_lat, max_lon), optional
         The window as a lat/lon box instead of ``center``: the map covers the local rectangle around
         it, with the origin at its centre.
@@ -144,6 +145,7 @@ def read_osm(
         raise CityMapError(f"seed must be a whole number >= 0, not {seed!r}")
     osm_file = check_osm_file(path)
     bounds = file_bounds(path, osm_file.format)
+    size_m = OsmWindow.model_fields["size_m"].default if size_m is None else size_m
     window = make_window(center=center, size_m=size_m, bbox=bbox, data_bounds=bounds, path=path)
     sha256 = file_sha256(path, progress=progress)
     extract = read_extract(osm_file, window, keys=FEATURE_KEYS, progress=progress)
@@ -166,7 +168,7 @@ def check_window(
     path: str | os.PathLike[str],
     *,
     center: tuple[float, float] | None = None,
-    size_m: tuple[float, float] = (1000.0, 1000.0),
+    size_m: tuple[float, float] | None = None,
     bbox: tuple[float, float, float, float] | None = None,
 ) -> None:
     """Check, cheaply, that a file looks like OSM data and that a window lies on it.
@@ -183,6 +185,7 @@ def check_window(
     path = Path(path)
     fmt, head = peek_osm_file(path)
     bounds = file_bounds(path, fmt) if fmt == "pbf" else head_bounds(head)
+    size_m = OsmWindow.model_fields["size_m"].default if size_m is None else size_m
     window = make_window(center=center, size_m=size_m, bbox=bbox, data_bounds=bounds, path=path)
     if bounds is not None:
         west, south, east, north = bounds

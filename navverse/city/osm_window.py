@@ -11,20 +11,40 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
+from pydantic import Field
 from pyproj import Transformer
 
 from navverse.city.map import CityMapError
+from navverse.settings import Settings
 
-__all__ = ["MAX_WINDOW_SIDE", "LonLatBox", "Window", "box_text", "make_window", "utm_epsg"]
+__all__ = ["MAX_WINDOW_SIDE", "LonLatBox", "OsmWindow", "Window", "box_text", "make_window", "utm_epsg"]
 
 MAX_WINDOW_SIDE = 50_000.0
 """Longest side of a window (m)."""
 
 LonLatBox = tuple[float, float, float, float]
 """``(min_lon, min_lat, max_lon, max_lat)`` in degrees."""
+
+
+Latitude = Annotated[float, Field(ge=-90.0, le=90.0, description="Degrees north, -90 to 90.")]
+Longitude = Annotated[float, Field(ge=-180.0, le=180.0, description="Degrees east, -180 to 180.")]
+Side = Annotated[float, Field(gt=0.0, le=MAX_WINDOW_SIDE, description="Meters, more than 0, at most 50 km.")]
+
+
+class OsmWindow(Settings):
+    """The window of an OSM file a city map covers: ``center`` ``[lat, lon]`` with ``size_m``
+    ``[east-west, north-south]``, or ``bbox`` ``[min_lat, min_lon, max_lat, max_lon]``; with
+    neither, the centre of the file's declared bounds."""
+
+    center: tuple[Latitude, Longitude] | None = None
+    """Centre of a ``size_m`` window (degrees)."""
+    size_m: tuple[Side, Side] = (1000.0, 1000.0)
+    """East-west and north-south sides of a centred window (m)."""
+    bbox: tuple[Latitude, Longitude, Latitude, Longitude] | None = None
+    """The window as a lat/lon box instead of ``center``."""
 
 
 def utm_epsg(lat: float, lon: float) -> int:

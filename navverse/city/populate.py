@@ -17,10 +17,12 @@ from __future__ import annotations
 import math
 from collections import Counter
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from typing import Annotated
 
 import numpy as np
 import shapely
+from pydantic import AfterValidator, Field
 
 from navverse.assets.library import SupportArea, asset, make_object
 from navverse.city.context_groups import GroupPlan, plan_groups
@@ -45,38 +47,56 @@ CAR_TYPES: dict[str, float] = {
 """Body types of parked cars and their shares (a drawn type that does not fit a slot is redrawn)."""
 
 
-@dataclass(frozen=True)
-class PopulateSettings:
-    """How densely a city is populated, and with what.
+def _known_categories(names: list[str]) -> list[str]:
+    from navverse.assets.library import categories
 
-    Attributes
-    ----------
-    cars_per_km2 : float
-        Most parked cars per km² of the window.
-    objects_per_km2 : float
-        Most street objects (mapped and grammar) per km² of the window.
-    excluded : frozenset of str
-        Object categories never placed.
-    lot_share : float
-        Share of the cars parked in parking lots when both lots and street slots are free.
-    group_objects_per_km2 : float
-        Most objects of contextual groups per km² (besides the street objects).
-    groups : frozenset of str or None
-        The contextual groups to place (:data:`~navverse.city.context_groups.GROUPS` names); None: all.
-    group_spacing : float
-        Least distance between two groups (m).
-    zones : ZoneSettings
-        Sidewalk zone widths and clearances.
-    """
+    known = set(categories())
+    unknown = sorted(set(names) - known)
+    if unknown:
+        listed = ", ".join(sorted(known))
+        raise ValueError(
+            f"unknown object categories {', '.join(unknown)}; the object library knows: {listed}"
+        )
+    return sorted(set(names))
 
-    cars_per_km2: float = 200.0
-    objects_per_km2: float = 1000.0
-    excluded: frozenset[str] = frozenset()
-    lot_share: float = 0.4
-    group_objects_per_km2: float = 300.0
-    groups: frozenset[str] | None = None
-    group_spacing: float = 8.0
-    zones: ZoneSettings = field(default_factory=ZoneSettings)
+
+def _known_groups(names: list[str] | None) -> list[str] | None:
+    if names is None:
+        return None
+    from navverse.city.group_catalogue import GROUPS
+
+    known = {g.name for g in GROUPS}
+    unknown = sorted(set(names) - known)
+    if unknown:
+        raise ValueError(f"unknown contextual groups {', '.join(unknown)}; known: {', '.join(sorted(known))}")
+    return sorted(set(names))
+
+
+class PopulateSettings(ZoneSettings):
+    """How densely a city is populated, and with what: the densities and exclusions below and the
+    sidewalk zone widths of :class:`~navverse.city.street_zones.ZoneSettings` (``clear_width`` is the
+    walkway kept clear on sidewalks wide enough, else ``min_clear``, else the whole sidewalk)."""
+
+    cars_per_km2: Annotated[float, Field(ge=0.0, le=5000.0)] = 200.0
+    """Most parked cars per km² of the window."""
+    objects_per_km2: Annotated[float, Field(ge=0.0, le=20000.0)] = 1000.0
+    """Most street objects (mapped furniture first, then the zone grammar) per km² of the window."""
+    exclude: Annotated[list[str], AfterValidator(_known_categories)] = []
+    """Object categories never placed."""
+    lot_share: Annotated[float, Field(ge=0.0, le=1.0)] = 0.4
+    """Share of the cars parked in parking lots when both lots and street slots are free."""
+    group_objects_per_km2: Annotated[float, Field(ge=0.0, le=20000.0)] = 300.0
+    """Most objects of contextual groups (bus stop waits, picnics, roadworks...) per km², besides the
+    street objects."""
+    groups: Annotated[list[str] | None, AfterValidator(_known_groups)] = None
+    """The contextual groups to place (:data:`~navverse.city.group_catalogue.GROUPS` names); None: all."""
+    group_spacing: Annotated[float, Field(ge=0.0, le=500.0)] = 8.0
+    """Least distance between two groups (m)."""
+
+    @property
+    def excluded(self) -> frozenset[str]:
+        """``exclude`` as a set."""
+        return frozenset(self.exclude)
 
 
 @dataclass(frozen=True)
@@ -156,7 +176,7 @@ def populate_city(
     settings = settings or PopulateSettings()
     x0, y0, x1, y1 = city.window
     area_km2 = (x1 - x0) * (y1 - y0) / 1e6
-    zones = street_zones(city, plan, settings.zones)
+    zones = street_zones(city, plan, settings)
     grammar = tuple(rule for rule in GRAMMAR if rule.category not in settings.excluded)
     street = plan_street_objects(
         city,
@@ -164,7 +184,7 @@ def populate_city(
         zones,
         _largest,
         rng,
-        settings=settings.zones,
+        settings=settings,
         grammar=grammar,
         excluded=settings.excluded,
         budget=math.floor(settings.objects_per_km2 * area_km2),
@@ -172,7 +192,7 @@ def populate_city(
     car_types = {k: v for k, v in CAR_TYPES.items() if k not in settings.excluded}
     slots: list[Slot] = []
     if car_types:
-        free_street = street_slots(city, zones, rng, settings=settings.zones)
+        free_street = street_slots(city, zones, rng, settings=settings)
         free_lots = lot_slots(plan.classes["parking"])
         count = math.floor(settings.cars_per_km2 * area_km2)
         slots = _choose_slots(free_street, free_lots, count, settings.lot_share, rng)
@@ -187,8 +207,9 @@ def populate_city(
         rng,
         budget=math.floor(settings.group_objects_per_km2 * area_km2),
         min_spacing=settings.group_spacing,
+        gap=settings.gap,
         excluded=settings.excluded,
-        selected=settings.groups,
+        selected=None if settings.groups is None else frozenset(settings.groups),
         avoid=[slot_polygon(slot) for slot in slots],
     )
 

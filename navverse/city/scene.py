@@ -9,12 +9,14 @@ the map's frame (``geo``: EPSG code, latitude/longitude of the origin, source an
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from typing import Annotated
 
+import numpy as np
+from pydantic import Field
 from shapely.geometry import LineString, box
 
 from navverse.city.buildings import building_parts
-from navverse.city.ground import GroundSettings, flat, ground_surfaces
+from navverse.city.ground import GroundSettings, ground_surfaces
 from navverse.city.map import CityMap
 from navverse.city.prisms import HeightFn
 from navverse.city.street_plan import StreetPlan, street_plan
@@ -22,35 +24,39 @@ from navverse.city.surfaces import CROSSWALK_WIDTH, CURB_WIDTH, carriageways
 from navverse.scene.annotations import GeoReference, SceneSource
 from navverse.scene.compose import assemble_scene
 from navverse.scene.geometry import Scene
-from navverse.scene.terrain import terrain_classes
+from navverse.scene.terrain import TerrainName, terrain_classes
 
 __all__ = ["CityGeometry", "city_scene", "geometry_plan", "road_length"]
 
 
-@dataclass(frozen=True)
-class CityGeometry:
-    """How a map becomes geometry.
+Grade = Annotated[float, Field(ge=-0.3, le=0.3)]
+"""Rise per meter, -0.3 to 0.3."""
+Friction = Annotated[float, Field(ge=0, le=5, description="Friction coefficient, 0 to 5.")]
+"""A friction coefficient, 0 to 5."""
 
-    Attributes
-    ----------
-    ground : GroundSettings
-        Road depression, lowered curbs, ramps, water depth.
-    curb_width : float
-        Width of the curb's top strip (m).
-    crosswalk_width : float
-        Width of a crosswalk along its road (m).
-    junction_crosswalks : bool
-        Whether to add crosswalks across every arm of every junction of roads with sidewalks
-        (:func:`~navverse.city.crossings.junction_crossings`), besides the mapped ones.
-    friction : dict
-        Friction per terrain class, replacing the default table's.
-    """
 
-    ground: GroundSettings = field(default_factory=GroundSettings)
-    curb_width: float = CURB_WIDTH
-    crosswalk_width: float = CROSSWALK_WIDTH
-    junction_crosswalks: bool = False
-    friction: dict[str, float] = field(default_factory=dict)
+class CityGeometry(GroundSettings):
+    """How a map becomes geometry: the ground's heights (:class:`~navverse.city.ground.GroundSettings`),
+    the widths of curbs and crosswalks, junction crosswalks, the terrain's slope and friction."""
+
+    curb_width: Annotated[float, Field(ge=0.05, le=1.0)] = CURB_WIDTH
+    """Width of the curb's top strip (m)."""
+    crosswalk_width: Annotated[float, Field(ge=2.0, le=10.0)] = CROSSWALK_WIDTH
+    """Width of a crosswalk along its road (m)."""
+    junction_crosswalks: bool = True
+    """Add crosswalks across every arm of every junction of roads with sidewalks
+    (:func:`~navverse.city.crossings.junction_crossings`), besides the mapped ones. On by default:
+    real junctions are crossed at every arm, mapped crossings or not, and without them a map that
+    does not tag its crossings leaves the blocks as islands joined only by curb climbs."""
+    slope: tuple[Grade, Grade] = (0.0, 0.0)
+    """An analytic terrain every surface follows, curbs included: rise per meter east and north."""
+    friction: dict[TerrainName, Friction] = {}
+    """Friction per terrain class, replacing the default table's."""
+
+    def terrain(self, points: np.ndarray) -> np.ndarray:
+        """Height of the terrain (sidewalk level) at xy ``points`` (N, 2+): the ``slope``'s plane."""
+        grade_x, grade_y = self.slope
+        return points[:, 0] * grade_x + points[:, 1] * grade_y
 
 
 def road_length(city: CityMap) -> float:
@@ -74,7 +80,7 @@ def city_scene(
     *,
     scene_id: str,
     geometry: CityGeometry,
-    terrain: HeightFn = flat,
+    terrain: HeightFn | None = None,
     source: SceneSource | None = None,
     plan: StreetPlan | None = None,
 ) -> Scene:
@@ -88,8 +94,9 @@ def city_scene(
         The scene's id.
     geometry : CityGeometry
         Heights and widths.
-    terrain : callable
-        Height of the terrain at xy points (sidewalk level); flat by default.
+    terrain : callable, optional
+        Height of the terrain at xy points (sidewalk level); by default ``geometry``'s slope
+        (:meth:`CityGeometry.terrain`: flat unless a slope is set).
     source : SceneSource, optional
         Recipe and toolkit version.
     plan : StreetPlan, optional
@@ -103,8 +110,10 @@ def city_scene(
     """
     plan = geometry_plan(city, geometry) if plan is None else plan
     city = city.model_copy(update={"crossings": list(plan.crossings)})
-    settings, width = geometry.ground, geometry.crosswalk_width
-    ground = ground_surfaces(plan.classes, city, settings=settings, crosswalk_width=width, terrain=terrain)
+    terrain = geometry.terrain if terrain is None else terrain
+    ground = ground_surfaces(
+        plan.classes, city, settings=geometry, crosswalk_width=geometry.crosswalk_width, terrain=terrain
+    )
     buildings, annotations = building_parts(city, carriageways(city), terrain=terrain)
     surfaces = [*ground, *buildings]
     names = sorted({s.terrain_class for s in surfaces})

@@ -34,14 +34,23 @@ from __future__ import annotations
 import math
 from collections import Counter
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
+from typing import Annotated
 
 import numpy as np
 import shapely
+from pydantic import AfterValidator, Field
 from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 
-from navverse.assets.storefronts import MIN_HEIGHT, MIN_WIDTH, Storefront, place_category, storefront
+from navverse.assets.storefronts import (
+    MIN_HEIGHT,
+    MIN_WIDTH,
+    PLACE_CATEGORIES,
+    Storefront,
+    place_category,
+    storefront,
+)
 from navverse.city.map import CityMap, Poi
 from navverse.city.street_plan import StreetPlan
 from navverse.city.surfaces import union_of
@@ -56,10 +65,12 @@ from navverse.scene.annotations import (
 from navverse.scene.compose import ObjectPart, carve, object_parts, replace_parts
 from navverse.scene.geometry import MeshData, Scene, Surface, yaw_matrix
 from navverse.scene.heights import SurfaceHeights
+from navverse.settings import Settings
 
 __all__ = [
     "STOREFRONT_CATEGORY",
     "WALKABLE_FRONT",
+    "FacadeReach",
     "StorefrontPlacement",
     "StorefrontSettings",
     "densify_storefronts",
@@ -78,52 +89,59 @@ _CUT_OUTSIDE = 0.05  # the recess box reaches this far out of the facade, so no 
 _ROOF_MARGIN = 0.1  # a storefront's top stays this far below its building's roof
 
 
-@dataclass(frozen=True)
-class StorefrontSettings:
+def _known_place_categories(names: list[str] | None) -> list[str] | None:
+    if names is None:
+        return None
+    unknown = sorted(set(names) - set(PLACE_CATEGORIES))
+    if unknown:
+        raise ValueError(
+            f"unknown place categories {', '.join(unknown)}; known: {', '.join(PLACE_CATEGORIES)}"
+        )
+    return sorted(set(names))
+
+
+class FacadeReach(Settings):
+    """How near its street a facade must be to open onto it (a storefront's door, an i2o exit)."""
+
+    max_road_distance: Annotated[float, Field(gt=0.0, le=50.0)] = 30.0
+    """How far the road a facade faces may be (m)."""
+    sidewalk_gap: Annotated[float, Field(ge=0.0, le=20.0)] = 6.0
+    """How much open ground (a front garden, a forecourt) may lie between a door and the sidewalk,
+    plaza or pedestrian area in front of it (m)."""
+
+
+class StorefrontSettings(FacadeReach):
     """How storefronts are placed (see the module docstring).
 
-    Attributes
-    ----------
-    height : float
-        Height of a storefront (m); lower on a lower building, down to
-        :data:`~navverse.assets.storefronts.MIN_HEIGHT`, 0.1 m under its roof.
-    max_width : float
-        Widest storefront (m); widths are drawn from ``MIN_WIDTH + 1 .. max_width``.
-    corner_margin : float
-        Distance kept from a facade's ends (m).
-    search_radius : float
-        How far from its place a facade may be (m).
-    max_road_distance : float
-        How far the road a facade faces may be (m).
-    camera_height : float
-        Height of the robot's camera above the ground (m) for the visibility check.
-    view_radius : float
-        How far in front of a storefront (m) the sign may be seen from.
-    fill_per_km2 : float
-        Storefronts added per km² of the window where the map has no place, at most.
-    categories : frozenset of str, optional
-        The place categories placed (all when None).
-    rays : int
-        Horizontal rays cast from a place to find its facade.
-    sidewalk_gap : float
-        How much open ground (a front garden, a forecourt) may lie between a door and the
-        sidewalk, plaza or pedestrian area in front of it (m).
-    region : shapely geometry, optional
-        Where added storefronts may go (the middle of their facade inside it); anywhere when None.
+    Every place of the map whose ``amenity``/``shop`` tag has a place category gets a storefront on
+    the nearest road-facing facade (found by ray casting), ``height`` tall and up to ``max_width``
+    wide (lower on a lower building), shifted sideways to fit and kept ``corner_margin`` from the
+    facade's ends; it is accepted when its recess is carved, its door opens onto the sidewalk (across
+    at most ``sidewalk_gap`` m of open ground) and its sign is seen from the walkable ground in front
+    (within ``view_radius``) at ``camera_height``. ``fill_per_km2`` adds storefronts on road-facing
+    facades where the map has fewer places (categories drawn from the synthetic cities' place
+    table); ``categories`` limits the place categories placed.
     """
 
-    height: float = 3.6
-    max_width: float = 8.0
-    corner_margin: float = 0.4
-    search_radius: float = 40.0
-    max_road_distance: float = 30.0
-    camera_height: float = 0.6
-    view_radius: float = 15.0
-    fill_per_km2: float = 0.0
-    categories: frozenset[str] | None = None
-    rays: int = 72
-    sidewalk_gap: float = 6.0
-    region: BaseGeometry | None = None
+    height: Annotated[float, Field(ge=3.2, le=6.0)] = 3.6
+    """Height of a storefront (m); lower on a lower building, down to
+    :data:`~navverse.assets.storefronts.MIN_HEIGHT`, 0.1 m under its roof."""
+    max_width: Annotated[float, Field(ge=4.0, le=20.0)] = 8.0
+    """Widest storefront (m); widths are drawn from ``MIN_WIDTH + 1 .. max_width``."""
+    corner_margin: Annotated[float, Field(ge=0.0, le=5.0)] = 0.4
+    """Distance kept from a facade's ends (m)."""
+    search_radius: Annotated[float, Field(gt=0.0, le=200.0)] = 40.0
+    """How far from its place a facade may be (m)."""
+    camera_height: Annotated[float, Field(gt=0.0, le=3.0)] = 0.6
+    """Height of the robot's camera above the ground (m) for the visibility check."""
+    view_radius: Annotated[float, Field(ge=2.0, le=30.0)] = 15.0
+    """How far in front of a storefront (m) the sign may be seen from."""
+    fill_per_km2: Annotated[float, Field(ge=0.0, le=2000.0)] = 0.0
+    """Storefronts added per km² of the window where the map has no place, at most."""
+    categories: Annotated[list[str] | None, AfterValidator(_known_place_categories)] = None
+    """The place categories placed (all when None)."""
+    rays: Annotated[int, Field(ge=8, le=720)] = 72
+    """Horizontal rays cast from a place to find its facade."""
 
 
 @dataclass(frozen=True)
@@ -291,11 +309,18 @@ def _free_span(
 
 class _Placer:
     def __init__(
-        self, scene: Scene, plan: StreetPlan, rng: np.random.Generator, settings: StorefrontSettings
+        self,
+        scene: Scene,
+        plan: StreetPlan,
+        rng: np.random.Generator,
+        settings: StorefrontSettings,
+        *,
+        region: BaseGeometry | None = None,
     ) -> None:
         self.scene = scene
         self.rng = rng
         self.settings = settings
+        self.region = region  # where added storefronts may go (their facade's middle); anywhere if None
         self.finder = _FacadeFinder(scene)
         self.heights = SurfaceHeights(scene)
         self.walkable = union_of(plan.classes.get(name, Polygon()) for name in WALKABLE_FRONT)
@@ -363,7 +388,7 @@ class _Placer:
 
     def fill_facades(self) -> list[tuple[BuildingAnnotation, FacadeAnnotation]]:
         """Every usable facade with the sidewalk in front of its middle, in a random order."""
-        region = self.settings.region
+        region = self.region
         found = [
             (b, f)
             for b in self.scene.annotations.buildings
@@ -707,9 +732,9 @@ def densify_storefronts(
     Categories are drawn from the synthetic cities' place table; the steps and checks are those of
     :func:`place_storefronts` (an indoor-to-outdoor scene's neighbourhood of its exit, for instance).
     """
-    placer = _Placer(scene, plan, rng, replace(settings, region=region))
-    filled = _fill(placer, count, rng, placer.settings)
-    return _finish(placer, placer.settings, places=0, filled=filled)
+    placer = _Placer(scene, plan, rng, settings, region=region)
+    filled = _fill(placer, count, rng, settings)
+    return _finish(placer, settings, places=0, filled=filled)
 
 
 def _fill(placer: _Placer, wanted: int, rng: np.random.Generator, settings: StorefrontSettings) -> int:

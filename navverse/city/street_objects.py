@@ -230,7 +230,6 @@ def plan_street_objects(
     excluded: frozenset[str] = frozenset(),
     snap: float = 0.5,
     signal_reach: float = 12.0,
-    gap: float = 0.3,
     budget: int | None = None,
 ) -> StreetObjects:
     """Place mapped street furniture, then the zone grammar (see the module docstring).
@@ -254,13 +253,12 @@ def plan_street_objects(
         How far a mapped object may move from its node to stand clear (m).
     signal_reach : float
         How far from its node a traffic light may stand (m).
-    gap : float
-        Free space kept between two objects' footprints (m).
     budget : int, optional
         The most objects placed: mapped furniture first (a drawn subset if there is more of it),
         then the grammar until the budget is spent. None: no limit.
     """
     settings = settings or ZoneSettings()
+    gap = settings.gap
     classes = plan.classes
     blocked = prep(
         classes["road"]
@@ -346,7 +344,7 @@ def plan_street_objects(
                 put("bus_shelter", *spot, heading, zone, source)
 
     # 2. The zone grammar: every rule's proposals, then a fair share of the budget to each rule.
-    proposals = _proposals(city, zones, grammar, excluded, settings, size_of, rng)
+    proposals = _proposals(city, zones, grammar, excluded, settings, size_of, rng, curb_width=plan.curb_width)
     left = None if budget is None else max(0, budget - len(placements))
     pools = [list(range(len(found))) for found in proposals]
     while any(pools) and (left is None or left > 0):
@@ -377,6 +375,8 @@ def _proposals(
     settings: ZoneSettings,
     size_of: SizeOf,
     rng: np.random.Generator,
+    *,
+    curb_width: float,
 ) -> list[list[Proposal]]:
     """Each rule's proposals along every road side, whose footprints lie wholly in their zone."""
     zone_shapes = {
@@ -400,10 +400,10 @@ def _proposals(
                 if walk is None:
                     continue
                 zone = rule.zone
-                middle = _zone_line(line, sign, half, walk, zone, settings)
+                middle = _zone_line(line, sign, half, walk, zone, settings, curb_width=curb_width)
                 if middle is None and zone == "furniture":
                     zone = "verge"  # too narrow a sidewalk: lamps and trees stand beyond it
-                    middle = _zone_line(line, sign, half, walk, zone, settings)
+                    middle = _zone_line(line, sign, half, walk, zone, settings, curb_width=curb_width)
                 if middle is None:
                     continue
                 turn = math.pi if zone == "frontage" else 0.0
@@ -470,12 +470,19 @@ def _shelter_spot(
 
 
 def _zone_line(
-    line: LineString, sign: float, half: float, walk: float, zone: str, settings: ZoneSettings
+    line: LineString,
+    sign: float,
+    half: float,
+    walk: float,
+    zone: str,
+    settings: ZoneSettings,
+    *,
+    curb_width: float,
 ) -> LineString | None:
     """The middle line of a road side's zone, or None if the side has no such zone."""
-    furniture, frontage = sidewalk_split(walk, settings)
+    furniture, frontage = sidewalk_split(walk, settings, curb_width=curb_width)
     if zone == "furniture":
-        width, offset = furniture, half + settings.curb_width + furniture / 2.0
+        width, offset = furniture, half + curb_width + furniture / 2.0
     elif zone == "frontage":
         width, offset = frontage, half + walk - frontage / 2.0
     else:

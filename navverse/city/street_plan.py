@@ -7,8 +7,9 @@ city geometry stage builds the scene from it and writes it as ``street_plan.json
 sidewalks, curbs, crosswalks and roads the scene has, without redoing the plan or guessing it back
 from triangles.
 
-``street_plan.json``: ``{"format_version": "1.0", "classes": {class: WKB hex}, "crossings":
-[{"position": [x, y], "road": id, "kerb": ...}]}``, coordinates in the scene's frame (m).
+``street_plan.json``: ``{"format_version": "1.1", "classes": {class: WKB hex}, "crossings":
+[{"position": [x, y], "road": id, "kerb": ...}], "curb_width": m}`` (1.0, without ``curb_width``, is
+read as laid with the default curb width), coordinates in the scene's frame (m).
 """
 
 from __future__ import annotations
@@ -23,14 +24,18 @@ from shapely.geometry.base import BaseGeometry
 
 from navverse.city.crossings import junction_crossings
 from navverse.city.map import CityMap, Crossing
-from navverse.city.surfaces import SURFACE_CLASSES, plan_surfaces
+from navverse.city.surfaces import CURB_WIDTH, SURFACE_CLASSES, plan_surfaces
 from navverse.errors import NavverseError, rebuild_hint
 from navverse.files import atomic_write
 
 __all__ = ["STREET_PLAN_FILE", "StreetPlan", "load_street_plan", "save_street_plan", "street_plan"]
 
 STREET_PLAN_FILE = "street_plan.json"
-STREET_PLAN_FORMAT = "1.0"
+STREET_PLAN_FORMAT = "1.1"
+_READABLE_FORMATS = (
+    "1.0",
+    STREET_PLAN_FORMAT,
+)  # 1.0 plans have no curb_width: they were laid with the default
 
 
 @dataclass(frozen=True)
@@ -44,10 +49,13 @@ class StreetPlan:
         :data:`~navverse.city.surfaces.SURFACE_CLASSES`, pairwise disjoint, tiling the window.
     crossings : tuple of Crossing
         Every crosswalk's crossing: the mapped ones and those added on junction arms.
+    curb_width : float
+        Width of the curb's top strip the plan was laid with (m): the sidewalk zones start beyond it.
     """
 
     classes: dict[str, BaseGeometry]
     crossings: tuple[Crossing, ...]
+    curb_width: float
 
 
 def street_plan(
@@ -69,7 +77,7 @@ def street_plan(
         crossings += junction_crossings(city, crosswalk_width=crosswalk_width)
         city = city.model_copy(update={"crossings": crossings})
     classes = plan_surfaces(city, curb_width=curb_width, crosswalk_width=crosswalk_width)
-    return StreetPlan(classes=classes, crossings=tuple(crossings))
+    return StreetPlan(classes=classes, crossings=tuple(crossings), curb_width=curb_width)
 
 
 def save_street_plan(plan: StreetPlan, path: str | os.PathLike[str]) -> None:
@@ -78,6 +86,7 @@ def save_street_plan(plan: StreetPlan, path: str | os.PathLike[str]) -> None:
         "format_version": STREET_PLAN_FORMAT,
         "classes": {cls: shapely.to_wkb(plan.classes[cls], hex=True) for cls in SURFACE_CLASSES},
         "crossings": [c.model_dump(mode="json", exclude_none=True) for c in plan.crossings],
+        "curb_width": plan.curb_width,
     }
     with atomic_write(Path(path), mode="w") as handle:
         json.dump(data, handle, separators=(",", ":"))
@@ -94,12 +103,13 @@ def load_street_plan(path: str | os.PathLike[str]) -> StreetPlan:
     path = Path(path)
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
-        if data.get("format_version") != STREET_PLAN_FORMAT:
+        if data.get("format_version") not in _READABLE_FORMATS:
             raise ValueError(f"format_version {data.get('format_version')!r}, expected {STREET_PLAN_FORMAT}")
         classes = {cls: shapely.from_wkb(data["classes"][cls]) for cls in SURFACE_CLASSES}
         crossings = tuple(Crossing.model_validate(c) for c in data["crossings"])
+        curb_width = float(data.get("curb_width", CURB_WIDTH))
     except FileNotFoundError:
         raise NavverseError(f"{path} is missing: {rebuild_hint()}") from None
     except (OSError, ValueError, KeyError, TypeError, AttributeError, shapely.errors.ShapelyError) as exc:
         raise NavverseError(f"{path} is not a readable street plan ({exc}): {rebuild_hint()}") from None
-    return StreetPlan(classes=classes, crossings=crossings)
+    return StreetPlan(classes=classes, crossings=crossings, curb_width=curb_width)

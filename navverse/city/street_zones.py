@@ -28,8 +28,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Annotated
 
 import numpy as np
+from pydantic import Field
 from shapely.geometry import LineString, Polygon
 from shapely.geometry.base import BaseGeometry
 from shapely.prepared import prep
@@ -38,13 +40,13 @@ from shapely.strtree import STRtree
 from navverse.city.map import CityMap, Road
 from navverse.city.street_plan import StreetPlan
 from navverse.city.surfaces import (
-    CURB_WIDTH,
     QUAD_SEGMENTS,
     SHARED_SURFACE_HIGHWAYS,
     areal,
     carriageways,
     union_of,
 )
+from navverse.settings import Settings
 
 __all__ = [
     "CURBSIDE_HIGHWAYS",
@@ -59,23 +61,45 @@ CURBSIDE_HIGHWAYS = frozenset({"residential", "unclassified", "tertiary"})
 """Streets along whose curbs cars plausibly park when nothing is mapped."""
 
 
-@dataclass(frozen=True)
-class ZoneSettings:
-    """Widths of the sidewalk zones and the clearances around crossings and junctions (m)."""
+ZoneWidth = Annotated[float, Field(ge=0.0, le=5.0)]
+"""A zone's width across the sidewalk (m), 0 to 5."""
+Clearance = Annotated[float, Field(ge=0.0, le=30.0)]
+"""A distance kept clear (m), 0 to 30."""
+RoadWidth = Annotated[float, Field(ge=0.0, le=40.0)]
+"""A carriageway width (m), 0 to 40."""
 
-    clear_width: float = 1.5
-    min_clear: float = 1.3
-    furniture_width: float = 0.9
-    frontage_width: float = 0.9
-    min_zone_width: float = 0.3
-    crosswalk_margin: float = 1.0
-    corner_clearance: float = 5.0
-    driveway_margin: float = 1.5
-    curbside_band: float = 2.2
-    curbside_min_width: float = 6.0
-    curbside_both_width: float = 9.0
-    verge_width: float = 1.2
-    curb_width: float = CURB_WIDTH
+
+class ZoneSettings(Settings):
+    """Widths of the sidewalk zones and the clearances around crossings and junctions (m; see the
+    module docstring). The curb strip's width is the street plan's own
+    (:attr:`~navverse.city.street_plan.StreetPlan.curb_width`)."""
+
+    clear_width: Annotated[float, Field(ge=0.8, le=5.0)] = 1.5
+    """The walkway kept clear on sidewalks wide enough (the ADA/NACTO pedestrian through zone)."""
+    min_clear: Annotated[float, Field(ge=0.8, le=5.0)] = 1.3
+    """The walkway kept clear where ``clear_width`` does not fit (else the whole sidewalk)."""
+    furniture_width: ZoneWidth = 0.9
+    """Widest furniture zone, beside the curb."""
+    frontage_width: ZoneWidth = 0.9
+    """Widest frontage zone, by the facades."""
+    min_zone_width: Annotated[float, Field(ge=0.0, le=2.0)] = 0.3
+    """Narrowest furniture or frontage zone laid (a narrower one is left to the walkway)."""
+    crosswalk_margin: Clearance = 1.0
+    """Distance zones and parking bands keep from crosswalks."""
+    corner_clearance: Clearance = 5.0
+    """Distance parking bands and zones keep from a junction's carriageways."""
+    driveway_margin: Clearance = 1.5
+    """Distance parking bands keep beside a driveway (a service road joining the street)."""
+    curbside_band: Annotated[float, Field(ge=1.5, le=4.0)] = 2.2
+    """Width of an unmapped parking band along a residential curb."""
+    curbside_min_width: RoadWidth = 6.0
+    """Carriageway width from which a residential street has a parking band on its right curb."""
+    curbside_both_width: RoadWidth = 9.0
+    """Carriageway width from which a residential street has parking bands on both curbs."""
+    verge_width: ZoneWidth = 1.2
+    """Depth of the verge: open land beyond a sidewalk's outer edge where furniture may stand."""
+    gap: Annotated[float, Field(ge=0.0, le=5.0)] = 0.3
+    """Free space kept between a new object's footprint and the footprints already standing."""
 
 
 @dataclass(frozen=True)
@@ -124,9 +148,9 @@ def _band(line: LineString, sign: float, inner: float, outer: float) -> BaseGeom
     return side(outer).difference(side(inner))
 
 
-def sidewalk_split(width: float, settings: ZoneSettings) -> tuple[float, float]:
-    """Furniture and frontage widths on a sidewalk ``width`` wide (the curb strip included)."""
-    usable = width - settings.curb_width
+def sidewalk_split(width: float, settings: ZoneSettings, *, curb_width: float) -> tuple[float, float]:
+    """Furniture and frontage widths on a sidewalk ``width`` wide, ``curb_width`` of curb strip included."""
+    usable = width - curb_width
     walk = (
         settings.clear_width
         if usable - settings.clear_width >= settings.min_zone_width
@@ -198,8 +222,8 @@ def street_zones(city: CityMap, plan: StreetPlan, settings: ZoneSettings | None 
             (-1.0, r.sidewalk_right, r.parking_right),
         ):
             if walk_width is not None and not shared:
-                f_width, fr_width = sidewalk_split(walk_width, settings)
-                start = half + settings.curb_width
+                f_width, fr_width = sidewalk_split(walk_width, settings, curb_width=plan.curb_width)
+                start = half + plan.curb_width
                 furniture.append(_band(line, sign, start, start + f_width))
                 frontage.append(_band(line, sign, half + walk_width - fr_width, half + walk_width))
                 verge.append(_band(line, sign, half + walk_width, half + walk_width + settings.verge_width))

@@ -140,9 +140,7 @@ def _crosswalk(road: Road, position: tuple[float, float], width: float) -> BaseG
     return Polygon(corners)
 
 
-def crosswalk_polygons(
-    city: CityMap, *, crosswalk_width: float = CROSSWALK_WIDTH
-) -> list[tuple[str, BaseGeometry]]:
+def crosswalk_polygons(city: CityMap, *, crosswalk_width: float) -> list[tuple[str, BaseGeometry]]:
     """Each crosswalk's polygon (spanning the carriageway and its curbs) with its kerb.
 
     Returns
@@ -164,9 +162,7 @@ def crosswalk_polygons(
     return found
 
 
-def plan_surfaces(
-    city: CityMap, *, curb_width: float = CURB_WIDTH, crosswalk_width: float = CROSSWALK_WIDTH
-) -> dict[str, BaseGeometry]:
+def plan_surfaces(city: CityMap, *, curb_width: float, crosswalk_width: float) -> dict[str, BaseGeometry]:
     """Disjoint (multi)polygons per surface class that tile the city's window.
 
     Parameters

@@ -26,6 +26,7 @@ from navverse.eval.metrics import LABELS, METRICS, compute_metrics
 from navverse.eval.protocol import UNSPECIFIED, describe
 from navverse.eval.submission import Submission, SubmissionError
 from navverse.scene.fields import SceneFields, load_scene_fields
+from navverse.scene_types import SCENE_TYPES
 
 __all__ = ["EXTRA_SURFACES", "GROUPINGS", "EvalResult", "chosen_episodes", "group_means",
            "instruction_type_of", "metric_rows", "robot_for", "score", "submission_track"]  # fmt: skip
@@ -363,7 +364,8 @@ GROUPINGS: dict[str, Callable[[Mapping], str | None]] = {
 """Group key of an episode row per grouping; None leaves the episode out of that grouping."""
 
 
-_ORDER = {"indoor": 0, "outdoor": 1, "i2o": 2, "easy": 0, "medium": 1, "hard": 2}
+_ORDER = {**{name: k for k, name in enumerate(SCENE_TYPES)}, "easy": 0, "medium": 1, "hard": 2}
+"""Rank of a group key's parts: scene types in the profile table's order, difficulties easy to hard."""
 
 
 def _group_order(key: str) -> tuple:

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from types import MappingProxyType
+from typing import Annotated
 
-from pydantic import ValidationError
+from pydantic import AfterValidator, ValidationError
 
 from navverse.errors import SceneError
 from navverse.scene.annotations import TerrainClass
 
-__all__ = ["DEFAULT_TERRAIN_CLASSES", "terrain_classes"]
+__all__ = ["DEFAULT_TERRAIN_CLASSES", "TerrainName", "known_terrain_class", "terrain_classes"]
 
 
 def _tc(
@@ -54,6 +55,24 @@ DEFAULT_TERRAIN_CLASSES: Mapping[str, TerrainClass] = MappingProxyType(
     }
 )
 """Terrain classes every scene stage can use, by name (read-only)."""
+
+
+def known_terrain_class(name: str) -> str:
+    """``name`` if it is a class of :data:`DEFAULT_TERRAIN_CLASSES` (a settings validator).
+
+    Raises
+    ------
+    ValueError
+        Naming the known classes.
+    """
+    if name not in DEFAULT_TERRAIN_CLASSES:
+        known = ", ".join(sorted(DEFAULT_TERRAIN_CLASSES))
+        raise ValueError(f"unknown terrain class {name!r} (known: {known})")
+    return name
+
+
+TerrainName = Annotated[str, AfterValidator(known_terrain_class)]
+"""A terrain class name of the default table (settings and recipes that name classes)."""
 
 
 def terrain_classes(

@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike
 
 from navverse.scene.colors import default_color
 from navverse.scene.geometry import MeshData, Scene, merge_textures
+from navverse.scene_types import scene_profile
 from navverse.sim.camera import CameraIntrinsics, check_pose
 
 __all__ = ["BACKGROUND_CLASS", "BACKGROUND_ID", "DEFAULT_INTRINSICS", "Frame", "SceneRenderer", "Shading"]
@@ -46,7 +47,6 @@ DEFAULT_INTRINSICS = CameraIntrinsics.from_hfov()
 """640 x 480 pixels, 90 degrees horizontal field of view, square pixels, centred principal point."""
 
 _LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)  # Rec. 709 weights
-_SKY_SCENE_TYPES = ("outdoor", "i2o")  # scene types whose default shading shows a sky
 _CHUNK = 16384  # textured hits sampled per pass: the per-hit buffers stay in the CPU cache
 
 
@@ -209,7 +209,7 @@ class SceneRenderer:
         if not (math.isfinite(near) and math.isfinite(far) and 0.0 < near < far):
             raise ValueError(f"depth_range must be (near, far) with 0 < near < far, got {depth_range!r}")
         if shading is None:
-            shading = Shading(sky=scene.annotations.scene_type in _SKY_SCENE_TYPES)
+            shading = Shading(sky=scene_profile(scene.annotations.scene_type).sky)
         self._intrinsics = intrinsics
         self._near, self._far = near, far
         self._shading = shading

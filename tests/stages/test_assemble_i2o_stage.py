@@ -80,3 +80,57 @@ def test_a_building_that_fits_no_facade_is_refused_and_nothing_is_written(built:
     assert result.returncode == 1 and "Traceback" not in output, output
     assert "no road-facing facade of city holds cafe" in output and "the facade faces no road" in output
     assert not (root / "data" / "built" / "targets" / "cafe-wide").exists()
+
+
+RULED_CITY = """\
+extends: outdoor-city
+stages:
+  synthetic_city: {size: [200, 200], sidewalk: 3.5}
+  populate: {exclude: [street_lamp, sedan, suv], clear_width: 2.0}
+  storefronts: {categories: [bank, pharmacy]}
+"""
+EXCLUDED = {"street_lamp", "sedan", "suv"}
+
+
+def test_densification_follows_the_city_s_own_settings(tmp_path_factory: pytest.TempPathFactory) -> None:
+    """The settings travel: the neighbourhood of the exit is densified by the linked city's
+    population and storefront settings (carried in its city_settings.json), not by defaults."""
+    from navverse.city.city_settings import load_city_settings
+    from navverse.city.densify import base_footprint
+    from navverse.city.map import read_city_map
+    from navverse.city.street_plan import load_street_plan
+    from navverse.city.street_zones import street_zones
+
+    workspace = workspace_with(
+        tmp_path_factory.mktemp("i2o-rules") / "ws",
+        [],
+        {
+            "scenes/city.yaml": RULED_CITY,
+            "scenes/cafe.yaml": CAFE,
+            "scenes/cafe-city.yaml": I2O.format(options="{storefronts_nearby: 6}"),
+        },
+    )
+    built = build_all(workspace)
+    assert not built.report.failed
+    city_dir = built.output("city", "geometry")
+    carried = load_city_settings(city_dir / "city_settings.json")
+    assert set(carried.populate.exclude) == EXCLUDED and carried.populate.clear_width == 2.0
+    assert carried.storefronts.categories == ["bank", "pharmacy"]
+
+    city = read_annotations(city_dir)
+    scene = read_annotations(built.output("cafe-city", "scene"))
+    added = built.manifest("cafe-city", "geometry")["stats"]["densified"]
+    assert sum(added["objects"].values()) > 0 and sum(added["cars"].values()) > 0
+    assert not EXCLUDED & set(added["objects"]) and not EXCLUDED & set(added["cars"])
+    assert not EXCLUDED & {o.category for o in scene.objects}
+    new_stores = {s.name for s in scene.storefronts} - {s.name for s in city.storefronts}
+    assert added["storefronts"]["placed"] > 0 and new_stores
+    assert {s.place_category for s in scene.storefronts} <= {"bank", "pharmacy"}
+
+    # no new street object stands in the walkway kept clear at the city's 2.0 m
+    plan = load_street_plan(city_dir / "street_plan.json")
+    walkway = street_zones(read_city_map(city_dir / "city_map.json"), plan, carried.populate).walkway
+    old = {(o.category, *o.center) for o in city.objects}
+    new = [o for o in scene.objects if o.source == "grammar" and (o.category, *o.center) not in old]
+    assert new
+    assert all(base_footprint(o).intersection(walkway).area < 0.01 for o in new)

@@ -15,7 +15,6 @@ import open3d as o3d
 import pytest
 import trimesh
 
-from navverse.city.ground import GroundSettings
 from navverse.city.osm import read_osm
 from navverse.city.scene import CityGeometry, city_scene
 from navverse.scene.geometry import Scene
@@ -147,7 +146,7 @@ def test_raised_kerb_keeps_the_full_curb_at_a_crossing(tmp_path: Path) -> None:
 
 def test_road_depression_is_a_setting(junction: Scene) -> None:
     city = read_osm(T_JUNCTION, center=(48.0, 11.0), size_m=(200.0, 200.0))
-    geometry = CityGeometry(ground=GroundSettings(road_depression=0.15), junction_crosswalks=False)
+    geometry = CityGeometry(road_depression=0.15, junction_crosswalks=False)
     heights, _ = Caster(city_scene(city, scene_id="d", geometry=geometry))([(-60.0, 3.49), (-60.0, 3.51)])
     assert heights[1] - heights[0] == pytest.approx(0.15, abs=0.01)
 

@@ -13,10 +13,11 @@ from shapely.geometry import LineString, Point
 from shapely.strtree import STRtree
 
 from navverse.assets.library import asset, categories
-from navverse.city.context_groups import GROUPS, REGIONS, plan_groups
+from navverse.city.context_groups import plan_groups
+from navverse.city.group_catalogue import GROUPS, REGIONS
 from navverse.city.scene import CityGeometry, geometry_plan
 from navverse.city.street_objects import BASE_FOOTPRINT, footprint, plan_street_objects
-from navverse.city.street_zones import street_zones
+from navverse.city.street_zones import ZoneSettings, street_zones
 from navverse.city.synthetic import SyntheticCityParams, synthetic_city
 
 
@@ -46,6 +47,7 @@ def city():
 
 def _plan(city, seed: int = 7, **knobs):
     knobs.setdefault("budget", 400)
+    knobs.setdefault("gap", ZoneSettings().gap)
     return plan_groups(*city, size_of, supports_of, np.random.default_rng(seed), **knobs)
 
 

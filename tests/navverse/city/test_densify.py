@@ -13,6 +13,7 @@ from navverse.city.densify import DensifySettings, base_footprint, densify_neigh
 from navverse.city.i2o import assemble_i2o
 from navverse.city.populate import PopulateSettings, populate_city
 from navverse.city.scene import CityGeometry, city_scene, geometry_plan
+from navverse.city.storefronts import StorefrontSettings
 from navverse.city.synthetic import SyntheticCityParams, synthetic_city
 from navverse.indoor.building import BuildingOptions, generate_building
 
@@ -46,13 +47,15 @@ def _densify(town, seed: int, **settings):
         region=region,
         keep_clear=[doorway],
         settings=DensifySettings(**settings),
+        populate=PopulateSettings(),
+        storefronts=StorefrontSettings(),
     )
     return result, region, doorway
 
 
 @pytest.fixture(scope="module")
 def densified(town):
-    return _densify(town, 7, objects=25, cars=6, storefronts=0)
+    return _densify(town, 7, objects_nearby=25, cars_nearby=6, storefronts_nearby=0)
 
 
 def _new_objects(before, after):
@@ -98,15 +101,15 @@ def test_new_objects_stand_on_the_ground(town, densified) -> None:
 
 
 def test_the_same_seed_gives_the_same_scene_and_another_seed_another(town, densified) -> None:
-    again, _, _ = _densify(town, 7, objects=25, cars=6, storefronts=0)
-    other, _, _ = _densify(town, 8, objects=25, cars=6, storefronts=0)
+    again, _, _ = _densify(town, 7, objects_nearby=25, cars_nearby=6, storefronts_nearby=0)
+    other, _, _ = _densify(town, 8, objects_nearby=25, cars_nearby=6, storefronts_nearby=0)
     first = densified[0].scene.annotations.objects
     assert [o.center for o in again.scene.annotations.objects] == [o.center for o in first]
     assert [o.center for o in other.scene.annotations.objects] != [o.center for o in first]
 
 
 def test_storefronts_are_added_up_to_the_count(town) -> None:
-    result, region, _ = _densify(town, 7, objects=0, cars=0, storefronts=4)
+    result, region, _ = _densify(town, 7, objects_nearby=0, cars_nearby=0, storefronts_nearby=4)
     stores = result.scene.annotations.storefronts
     inside = [s for s in stores if region.contains(Point(s.entrance[0], s.entrance[1]))]
     assert len(inside) == 4 and result.counts["storefronts"]["placed"] >= 4
@@ -122,7 +125,9 @@ def test_a_region_without_street_gains_nothing(town) -> None:
         plan,
         np.random.default_rng(0),
         region=Point(x0 - 500.0, y0 - 500.0).buffer(20.0),
-        settings=DensifySettings(objects=10, cars=5, storefronts=3),
+        settings=DensifySettings(objects_nearby=10, cars_nearby=5, storefronts_nearby=3),
+        populate=PopulateSettings(),
+        storefronts=StorefrontSettings(),
     )
     assert len(result.scene.annotations.objects) == len(scene.annotations.objects)
     assert result.counts["candidates"] == {"objects": 0, "cars": 0}

@@ -91,9 +91,7 @@ def test_caps_and_counts(populated) -> None:
 
 
 def test_excluded_categories_are_never_placed() -> None:
-    _, _, population = _populated(
-        1, PopulateSettings(excluded=frozenset({"street_lamp", "sedan"})), side=180.0
-    )
+    _, _, population = _populated(1, PopulateSettings(exclude=["street_lamp", "sedan"]), side=180.0)
     categories = {o.annotation.category for o in population.scene.objects}
     assert categories and not categories & {"street_lamp", "sedan"}
 

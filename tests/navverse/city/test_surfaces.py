@@ -6,7 +6,7 @@ import pytest
 from shapely.geometry import Point, box
 
 from navverse.city.map import Building, CityMap, Crossing, Frame, LandArea, Path2, Polygon2, Road, Source
-from navverse.city.surfaces import CURB_WIDTH, SURFACE_CLASSES, plan_surfaces
+from navverse.city.surfaces import CROSSWALK_WIDTH, CURB_WIDTH, SURFACE_CLASSES, plan_surfaces
 
 
 def _t_junction() -> CityMap:
@@ -52,7 +52,7 @@ def _t_junction() -> CityMap:
 
 @pytest.fixture(scope="module")
 def plan():
-    return plan_surfaces(_t_junction())
+    return plan_surfaces(_t_junction(), curb_width=CURB_WIDTH, crosswalk_width=CROSSWALK_WIDTH)
 
 
 def test_the_classes_tile_the_window_without_overlap(plan):

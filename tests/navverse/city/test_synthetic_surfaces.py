@@ -17,7 +17,7 @@ from shapely.geometry import LineString, Point, box
 
 from navverse.city.map import CityMap
 from navverse.city.osm_xml import write_osm
-from navverse.city.surfaces import CROSSWALK_WIDTH, _crosswalk, plan_surfaces
+from navverse.city.surfaces import CROSSWALK_WIDTH, CURB_WIDTH, _crosswalk, plan_surfaces
 from navverse.city.synthetic import SyntheticCityParams, synthetic_city
 
 LAYOUTS = ("grid", "radial", "organic")
@@ -30,7 +30,7 @@ def small(layout: str) -> CityMap:
 
 @functools.cache
 def plan(layout: str) -> dict[str, shapely.Geometry]:
-    return plan_surfaces(small(layout))
+    return plan_surfaces(small(layout), curb_width=CURB_WIDTH, crosswalk_width=CROSSWALK_WIDTH)
 
 
 @pytest.mark.parametrize("layout", LAYOUTS)
@@ -137,7 +137,8 @@ def test_the_knobs_turn_off_the_river_and_make_living_streets_and_service_roads(
             shapely.Polygon(p.exterior).contains(shape) and p.intersection(shape).area < 1e-6 for p in parks
         )
         assert shape.area < 0.5 * max(p.area for p in parks)
-    plan_surfaces(city)  # the bare roads have no sidewalk strips; the plan still tiles the window
+    # the bare roads have no sidewalk strips; the plan still tiles the window
+    plan_surfaces(city, curb_width=CURB_WIDTH, crosswalk_width=CROSSWALK_WIDTH)
 
 
 def test_a_four_square_kilometre_city_takes_about_four_times_as_long():
