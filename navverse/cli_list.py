@@ -176,7 +176,7 @@ def _object_categories() -> Listing:
 
 
 def _place_categories() -> Listing:
-    from navverse.assets.storefronts import DESIGNS_PER_CATEGORY, PLACE_CATEGORIES
+    from navverse.assets.facade.storefronts import DESIGNS_PER_CATEGORY, PLACE_CATEGORIES
 
     rows = [
         {"name": name, "kind": "place", "designs": DESIGNS_PER_CATEGORY, "fallback": name == "shop"}

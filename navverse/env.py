@@ -32,7 +32,7 @@ was made with: :func:`episode_goal`) and ``goal_id`` (an int64 scalar, habitat-l
   episode): the category's id in the map, -1 for a category the map lacks;
 * without one: the category's index in :func:`navverse.assets.library.categories` (object
   categories, sorted), or for a place category ``len(categories()) +`` its index in
-  :data:`navverse.assets.storefronts.PLACE_CATEGORIES`; -1 for a category in neither.
+  :data:`navverse.assets.facade.storefronts.PLACE_CATEGORIES`; -1 for a category in neither.
 
 ``sensors`` chooses which camera images are rendered; an agent that needs none (one that follows
 privileged paths) skips rendering altogether and runs at the speed of the physics.
@@ -195,8 +195,8 @@ def _check_category_ids(category_ids: Mapping[str, int] | None) -> dict[str, int
 @cache
 def _default_category_ids() -> dict[str, int]:
     """Object categories of the library by sorted index, then place categories after them."""
+    from navverse.assets.facade.storefronts import PLACE_CATEGORIES
     from navverse.assets.library import categories
-    from navverse.assets.storefronts import PLACE_CATEGORIES
 
     objects = categories()
     ids = {name: i for i, name in enumerate(objects)}

@@ -22,7 +22,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.collections import PolyCollection
 
-from navverse.assets.storefronts import DESIGNS_PER_CATEGORY, PLACE_CATEGORIES, Storefront, storefront
+from navverse.assets.facade.storefronts import DESIGNS_PER_CATEGORY, PLACE_CATEGORIES, Storefront, storefront
 
 
 def front_polygons(front: Storefront) -> tuple[np.ndarray, np.ndarray]:

@@ -79,8 +79,8 @@ def test_list_room_types_covers_every_room_of_every_program():
 
 
 def test_list_categories_has_objects_with_sizes_and_places():
+    from navverse.assets.facade.storefronts import PLACE_CATEGORIES
     from navverse.assets.library import asset
-    from navverse.assets.storefronts import PLACE_CATEGORIES
 
     rows = {(row["kind"], row["name"]): row for row in listed("categories")}
     bed = rows["object", "bed"]

@@ -1,5 +1,8 @@
 """The object library: every category's :class:`Asset`, looked up by name.
 
+The categories are declared by the family modules of :mod:`navverse.assets.indoor` and
+:mod:`navverse.assets.outdoor`; this registry is the one module that imports them.
+
 Local frame of every object
 ---------------------------
 - x = width, y = depth, z = height (up), meters.
@@ -24,25 +27,27 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from navverse.assets import (
-    carried_items,
+from navverse.assets.errors import UnknownCategoryError
+from navverse.assets.indoor import (
     decor,
     electronics,
     fixtures,
     home,
     kitchen_bath,
     medical,
-    nature,
     retail,
     seating,
     storage,
+    tables,
+)
+from navverse.assets.outdoor import (
+    carried_items,
+    nature,
     street_amenities,
     street_furniture,
-    tables,
     vehicles,
     work_play,
 )
-from navverse.assets.errors import UnknownCategoryError
 from navverse.assets.spec import Asset, Size, SupportArea
 from navverse.scene.geometry import MeshData
 

@@ -1,7 +1,8 @@
 """Colour palettes of the object library and the physical materials an asset can be made of.
 
-A *palette* is a named list of base sRGB colours (wood tones, fabrics, metals, ...). Builders draw one
-colour per part with :func:`pick`, which chooses a base colour and varies its brightness slightly, so
+A *palette* is a list of base sRGB colours (wood tones, fabrics, metals, ...): one of the named
+:data:`PALETTES` or a family's own tuple of colours (car paints, hydrant bonnets, ...). Every builder
+draws its colours with :func:`pick`, which chooses a base colour and varies its brightness slightly, so
 two chairs of the same seed are identical and two seeds rarely are. Randomness comes only from the
 ``numpy.random.Generator`` passed in.
 
@@ -11,6 +12,8 @@ finer, purely visual split.
 """
 
 from __future__ import annotations
+
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -147,17 +150,27 @@ def shade(color: RGB, factor: float) -> RGB:
     return (r, g, b)
 
 
-def pick(rng: np.random.Generator, palette: str, *, variation: float = 0.06) -> RGB:
-    """Draw a colour from a palette.
+def pick(
+    rng: np.random.Generator,
+    palette: str | Sequence[RGB],
+    *,
+    variation: float = 0.06,
+    brightness: tuple[float, float] | None = None,
+) -> RGB:
+    """Draw a colour from a palette and vary its brightness.
 
     Parameters
     ----------
     rng : numpy.random.Generator
-        Source of randomness (two draws).
-    palette : str
-        Key of :data:`PALETTES`.
+        Source of randomness (two draws: the base colour, then the brightness factor).
+    palette : str or sequence of tuple of int
+        Key of :data:`PALETTES`, or the base colours themselves (a family's own palette).
     variation : float
-        Brightness varies uniformly within ``1 ± variation``.
+        The brightness factor is ``1 + uniform(-variation, variation)``.
+    brightness : (float, float), optional
+        The brightness factor's range ``(low, high)``, drawn as ``uniform(low, high)`` in place of
+        `variation`. The two forms of the same range can differ in the last bit of the factor, and so
+        in a rounded channel: a builder keeps the form its colours were made with.
 
     Returns
     -------
@@ -169,6 +182,8 @@ def pick(rng: np.random.Generator, palette: str, *, variation: float = 0.06) -> 
     KeyError
         If the palette is unknown (a programming error in a builder).
     """
-    colors = PALETTES[palette]
+    colors = PALETTES[palette] if isinstance(palette, str) else palette
     base = colors[int(rng.integers(len(colors)))]
+    if brightness is not None:
+        return shade(base, float(rng.uniform(*brightness)))
     return shade(base, 1.0 + float(rng.uniform(-variation, variation)))

@@ -35,6 +35,7 @@ __all__ = [
     "difference",
     "ellipsoid",
     "extrude",
+    "extrude_along",
     "frustum",
     "hull",
     "revolve",
@@ -218,6 +219,30 @@ def extrude(
     return _from_manifold(shape)
 
 
+def extrude_along(outline: ArrayLike, t0: float, t1: float, *, axis: str) -> Solid:
+    """Extrude a simple polygon along the ``"x"``, ``"y"`` or ``"z"`` axis from `t0` to `t1`.
+
+    Parameters
+    ----------
+    outline : array_like, shape (K, 2)
+        Outline in the plane of the other two axes, in the order (y, z) for an x extrusion, (x, z) for
+        a y extrusion and (x, y) for a z extrusion; either orientation.
+    t0, t1 : float
+        Start and end along `axis`, ``t1 > t0``.
+    axis : {"x", "y", "z"}
+        The direction of the extrusion.
+    """
+    if axis not in ("x", "y", "z"):
+        raise ValueError(f"extrude_along: axis must be 'x', 'y' or 'z', got {axis!r}")
+    vertices, faces = extrude(outline, t0, t1)
+    if axis == "z":
+        return vertices, faces
+    if axis == "x":  # (u, v, t) -> (t, u, v): a rotation, winding kept
+        return vertices[:, [2, 0, 1]], faces
+    # (u, v, t) -> (u, t, v): a mirror, so the winding flips
+    return vertices[:, [0, 2, 1]], faces[:, ::-1]
+
+
 def revolve(profile: ArrayLike, *, sections: int = 16) -> Solid:
     """Revolve a profile about the z axis.
 
@@ -252,8 +277,29 @@ def rounded_prism(
     return extrude(outline, z0, z1)
 
 
-def torus(center: ArrayLike, major: float, minor: float, *, sections: int = 16, tube: int = 8) -> Solid:
-    """A torus about a vertical axis through `center` (tube radius `minor` < `major`)."""
+def torus(
+    center: ArrayLike, major: float, minor: float, *, sections: int = 16, tube: int = 8, axis: str = "z"
+) -> Solid:
+    """A torus about an axis through `center` (tube radius `minor` < `major`).
+
+    Parameters
+    ----------
+    center : array_like, shape (3,)
+        Centre of the ring.
+    major, minor : float
+        Radius of the ring's centre line and of its tube.
+    sections, tube : int
+        Segments around the axis and around the tube.
+    axis : {"z", "x", "y"}
+        Direction of the ring's axis: ``"z"`` lays the ring flat (a hoop), ``"x"`` and ``"y"`` stand it
+        up like a wheel turning about that axis.
+    """
+    if axis in ("x", "y"):
+        # the flat ring turned a quarter about y (its axis becomes x) or about x (its axis becomes y)
+        flat = torus((0.0, 0.0, 0.0), major, minor, sections=sections, tube=tube)
+        return translate(rotate(flat, "y" if axis == "x" else "x", 0.5 * math.pi), center)
+    if axis != "z":
+        raise ValueError(f"torus: axis must be 'x', 'y' or 'z', got {axis!r}")
     angles = 2.0 * np.pi * np.arange(tube) / tube
     circle = np.stack([major + minor * np.cos(angles), minor * np.sin(angles)], axis=1)
     vertices, faces = revolve(circle, sections=sections)

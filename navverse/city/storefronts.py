@@ -1,20 +1,20 @@
 """Storefronts set into a city's facades: a place of the map becomes a shop front a robot can find.
 
 For each place of the city map whose tags give a place category
-(:func:`~navverse.assets.storefronts.place_category`), :func:`place_storefronts`
+(:func:`~navverse.assets.facade.storefronts.place_category`), :func:`place_storefronts`
 
 1. finds the nearest road-facing facade by ray casting: horizontal rays from the place (at 1.5 m
    above the ground) in every direction meet building walls; each hit belongs to the facade of that
    building whose base segment it lies on, and the nearest hit facade that faces a road (scene
    format 2.0 ``road``, within ``max_road_distance``) and is wide enough is taken (a place mapped on
    a building looks only at that building's facades);
-2. builds a procedural storefront of the category (:func:`~navverse.assets.storefronts.storefront`,
+2. builds a procedural storefront of the category (:func:`~navverse.assets.facade.storefronts.storefront`,
    the place's name on its sign, or a generated one) at the target height, facing out of the facade
    (so towards the road the facade faces), its base on the sidewalk in front;
 3. finds room on the facade: the storefront's span is shifted sideways from the place's position to
    the nearest free stretch, away from the facade's corners and from storefronts already placed
    (on this facade, or reaching over from a neighbouring one), and narrowed down to
-   :data:`~navverse.assets.storefronts.MIN_WIDTH` if the stretch is short;
+   :data:`~navverse.assets.facade.storefronts.MIN_WIDTH` if the stretch is short;
 4. carves the matching recess into the building with manifold3d
    (:func:`~navverse.scene.compose.carve`) and accepts it only if the volume removed is the
    recess's (the facade is where its segment says and the building is deep enough);
@@ -43,7 +43,7 @@ from pydantic import AfterValidator, Field
 from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 
-from navverse.assets.storefronts import (
+from navverse.assets.facade.storefronts import (
     MIN_HEIGHT,
     MIN_WIDTH,
     PLACE_CATEGORIES,
@@ -125,7 +125,7 @@ class StorefrontSettings(FacadeReach):
 
     height: Annotated[float, Field(ge=3.2, le=6.0)] = 3.6
     """Height of a storefront (m); lower on a lower building, down to
-    :data:`~navverse.assets.storefronts.MIN_HEIGHT`, 0.1 m under its roof."""
+    :data:`~navverse.assets.facade.storefronts.MIN_HEIGHT`, 0.1 m under its roof."""
     max_width: Annotated[float, Field(ge=4.0, le=20.0)] = 8.0
     """Widest storefront (m); widths are drawn from ``MIN_WIDTH + 1 .. max_width``."""
     corner_margin: Annotated[float, Field(ge=0.0, le=5.0)] = 0.4

@@ -11,8 +11,8 @@ import gymnasium
 import numpy as np
 import pytest
 
+from navverse.assets.facade.storefronts import PLACE_CATEGORIES
 from navverse.assets.library import categories
-from navverse.assets.storefronts import PLACE_CATEGORIES
 from navverse.env import REWARD_SLACK, REWARD_SUCCESS, EnvError, NavVerseEnv, episode_goal_id
 from navverse.scene import MeshData, Surface
 from navverse.sim import actions

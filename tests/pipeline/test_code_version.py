@@ -121,7 +121,11 @@ def test_blockout_covers_the_primitives_it_uses_and_no_other_asset_module():
     assets = sorted(name for name in closure if name.startswith("navverse.assets"))
     assert assets == ["navverse.assets", "navverse.assets.primitives"]
     indoor = {name for name, _ in module_closure("stages.indoor_layout")}
-    assert {"navverse.assets.library", "navverse.assets.seating", "navverse.assets.retail"} <= indoor
+    assert {
+        "navverse.assets.library",
+        "navverse.assets.indoor.seating",
+        "navverse.assets.indoor.retail",
+    } <= indoor
 
 
 def test_a_stage_module_that_cannot_be_imported_is_a_clean_error(tmp_path: Path, monkeypatch):

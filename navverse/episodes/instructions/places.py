@@ -1,7 +1,7 @@
 """The texts of PlaceNav instructions: place names, category instructions and intentions.
 
 A PlaceNav episode asks the robot to reach a storefront of a place category (one of
-:data:`navverse.assets.storefronts.PLACE_CATEGORIES`). It carries three instruction types (paper table
+:data:`navverse.assets.facade.storefronts.PLACE_CATEGORIES`). It carries three instruction types (paper table
 ``tab:instruction_type_placenav``):
 
 - ``category`` names the place category, in one of several sentence templates with its human name and

@@ -328,6 +328,11 @@ def test_asset_declarations_are_validated():
         parts.extrude([(0, 0), (0, 1), (1, 1), (1, 0)], 0.0, 0.5, scale_top=(0.5, 0.5)),
         parts.rounded_prism((0.0, 0.0), 1.0, 0.5, 0.1, 0.0, 0.2),
         parts.torus((0, 0, 0), 1.0, 0.1),
+        parts.torus((1, 2, 3), 0.5, 0.1, axis="x"),
+        parts.torus((1, 2, 3), 0.5, 0.1, sections=8, tube=4, axis="y"),
+        parts.extrude_along([(0, 0), (1, 0), (0.5, 1)], 0.2, 0.5, axis="x"),
+        parts.extrude_along([(0, 0), (1, 0), (0.5, 1)], 0.2, 0.5, axis="y"),
+        parts.extrude_along([(0, 0), (1, 0), (0.5, 1)], 0.2, 0.5, axis="z"),
         parts.bar((0, 0, 0), (1, 1, 1), 0.05),
         parts.difference(parts.box((0, 0, 0), (1, 1, 1)), parts.ellipsoid((0.5, 0.5, 1.0), (0.3, 0.3, 0.5))),
         parts.rotate(parts.box((0, 0, 0), (1, 2, 3)), "x", 0.7, about=(0.5, 1.0, 1.5)),
@@ -336,3 +341,16 @@ def test_asset_declarations_are_validated():
 def test_parts_are_closed_outward_solids(solid):
     tm = trimesh.Trimesh(*solid, process=False)
     assert tm.is_watertight and tm.is_winding_consistent and tm.volume > 0
+
+
+def test_rings_and_extrusions_lie_along_their_axis():
+    for axis, k in (("x", 0), ("y", 1), ("z", 2)):
+        vertices, _ = parts.torus((1.0, 2.0, 3.0), 0.5, 0.1, axis=axis)
+        extent = vertices.max(axis=0) - vertices.min(axis=0)
+        assert np.allclose(np.delete(extent, k), 1.2) and np.isclose(extent[k], 0.2)
+        vertices, _ = parts.extrude_along([(0, 0), (1, 0), (0.5, 1)], 0.2, 0.5, axis=axis)
+        assert np.isclose(vertices[:, k].min(), 0.2) and np.isclose(vertices[:, k].max(), 0.5)
+    with pytest.raises(ValueError, match="axis"):
+        parts.torus((0, 0, 0), 1.0, 0.1, axis="w")
+    with pytest.raises(ValueError, match="axis"):
+        parts.extrude_along([(0, 0), (1, 0), (0.5, 1)], 0.0, 1.0, axis="w")

@@ -7,9 +7,9 @@ import hashlib
 import numpy as np
 import pytest
 
-from navverse.assets import storefront_signs
 from navverse.assets.errors import AssetSizeError, UnknownCategoryError
-from navverse.assets.storefronts import (
+from navverse.assets.facade import storefront_signs
+from navverse.assets.facade.storefronts import (
     DESIGNS_PER_CATEGORY,
     PLACE_CATEGORIES,
     Storefront,

@@ -7,7 +7,7 @@ import re
 import numpy as np
 import pytest
 
-from navverse.assets.storefronts import PLACE_CATEGORIES
+from navverse.assets.facade.storefronts import PLACE_CATEGORIES
 from navverse.episodes.instructions.places import (
     INTENTIONS,
     PLACE_NAMES,

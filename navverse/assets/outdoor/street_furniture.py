@@ -44,6 +44,7 @@ from navverse.assets.parts import (
     difference,
     ellipsoid,
     extrude,
+    extrude_along,
     frustum,
     hull,
     revolve,
@@ -116,33 +117,14 @@ _POSTAL_RED: tuple[RGB, ...] = ((200, 28, 34), (186, 22, 30), (210, 40, 36))
 _POSTAL_YELLOW: tuple[RGB, ...] = ((252, 204, 0), (246, 190, 20))
 _BRAND_BOOTH: tuple[RGB, ...] = ((226, 0, 116), (250, 200, 0), (0, 84, 160), (30, 130, 70))
 """Telecom colours of modern phone booths: magenta, yellow, blue, green."""
+_VARIATION = 0.05
+"""Brightness variation of the colours drawn from the palettes above (:func:`pick`)."""
 
 _SQRT2 = math.sqrt(2.0)
 
 
 # ---------------------------------------------------------------------------------------------------
 # helpers
-
-
-def _draw(rng: np.random.Generator, colors: Sequence[RGB], variation: float = 0.05) -> RGB:
-    """Draw one of `colors` and vary its brightness by up to ``± variation`` (like :func:`pick`)."""
-    base = colors[int(rng.integers(len(colors)))]
-    return shade(base, 1.0 + float(rng.uniform(-variation, variation)))
-
-
-def _along(profile: np.ndarray | Sequence[tuple[float, float]], t0: float, t1: float, axis: str) -> Solid:
-    """Extrude a 2-D outline along `axis` from `t0` to `t1`.
-
-    The outline lies in the plane of the other two axes in the order (y, z) for an x extrusion, (x, z)
-    for a y extrusion and (x, y) for a z extrusion.
-    """
-    vertices, faces = extrude(profile, t0, t1)
-    if axis == "z":
-        return vertices, faces
-    if axis == "x":  # (u, v, t) -> (t, u, v): a rotation, winding kept
-        return vertices[:, [2, 0, 1]], faces
-    # (u, v, t) -> (u, t, v): a mirror, so the winding flips
-    return vertices[:, [0, 2, 1]], faces[:, ::-1]
 
 
 def _section(
@@ -275,7 +257,7 @@ def _luminaire(
 ) -> float:
     """A luminaire head spanning x in ``±w/2`` and y in ``[y0, y1]`` with its top at `top`; returns its
     height. Kinds: 0 cobra head, 1 flat LED panel, 2 shoebox."""
-    lens = _draw(rng, _LENS, 0.03)
+    lens = pick(rng, _LENS, variation=0.03)
     length = y1 - y0
     yc = 0.5 * (y0 + y1)
     if kind == 0:
@@ -315,8 +297,12 @@ def _arm_lamp(rng: np.random.Generator, size: Size, *, twin: bool) -> Assembly:
     w, d, h = size
     hy = 0.5 * d
     asm = Assembly()
-    pole = _draw(rng, _POLE)
-    head = pole if rng.uniform() < 0.5 else _draw(rng, ((150, 154, 160), (92, 96, 102), (204, 206, 208)))
+    pole = pick(rng, _POLE, variation=_VARIATION)
+    head = (
+        pole
+        if rng.uniform() < 0.5
+        else pick(rng, ((150, 154, 160), (92, 96, 102), (204, 206, 208)), variation=_VARIATION)
+    )
     base_r = min(0.15, 0.45 * w, 0.3 * d) * float(rng.uniform(0.85, 1.0))
     yp = 0.0 if twin else -hy + base_r
     r0 = min(float(np.clip(0.017 * h, 0.065, 0.11)), 0.8 * base_r)
@@ -371,7 +357,11 @@ def _arm_lamp(rng: np.random.Generator, size: Size, *, twin: bool) -> Assembly:
                 asm.add(ellipsoid((0.0, yp, pole_top + 0.02), (r1, r1, 0.05), segments=12, rings=4), pole)
     # number plate on the column
     plate_y = yp + 0.72 * r0
-    asm.box((-0.05, plate_y, 2.3), (0.05, plate_y + 0.02, 2.5), _draw(rng, ((240, 240, 236), (236, 200, 40))))
+    asm.box(
+        (-0.05, plate_y, 2.3),
+        (0.05, plate_y + 0.02, 2.5),
+        pick(rng, ((240, 240, 236), (236, 200, 40)), variation=_VARIATION),
+    )
     return asm
 
 
@@ -421,8 +411,8 @@ def _heritage_lamp(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    iron = _draw(rng, _IRON)
-    glass = _draw(rng, _LENS, 0.03)
+    iron = pick(rng, _IRON, variation=_VARIATION)
+    glass = pick(rng, _LENS, variation=0.03)
     style = int(rng.integers(3))
     twin = d > 0.75
     ly = min(0.45, 0.4 * d) if twin else d
@@ -520,15 +510,15 @@ def _traffic_light(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    housing = _draw(rng, _SIGNAL_HOUSING)
-    pole_c = _draw(rng, _POLE)
+    housing = pick(rng, _SIGNAL_HOUSING, variation=_VARIATION)
+    pole_c = pick(rng, _POLE, variation=_VARIATION)
     rp = float(np.clip(0.12 * d, 0.035, 0.055))
     yp = -hy + rp
     asm.add(cylinder((0.0, yp, 0.0), (0.0, yp, 0.25), rp, sections=12), shade(pole_c, 0.85))
     asm.add(cylinder((0.0, yp, 0.2), (0.0, yp, h - 0.1), 0.85 * rp, sections=12), pole_c)
     asm.add(ellipsoid((0.0, yp, h - 0.1), (0.85 * rp, 0.85 * rp, 0.04), segments=12, rings=4), pole_c)
     if rng.uniform() < 0.35:  # striped pole base
-        band = _draw(rng, ((240, 240, 236), (236, 190, 30)))
+        band = pick(rng, ((240, 240, 236), (236, 190, 30)), variation=_VARIATION)
         for k in range(3):
             z = 0.4 + 0.3 * k
             asm.add(cylinder((0.0, yp, z), (0.0, yp, z + 0.15), 0.9 * rp, sections=12), band)
@@ -542,7 +532,7 @@ def _traffic_light(rng: np.random.Generator, size: Size) -> Assembly:
     asm.box(
         (-hx, y_back - 0.014, h - plate_h - 0.07),
         (hx, y_back - 0.004, h - 0.004),
-        _draw(rng, ((240, 200, 30), (240, 240, 236))) if border else _DARK,
+        pick(rng, ((240, 200, 30), (240, 240, 236)), variation=_VARIATION) if border else _DARK,
     )
     if border:
         asm.box((-hx + 0.04, y_back - 0.006, h - plate_h - 0.03), (hx - 0.04, y_back, h - 0.04), _DARK)
@@ -572,7 +562,7 @@ def _traffic_light(rng: np.random.Generator, size: Size) -> Assembly:
             asm.box((-0.11, y_back + pd, zc + 0.095), (0.11, y_back + pd + 0.01 + 0.03, zc + 0.11), housing)
         asm.box((-0.04, yp, top2 - 0.3), (0.04, y_back, top2 - 0.2), shade(housing, 0.8))
     if rng.uniform() < 0.6:  # push button unit
-        box_c = _draw(rng, ((236, 190, 30), (60, 64, 68), (200, 202, 204)))
+        box_c = pick(rng, ((236, 190, 30), (60, 64, 68), (200, 202, 204)), variation=_VARIATION)
         y0 = yp + 0.7 * rp
         asm.box((-0.055, y0, 0.95), (0.055, y0 + 0.085, 1.25), box_c)
         asm.add(cylinder((0.0, y0 + 0.085, 1.05), (0.0, y0 + 0.1, 1.05), 0.025, sections=12), _WHITE)
@@ -591,7 +581,7 @@ def _stop_sign(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    post_c = _draw(rng, ((168, 172, 174), (120, 126, 134), (34, 62, 48)))
+    post_c = pick(rng, ((168, 172, 174), (120, 126, 134), (34, 62, 48)), variation=_VARIATION)
     post_d = float(np.clip(d - 0.03, 0.04, 0.07))
     yp = -hy + 0.5 * post_d
     zc = h - hx
@@ -606,10 +596,13 @@ def _stop_sign(rng: np.random.Generator, size: Size) -> Assembly:
     for z in (zc - 0.3 * w, zc + 0.3 * w):
         asm.box((-0.03, -hy + post_d - 0.005, z - 0.02), (0.03, y_plate, z + 0.02), _ALUMINIUM)
     outline = _octagon(hx, zc)
-    asm.add(_along(outline, y_plate, y_plate + 0.0025, "y"), _ALUMINIUM)
-    asm.add(_along(outline, y_plate + 0.0025, y_plate + 0.003, "y"), _WHITE)
+    asm.add(extrude_along(outline, y_plate, y_plate + 0.0025, axis="y"), _ALUMINIUM)
+    asm.add(extrude_along(outline, y_plate + 0.0025, y_plate + 0.003, axis="y"), _WHITE)
     red = shade(_SIGN_RED, float(rng.uniform(0.9, 1.08)))
-    asm.add(_along(_octagon(hx - max(0.02, 0.035 * w), zc), y_plate + 0.003, y_plate + 0.0037, "y"), red)
+    asm.add(
+        extrude_along(_octagon(hx - max(0.02, 0.035 * w), zc), y_plate + 0.003, y_plate + 0.0037, axis="y"),
+        red,
+    )
     _lettering(asm, "STOP", -0.36 * w, 0.36 * w, zc - 0.15 * w, zc + 0.15 * w, y_plate + 0.0037, hy, _WHITE)
     if rng.uniform() < 0.35:  # supplementary plate (ALL WAY / 4-WAY)
         pz1 = h - w - 0.05
@@ -626,7 +619,7 @@ def _street_sign(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    post_c = _draw(rng, _POLE)
+    post_c = pick(rng, _POLE, variation=_VARIATION)
     r = float(rng.uniform(0.03, 0.038))
     asm.add(cylinder((0.0, 0.0, 0.0), (0.0, 0.0, h - 0.04), r, sections=12), post_c)
     asm.add(ellipsoid((0.0, 0.0, h - 0.04), (0.04, 0.04, 0.04), segments=12, rings=4), post_c)
@@ -662,7 +655,7 @@ def _street_sign(rng: np.random.Generator, size: Size) -> Assembly:
         ]
         outline = [(s * u, v) for u, v in outline]
         color, text = ((24, 64, 150), _WHITE) if rng.uniform() < 0.4 else (_WHITE, (30, 30, 32))
-        asm.add(_along(outline, -0.006, 0.006, "y"), color)
+        asm.add(extrude_along(outline, -0.006, 0.006, axis="y"), color)
         xa, xb = sorted((s * (r + 0.03), s * (r + length - tip - 0.02)))
         for sy in (-1.0, 1.0):
             ya, yb = sorted((sy * 0.006, sy * 0.0075))
@@ -731,7 +724,7 @@ def _bus_stop_sign(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    pole_c = _draw(rng, _POLE)
+    pole_c = pick(rng, _POLE, variation=_VARIATION)
     r = float(np.clip(0.3 * d, 0.03, 0.04))
     style = int(rng.integers(3))
     xp = 0.0 if style == 0 else -hx + r
@@ -784,7 +777,7 @@ def _bus_stop_sign(rng: np.random.Generator, size: Size) -> Assembly:
     case_h = float(rng.uniform(0.4, 0.55))
     cx = xp + 0.5 * case_w - r if style != 0 else 0.0
     cx = float(np.clip(cx, -hx + 0.5 * case_w, hx - 0.5 * case_w))
-    frame = _draw(rng, ((200, 202, 204), (60, 64, 68), (24, 64, 150)))
+    frame = pick(rng, ((200, 202, 204), (60, 64, 68), (24, 64, 150)), variation=_VARIATION)
     asm.box(
         (cx - 0.5 * case_w, y0 - 0.004, case_top - case_h), (cx + 0.5 * case_w, hy - 0.004, case_top), frame
     )
@@ -818,11 +811,11 @@ def _fire_hydrant(rng: np.random.Generator, size: Size) -> Assembly:
     euro = rng.uniform() < (0.6 if h > 0.9 else 0.3)
     if euro:
         body = shade(_HYDRANT_BODY[0], float(rng.uniform(0.92, 1.06)))
-        cap = _draw(rng, ((188, 190, 192), (40, 40, 42), body))
+        cap = pick(rng, ((188, 190, 192), (40, 40, 42), body), variation=_VARIATION)
         r = min(0.2 * w, 0.26 * d)
     else:
-        body = _draw(rng, _HYDRANT_BODY)
-        cap = body if rng.uniform() < 0.4 else _draw(rng, _HYDRANT_CAP)
+        body = pick(rng, _HYDRANT_BODY, variation=_VARIATION)
+        cap = body if rng.uniform() < 0.4 else pick(rng, _HYDRANT_CAP, variation=_VARIATION)
         r = min(0.26 * w, 0.3 * d)
     R = 1.3 * r
     yc = -hy + R
@@ -877,11 +870,15 @@ def _bollard(rng: np.random.Generator, size: Size) -> Assembly:
     kind = int(rng.integers(3))
     round_ = max(w, d) / min(w, d) <= 1.12 and rng.uniform() < 0.75
     if kind == 0:  # steel
-        color = _draw(rng, ((196, 198, 200), (28, 28, 30), (62, 66, 70), (236, 190, 30), (34, 62, 48)))
+        color = pick(
+            rng,
+            ((196, 198, 200), (28, 28, 30), (62, 66, 70), (236, 190, 30), (34, 62, 48)),
+            variation=_VARIATION,
+        )
         cap_h = float(rng.uniform(0.04, 0.08))
         asm.add(_section(hx, hy, 0.0, 0.015, round_=round_), shade(color, 0.8))
         asm.add(_section(0.88 * hx, 0.88 * hy, 0.01, h - cap_h, round_=round_), color)
-        band = _draw(rng, ((244, 244, 240), (236, 190, 30), (200, 40, 40)))
+        band = pick(rng, ((244, 244, 240), (236, 190, 30), (200, 40, 40)), variation=_VARIATION)
         for k in range(int(rng.integers(1, 3))):
             z = h - cap_h - 0.08 - 0.1 * k
             asm.add(_section(0.9 * hx, 0.9 * hy, z - 0.05, z, round_=round_), band)
@@ -893,7 +890,7 @@ def _bollard(rng: np.random.Generator, size: Size) -> Assembly:
                 shade(color, 1.1),
             )
     elif kind == 1:  # concrete
-        color = _draw(rng, _CONCRETE)
+        color = pick(rng, _CONCRETE, variation=_VARIATION)
         top_h = float(rng.uniform(0.05, 0.12))
         asm.add(_section(hx, hy, 0.0, h - top_h, round_=round_, top=0.93), color)
         asm.add(
@@ -901,12 +898,12 @@ def _bollard(rng: np.random.Generator, size: Size) -> Assembly:
         )
         asm.add(_section(1.0 * hx, 1.0 * hy, 0.0, 0.04, round_=round_, top=0.995), shade(color, 0.75))
         if rng.uniform() < 0.5:
-            band = _draw(rng, ((244, 244, 240), (200, 40, 40)))
+            band = pick(rng, ((244, 244, 240), (200, 40, 40)), variation=_VARIATION)
             z = h - top_h - 0.12
             asm.add(_section(0.945 * hx, 0.945 * hy, z - 0.06, z, round_=round_), band)
     else:  # lit bollard
-        color = _draw(rng, ((62, 66, 70), (28, 28, 30), (170, 174, 178)))
-        light = _draw(rng, _LENS, 0.03)
+        color = pick(rng, ((62, 66, 70), (28, 28, 30), (170, 174, 178)), variation=_VARIATION)
+        light = pick(rng, _LENS, variation=0.03)
         cap_h = float(rng.uniform(0.03, 0.06))
         band_h = float(rng.uniform(0.08, 0.16))
         asm.add(_section(hx, hy, 0.0, 0.04, round_=round_), shade(color, 0.8))
@@ -939,7 +936,11 @@ def _pillar_box(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    body = _draw(rng, _POSTAL_RED) if rng.uniform() < 0.8 else _draw(rng, ((30, 100, 60), (28, 28, 30)))
+    body = (
+        pick(rng, _POSTAL_RED, variation=_VARIATION)
+        if rng.uniform() < 0.8
+        else pick(rng, ((30, 100, 60), (28, 28, 30)), variation=_VARIATION)
+    )
     base = (30, 30, 32)
     asm.add(_section(hx, hy, 0.0, 0.1, top=0.93), base)
     cap_h = float(rng.uniform(0.12, 0.18))
@@ -966,7 +967,7 @@ def _us_mailbox(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    blue = _draw(rng, ((30, 62, 140), (26, 54, 120), (40, 70, 150)))
+    blue = pick(rng, ((30, 62, 140), (26, 54, 120), (40, 70, 150)), variation=_VARIATION)
     legs_h = float(rng.uniform(0.1, 0.17))
     rise = float(rng.uniform(0.12, 0.22))
     z_shoulder = h - rise
@@ -975,7 +976,7 @@ def _us_mailbox(rng: np.random.Generator, size: Size) -> Assembly:
         (hx * math.cos(a), z_shoulder + rise * math.sin(a)) for a in angles
     ]
     body_front = hy - 0.04
-    asm.add(_along(profile, -hy, body_front, "y"), blue)
+    asm.add(extrude_along(profile, -hy, body_front, axis="y"), blue)
     for x in (-hx + 0.03, hx - 0.07):
         for y in (-hy + 0.03, body_front - 0.07):
             asm.box((x, y, 0.0), (x + 0.04, y + 0.04, legs_h + 0.01), shade(blue, 0.7))
@@ -1007,7 +1008,11 @@ def _square_postbox(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    body = _draw(rng, _POSTAL_RED) if rng.uniform() < 0.55 else _draw(rng, _POSTAL_YELLOW)
+    body = (
+        pick(rng, _POSTAL_RED, variation=_VARIATION)
+        if rng.uniform() < 0.55
+        else pick(rng, _POSTAL_YELLOW, variation=_VARIATION)
+    )
     ped_h = float(rng.uniform(0.25, 0.4)) * h
     cap_h = float(rng.uniform(0.06, 0.1))
     asm.box((-0.3 * hx, -0.3 * hy, 0.0), (0.3 * hx, 0.3 * hy, 0.03), shade(body, 0.5))
@@ -1068,8 +1073,12 @@ def _parking_meter(rng: np.random.Generator, size: Size) -> Assembly:
         return _pay_station(rng, size)
     asm = Assembly()
     hy = 0.5 * d
-    post_c = _draw(rng, ((28, 28, 30), (62, 66, 70), (34, 62, 48), (120, 126, 134)))
-    head_c = _draw(rng, ((176, 180, 184), (28, 28, 30), (34, 62, 48), (24, 64, 150), (236, 190, 30)))
+    post_c = pick(rng, ((28, 28, 30), (62, 66, 70), (34, 62, 48), (120, 126, 134)), variation=_VARIATION)
+    head_c = pick(
+        rng,
+        ((176, 180, 184), (28, 28, 30), (34, 62, 48), (24, 64, 150), (236, 190, 30)),
+        variation=_VARIATION,
+    )
     head_h = float(rng.uniform(0.36, 0.46))
     z_head = h - head_h
     pr = min(0.035, 0.3 * d)
@@ -1110,16 +1119,16 @@ def _meter_head(
         asm.box((x0 + 0.01, y0 + 0.01, z0), (x1 - 0.01, face, shoulder + 0.002), color)
         angles = np.linspace(0.0, math.pi, 9)
         profile = [(cx + hw * math.cos(a), shoulder + dome_r * math.sin(a)) for a in angles]
-        asm.add(_along(profile, y0, face, "y"), shade(color, 1.08))
+        asm.add(extrude_along(profile, y0, face, axis="y"), shade(color, 1.08))
         asm.add(
-            _along(
+            extrude_along(
                 [
                     (cx + 0.75 * hw * math.cos(a), shoulder - 0.02 + 0.75 * dome_r * math.sin(a))
                     for a in angles
                 ],
                 face - 0.01,
                 y1,
-                "y",
+                axis="y",
             ),
             (226, 232, 230),
         )
@@ -1157,7 +1166,11 @@ def _pay_station(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    body = _draw(rng, ((176, 180, 184), (62, 66, 70), (28, 28, 30), (34, 62, 48), (236, 236, 230)))
+    body = pick(
+        rng,
+        ((176, 180, 184), (62, 66, 70), (28, 28, 30), (34, 62, 48), (236, 236, 230)),
+        variation=_VARIATION,
+    )
     roof_h = 0.06
     asm.box((-hx + 0.04, -hy + 0.04, 0.0), (hx - 0.04, hy - 0.06, 0.1), shade(body, 0.6))
     asm.add(rounded_prism((0.0, -0.015), w - 0.03, d - 0.05, 0.04, 0.1, h - roof_h), body)
@@ -1200,10 +1213,16 @@ def _bike_rack(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    metal = _draw(
-        rng, ((176, 180, 184), (28, 28, 30), (62, 66, 70), (40, 110, 190), (200, 60, 50), (34, 62, 48))
+    metal = pick(
+        rng,
+        ((176, 180, 184), (28, 28, 30), (62, 66, 70), (40, 110, 190), (200, 60, 50), (34, 62, 48)),
+        variation=_VARIATION,
     )
-    rail_c = shade(metal, 0.85) if rng.uniform() < 0.5 else _draw(rng, ((168, 172, 174), (62, 66, 70)))
+    rail_c = (
+        shade(metal, 0.85)
+        if rng.uniform() < 0.5
+        else pick(rng, ((168, 172, 174), (62, 66, 70)), variation=_VARIATION)
+    )
     r = float(rng.uniform(0.021, 0.027))  # 42-54 mm tube
     spacing = float(rng.uniform(0.75, 1.0))
     margin = 0.15
@@ -1259,7 +1278,7 @@ def _utility_box(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    color = _draw(rng, _CABINET)
+    color = pick(rng, _CABINET, variation=_VARIATION)
     ov = float(rng.uniform(0.02, 0.035))
     y_face = hy - 0.05 - ov
     plinth = float(rng.uniform(0.04, 0.14))
@@ -1267,7 +1286,7 @@ def _utility_box(rng: np.random.Generator, size: Size) -> Assembly:
     pitched = rng.uniform() < 0.35
     roof_h = roof_t + (float(rng.uniform(0.05, 0.1)) if pitched else 0.0)
     z_roof = h - roof_h
-    asm.box((-hx + ov, -hy + ov, 0.0), (hx - ov, y_face, plinth), _draw(rng, _CONCRETE))
+    asm.box((-hx + ov, -hy + ov, 0.0), (hx - ov, y_face, plinth), pick(rng, _CONCRETE, variation=_VARIATION))
     asm.box((-hx + ov, -hy + ov, plinth - 0.005), (hx - ov, y_face, z_roof + 0.002), color)
     roof = shade(color, 1.06)
     asm.box((-hx, -hy, z_roof), (hx, hy, z_roof + roof_t), roof)
@@ -1285,7 +1304,7 @@ def _utility_box(rng: np.random.Generator, size: Size) -> Assembly:
         y_face,
         count=doors,
         color=shade(color, 0.97),
-        handle_color=_draw(rng, ((60, 60, 64), (180, 184, 188))),
+        handle_color=pick(rng, ((60, 60, 64), (180, 184, 188)), variation=_VARIATION),
         handle_z=float(np.clip(0.5 * (plinth + z_roof), 0.6, 1.0)),
     )
     # louvres on both sides
@@ -1301,13 +1320,13 @@ def _utility_box(rng: np.random.Generator, size: Size) -> Assembly:
     cz = z_roof - 0.15
     face = y_face + 0.018
     tri = [(cx - 0.07, cz - 0.06), (cx + 0.07, cz - 0.06), (cx, cz + 0.061)]
-    asm.add(_along(tri, face, face + 0.002, "y"), (248, 204, 20))
+    asm.add(extrude_along(tri, face, face + 0.002, axis="y"), (248, 204, 20))
     asm.add(
-        _along(
+        extrude_along(
             [(cx - 0.01, cz - 0.04), (cx + 0.02, cz + 0.02), (cx, cz - 0.005), (cx + 0.01, cz - 0.04)],
             face + 0.002,
             face + 0.003,
-            "y",
+            axis="y",
         ),
         _DARK,
     )
@@ -1329,7 +1348,9 @@ def _bus_shelter(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    frame = _draw(rng, ((62, 66, 70), (176, 180, 184), (34, 62, 48), (28, 28, 30), (36, 56, 100)))
+    frame = pick(
+        rng, ((62, 66, 70), (176, 180, 184), (34, 62, 48), (28, 28, 30), (36, 56, 100)), variation=_VARIATION
+    )
     glass = pick(rng, "glass", variation=0.03)
     roof_kind = int(rng.integers(3))
     p = float(rng.uniform(0.06, 0.09))
@@ -1344,7 +1365,11 @@ def _bus_shelter(rng: np.random.Generator, size: Size) -> Assembly:
         def under(y: float) -> float:
             return h - rt
 
-        roof_c = frame if rng.uniform() < 0.5 else _draw(rng, ((236, 236, 232), (176, 180, 184)))
+        roof_c = (
+            frame
+            if rng.uniform() < 0.5
+            else pick(rng, ((236, 236, 232), (176, 180, 184)), variation=_VARIATION)
+        )
         asm.box((-hx, -hy, h - rt), (hx, hy - 0.012, h), roof_c)
         asm.box((-hx + 0.02, hy - 0.012, h - rt + 0.01), (hx - 0.02, hy, h - 0.01), shade(frame, 1.1))
     elif roof_kind == 1:  # barrel vault across y
@@ -1357,9 +1382,12 @@ def _bus_shelter(rng: np.random.Generator, size: Size) -> Assembly:
         ys = np.linspace(-hy, hy, 13)
         outer = [(float(y), under(float(y)) + rt) for y in ys]
         inner = [(float(y), under(float(y))) for y in ys[::-1]]
-        asm.add(_along(outer + inner, -hx, hx, "x"), glass if rng.uniform() < 0.5 else shade(frame, 1.1))
+        asm.add(
+            extrude_along(outer + inner, -hx, hx, axis="x"),
+            glass if rng.uniform() < 0.5 else shade(frame, 1.1),
+        )
         for x in (-hx, hx - 0.04):
-            asm.add(_along(outer + inner, x, x + 0.04, "x"), frame)
+            asm.add(extrude_along(outer + inner, x, x + 0.04, axis="x"), frame)
     else:  # mono-pitch, rising to the front
         rise = float(rng.uniform(0.1, 0.25))
         rt = 0.08
@@ -1368,7 +1396,7 @@ def _bus_shelter(rng: np.random.Generator, size: Size) -> Assembly:
             return h - rt - rise * (hy - y) / d
 
         prof = [(-hy, h - rise - rt), (hy, h - rt), (hy, h), (-hy, h - rise)]
-        asm.add(_along(prof, -hx, hx, "x"), shade(frame, 1.05))
+        asm.add(extrude_along(prof, -hx, hx, axis="x"), shade(frame, 1.05))
     # back posts, one per bay
     bays = max(2, round(2 * x_end / float(rng.uniform(1.2, 1.8))))
     xs = np.linspace(-x_end, x_end, bays + 1)
@@ -1381,7 +1409,7 @@ def _bus_shelter(rng: np.random.Generator, size: Size) -> Assembly:
     for x0, x1 in itertools.pairwise(xs):
         asm.box((float(x0) + 0.5 * p, glass_y0, 0.12), (float(x1) - 0.5 * p, glass_y1, top_b - 0.1), glass)
     asm.box((-x_end, y_back + 0.01, 0.06), (x_end, y_back + p - 0.01, 0.12), frame)
-    manifest = _draw(rng, ((240, 240, 236), (236, 190, 30), (40, 40, 44)))
+    manifest = pick(rng, ((240, 240, 236), (236, 190, 30), (40, 40, 44)), variation=_VARIATION)
     asm.box((-x_end, glass_y1, 1.4), (x_end, glass_y1 + 0.002, 1.46), manifest)
     # front posts or cantilever
     four_post = rng.uniform() < 0.6
@@ -1436,7 +1464,7 @@ def _bus_shelter(rng: np.random.Generator, size: Size) -> Assembly:
     asm.box((tx - 0.3, glass_y1, 1.1), (tx + 0.3, glass_y1 + 0.03, 1.8), frame)
     asm.box((tx - 0.27, glass_y1 + 0.03, 1.13), (tx + 0.27, glass_y1 + 0.032, 1.77), (248, 248, 244))
     if roof_kind == 0:
-        sign = _draw(rng, ((24, 64, 150), (20, 110, 60), (236, 190, 30), (200, 30, 40)))
+        sign = pick(rng, ((24, 64, 150), (20, 110, 60), (236, 190, 30), (200, 30, 40)), variation=_VARIATION)
         asm.box((-hx + 0.1, hy - 0.002, h - rt + 0.02), (-hx + 0.1 + min(1.0, 0.3 * w), hy, h - 0.02), sign)
     return asm
 
@@ -1476,14 +1504,16 @@ def _k6_kiosk(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    red = _draw(rng, _POSTAL_RED)
+    red = pick(rng, _POSTAL_RED, variation=_VARIATION)
     glass = pick(rng, "glass", variation=0.03)
     b = 0.03
     bx, by = hx - b, hy - b
     plinth = 0.08
     dome_h = float(rng.uniform(0.12, 0.18))
     z_c = h - dome_h - 0.1
-    asm.box((-hx, -hy, 0.0), (hx, hy, plinth), _draw(rng, ((200, 28, 34), (150, 148, 144))))
+    asm.box(
+        (-hx, -hy, 0.0), (hx, hy, plinth), pick(rng, ((200, 28, 34), (150, 148, 144)), variation=_VARIATION)
+    )
     pw = 0.1
     for sx in (-1.0, 1.0):
         for sy in (-1.0, 1.0):
@@ -1526,8 +1556,8 @@ def _glass_cabin(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    frame = _draw(rng, ((176, 180, 184), (120, 126, 134), (62, 66, 70)))
-    brand = _draw(rng, _BRAND_BOOTH)
+    frame = pick(rng, ((176, 180, 184), (120, 126, 134), (62, 66, 70)), variation=_VARIATION)
+    brand = pick(rng, _BRAND_BOOTH, variation=_VARIATION)
     glass = pick(rng, "glass", variation=0.03)
     rt = float(rng.uniform(0.15, 0.25))
     inset = 0.03
@@ -1564,7 +1594,11 @@ def _glass_cabin(rng: np.random.Generator, size: Size) -> Assembly:
                 _wall_box(asm, wall, a0 + 0.02, a1 - 0.02, h - rt - 0.4, h - rt - 0.05, 0.018, 0.02, brand)
     # telephone on the back wall
     yb = -by + 0.03
-    asm.box((-0.14, yb, 1.05), (0.14, yb + 0.14, 1.55), _draw(rng, ((60, 64, 68), (200, 202, 204))))
+    asm.box(
+        (-0.14, yb, 1.05),
+        (0.14, yb + 0.14, 1.55),
+        pick(rng, ((60, 64, 68), (200, 202, 204)), variation=_VARIATION),
+    )
     asm.box((-0.1, yb + 0.14, 1.3), (0.08, yb + 0.145, 1.48), (40, 60, 56))
     asm.box((-0.16, yb + 0.06, 1.2), (-0.13, yb + 0.2, 1.42), _DARK)
     asm.box((-0.3, yb, 0.95), (0.3, yb + 0.25, 0.98), frame)
@@ -1578,7 +1612,7 @@ def _newspaper_box(rng: np.random.Generator, size: Size) -> Assembly:
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
     body = pick(rng, "brand")
-    leg_c = _draw(rng, ((62, 66, 70), (28, 28, 30), (176, 180, 184)))
+    leg_c = pick(rng, ((62, 66, 70), (28, 28, 30), (176, 180, 184)), variation=_VARIATION)
     leg_h = float(rng.uniform(0.12, 0.3))
     top_h = float(rng.uniform(0.1, 0.16))
     z_top = h - top_h
@@ -1612,7 +1646,7 @@ def _newspaper_box(rng: np.random.Generator, size: Size) -> Assembly:
         xa, xb = sorted((s * hx, s * (hx - 0.004)))
         asm.box((xa, -0.3 * d, 0.5 * (z0 + z1) - 0.08), (xb, 0.3 * d, 0.5 * (z0 + z1) + 0.08), logo)
     # coin mechanism on top
-    coin = _draw(rng, ((176, 180, 184), (62, 66, 70)))
+    coin = pick(rng, ((176, 180, 184), (62, 66, 70)), variation=_VARIATION)
     asm.box((-0.3 * w, 0.0, z_top - 0.002), (0.3 * w, front, h), coin)
     asm.box((-0.05, front, h - 0.07), (0.05, front + 0.005, h - 0.05), _DARK)
     asm.box((-0.3 * w, front - 0.002, h - top_h + 0.02), (-0.1 * w, front + 0.004, h - 0.02), (236, 236, 232))

@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from navverse.assets.materials import RGB, shade
+from navverse.assets.materials import RGB, pick, shade
 from navverse.assets.parts import (
     Assembly,
     Solid,
@@ -31,10 +31,9 @@ from navverse.assets.parts import (
     cylinder,
     difference,
     ellipsoid,
-    extrude,
+    extrude_along,
     frustum,
     hull,
-    rotate,
     rounded_prism,
     rounded_rectangle,
     torus,
@@ -106,6 +105,8 @@ _TAIL: RGB = (176, 22, 26)
 _AMBER: RGB = (236, 142, 30)
 _PLATE_EU: RGB = (236, 236, 230)
 _PLATE_US: RGB = (226, 228, 222)
+_BRIGHTNESS = (0.94, 1.06)
+"""Range of the brightness factor of the colours drawn from the palettes above (:func:`pick`)."""
 
 
 def _car_paint(rng: np.random.Generator) -> RGB:
@@ -115,18 +116,7 @@ def _car_paint(rng: np.random.Generator) -> RGB:
     return shade(base, float(rng.uniform(0.95, 1.05)))
 
 
-def _draw(rng: np.random.Generator, colors: tuple[RGB, ...]) -> RGB:
-    """One colour of a local palette, its brightness varied by a few percent."""
-    return shade(colors[int(rng.integers(len(colors)))], float(rng.uniform(0.94, 1.06)))
-
-
 # -- geometry helpers --------------------------------------------------------------------------------
-
-
-def _yz_extrude(profile: list[tuple[float, float]] | np.ndarray, x0: float, x1: float) -> Solid:
-    """Extrude a side profile given in ``(y, z)`` along x from `x0` to `x1`."""
-    vertices, faces = extrude(profile, x0, x1)
-    return vertices[:, [2, 0, 1]], faces  # (y, z, x) -> (x, y, z): a cyclic swap keeps the winding
 
 
 def _slab(points: np.ndarray, normal: np.ndarray, t0: float = 0.002, t1: float = 0.01) -> Solid:
@@ -139,8 +129,7 @@ def _slab(points: np.ndarray, normal: np.ndarray, t0: float = 0.002, t1: float =
 
 def _wheel_yz(center: tuple[float, float, float], radius: float, tube: float, *, sections: int = 16) -> Solid:
     """A tyre as a torus in the y-z plane (axle along x), outer radius `radius`."""
-    ring = rotate(torus((0.0, 0.0, 0.0), radius - tube, tube, sections=sections, tube=6), "y", 0.5 * math.pi)
-    return ring[0] + np.asarray(center), ring[1]
+    return torus(center, radius - tube, tube, sections=sections, tube=6, axis="x")
 
 
 def _spokes(
@@ -350,7 +339,7 @@ def _car(
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
     paint = _car_paint(rng)
-    glass = _draw(rng, _GLASS)
+    glass = pick(rng, _GLASS, brightness=_BRIGHTNESS)
     trim = _DARK if rng.uniform() < 0.45 else shade(paint, 0.94)
     if bed or panel:
         trim = _DARK if rng.uniform() < 0.6 else ((196, 200, 204) if bed else trim)
@@ -600,9 +589,9 @@ def _bus(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    livery = _draw(rng, _LIVERY)
-    accent = _draw(rng, _LIVERY)
-    glass = _draw(rng, _GLASS)
+    livery = pick(rng, _LIVERY, brightness=_BRIGHTNESS)
+    accent = pick(rng, _LIVERY, brightness=_BRIGHTNESS)
+    glass = pick(rng, _GLASS, brightness=_BRIGHTNESS)
     hw = hx - 0.2  # mirrors on arms reach 0.2 m beyond the body
     y0, y1 = -hy + 0.05, hy - 0.05
     length = y1 - y0
@@ -695,9 +684,13 @@ def _box_truck(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    cab_color = (238, 238, 236) if rng.uniform() < 0.5 else _draw(rng, _LIVERY)
-    box_color = (240, 240, 238) if rng.uniform() < 0.65 else _draw(rng, (*_LIVERY, (200, 190, 168)))
-    glass = _draw(rng, _GLASS)
+    cab_color = (238, 238, 236) if rng.uniform() < 0.5 else pick(rng, _LIVERY, brightness=_BRIGHTNESS)
+    box_color = (
+        (240, 240, 238)
+        if rng.uniform() < 0.65
+        else pick(rng, (*_LIVERY, (200, 190, 168)), brightness=_BRIGHTNESS)
+    )
+    glass = pick(rng, _GLASS, brightness=_BRIGHTNESS)
     hb = hx - 0.2  # half width of the cargo box; mirrors reach 0.2 m further
     hc = hb - float(rng.uniform(0.05, 0.15))  # cab half width
     radius = float(rng.uniform(0.39, 0.44))
@@ -743,7 +736,7 @@ def _box_truck(rng: np.random.Generator, size: Size) -> Assembly:
     for z in np.linspace(z_floor + 0.4, h - 0.35, int(rng.integers(4, 8))):
         asm.box((-(hb - 0.1), y_box_back - 0.025, z - 0.012), (hb - 0.1, y_box_back - 0.01, z + 0.012), door)
     if rng.uniform() < 0.45:  # a coloured band along both sides
-        band = _draw(rng, _LIVERY)
+        band = pick(rng, _LIVERY, brightness=_BRIGHTNESS)
         z0 = float(rng.uniform(z_floor + 0.3, h - 0.9))
         for sx in (-1.0, 1.0):
             xa, xb = sorted((sx * hb, sx * (hb + 0.006)))
@@ -814,7 +807,7 @@ def _arc_guard(yc: float, zc: float, r0: float, r1: float, a0: float, a1: float,
     angles = np.linspace(max(a0, limit), min(a1, math.pi - limit), 9)
     outer = [(yc + r1 * math.cos(a), zc + r1 * math.sin(a)) for a in angles]
     inner = [(yc + r0 * math.cos(a), zc + r0 * math.sin(a)) for a in angles[::-1]]
-    return _yz_extrude(outer + inner, -half_w, half_w)
+    return extrude_along(outer + inner, -half_w, half_w, axis="x")
 
 
 def _tube(p0: tuple[float, float, float], p1: tuple[float, float, float], radius: float) -> Solid:
@@ -833,7 +826,7 @@ def _bicycle(rng: np.random.Generator, size: Size) -> Assembly:
         style = "mtb" if rng.uniform() < 0.7 else "city"
     else:
         style = ("city", "mtb", "road")[int(rng.integers(3)) if w < 0.56 else int(rng.integers(2))]
-    frame = _draw(rng, (*_MOTO_PAINT, (170, 214, 198), (236, 226, 196)))
+    frame = pick(rng, (*_MOTO_PAINT, (170, 214, 198), (236, 226, 196)), brightness=_BRIGHTNESS)
     rim_color = (40, 40, 42) if rng.uniform() < 0.5 else (196, 198, 202)
     black = (26, 26, 28)
     tube_r = {"road": 0.014, "city": 0.02, "mtb": 0.028}[style]
@@ -991,14 +984,16 @@ def _kick_scooter(rng: np.random.Generator, size: Size) -> Assembly:
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
     electric = rng.uniform() < 0.5
-    body = _draw(
-        rng, ((30, 30, 32), (236, 236, 232), (120, 124, 128), (186, 28, 34), (36, 80, 160), (40, 130, 120))
+    body = pick(
+        rng,
+        ((30, 30, 32), (236, 236, 232), (120, 124, 128), (186, 28, 34), (36, 80, 160), (40, 130, 120)),
+        brightness=_BRIGHTNESS,
     )
     metal = (176, 180, 184) if rng.uniform() < 0.5 else (44, 44, 48)
     r = float(rng.uniform(0.1, 0.112)) if electric else float(rng.uniform(0.06, 0.1))
     tyre_w = 0.05 if electric else 0.026
     yr, yf = -hy + r, hy - r
-    wheel = _TYRE if electric or rng.uniform() < 0.5 else _draw(rng, _LIVERY)
+    wheel = _TYRE if electric or rng.uniform() < 0.5 else pick(rng, _LIVERY, brightness=_BRIGHTNESS)
     for y in (yr, yf):
         asm.add(cylinder((-0.5 * tyre_w, y, r), (0.5 * tyre_w, y, r), r, sections=16), wheel)
         asm.add(
@@ -1093,7 +1088,7 @@ def _motorcycle(rng: np.random.Generator, size: Size) -> Assembly:
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
     style = "touring" if h > 1.22 else ("naked", "sport", "cruiser")[int(rng.integers(3))]
-    paint = _draw(rng, _MOTO_PAINT)
+    paint = pick(rng, _MOTO_PAINT, brightness=_BRIGHTNESS)
     dark = (30, 30, 32)
     engine = (150, 152, 156) if rng.uniform() < 0.5 else (48, 48, 52)
     rim = (40, 40, 42) if rng.uniform() < 0.6 else (190, 192, 196)
@@ -1273,7 +1268,7 @@ def _motor_scooter(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    paint = _draw(rng, _SCOOTER_PAINT)
+    paint = pick(rng, _SCOOTER_PAINT, brightness=_BRIGHTNESS)
     seat = (30, 30, 32) if rng.uniform() < 0.7 else (110, 70, 46)
     chrome = (196, 198, 202)
     dark = (34, 34, 36)

@@ -27,7 +27,6 @@ The library frame applies (x width, y depth, z up, the side a person uses at +y)
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 
 import numpy as np
 
@@ -42,11 +41,9 @@ from navverse.assets.parts import (
     ellipsoid,
     frustum,
     hull,
-    rotate,
     rounded_prism,
     rounded_rectangle,
     torus,
-    translate,
 )
 from navverse.assets.spec import Asset, Size, top_support
 
@@ -61,12 +58,8 @@ _REFLECTIVE: tuple[RGB, ...] = ((238, 240, 238), (222, 226, 230))
 _RUBBER: RGB = (32, 32, 34)
 _CONCRETE: tuple[RGB, ...] = ((172, 170, 164), (150, 148, 142), (190, 186, 178))
 _GALVANISED: tuple[RGB, ...] = ((186, 190, 188), (166, 172, 172), (200, 202, 200))
-
-
-def _vary(rng: np.random.Generator, colours: Sequence[RGB], spread: float = 0.05) -> RGB:
-    """One of `colours`, its brightness varied by ``1 ± spread``."""
-    base = colours[int(rng.integers(len(colours)))]
-    return shade(base, 1.0 + float(rng.uniform(-spread, spread)))
+_VARIATION = 0.05
+"""Brightness variation of the colours drawn from the palettes above (:func:`pick`)."""
 
 
 def _wheel_x(
@@ -88,10 +81,7 @@ def _wheel_x(
         asm.add(cylinder((x0, y, z), (x1, y, z), radius, sections=sections), tire)
         asm.add(cylinder((x0 + 0.2 * width, y, z), (x1 - 0.2 * width, y, z), 0.55 * radius + 1e-3), hub)
         return
-    ring = rotate(
-        torus((0.0, 0.0, 0.0), radius - minor, minor, sections=sections, tube=8), "y", 0.5 * math.pi
-    )
-    asm.add(translate(ring, (0.5 * (x0 + x1), y, z)), tire)
+    asm.add(torus((0.5 * (x0 + x1), y, z), radius - minor, minor, sections=sections, tube=8, axis="x"), tire)
     asm.add(
         cylinder(
             (x0 + 0.15 * width, y, z), (x1 - 0.15 * width, y, z), radius - 1.6 * minor, sections=sections
@@ -180,9 +170,9 @@ def _traffic_cone(rng: np.random.Generator, size: Size) -> Assembly:
     """A traffic cone: square base, collar, tapered body with one or two reflective bands."""
     w, d, h = size
     asm = Assembly()
-    body = _vary(rng, (*_SAFETY_ORANGE, *_SAFETY_ORANGE, _LIME, _SAFETY_RED))
+    body = pick(rng, (*_SAFETY_ORANGE, *_SAFETY_ORANGE, _LIME, _SAFETY_RED), variation=_VARIATION)
     base_colour = _RUBBER if rng.uniform() < 0.6 else shade(body, 0.82)
-    band = _vary(rng, _REFLECTIVE, 0.02)
+    band = pick(rng, _REFLECTIVE, variation=0.02)
     short = min(w, d)
     base_t = float(np.clip(0.05 * h, 0.025, 0.045))
     asm.add(rounded_prism((0.0, 0.0), w, d, float(rng.uniform(0.05, 0.14)) * short, 0.0, base_t), base_colour)
@@ -217,7 +207,9 @@ def _jersey_barrier(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    colour = _vary(rng, (_SAFETY_RED, (240, 240, 236), _SAFETY_ORANGE[0], _SAFETY_YELLOW))
+    colour = pick(
+        rng, (_SAFETY_RED, (240, 240, 236), _SAFETY_ORANGE[0], _SAFETY_YELLOW), variation=_VARIATION
+    )
     dark = (40, 40, 42)
     lug = float(np.clip(0.04 * w, 0.04, 0.07))
     x0, x1 = -hx + lug, hx - lug
@@ -243,7 +235,7 @@ def _jersey_barrier(rng: np.random.Generator, size: Size) -> Assembly:
     cap_x = float(rng.uniform(-0.3, 0.3)) * w
     asm.add(cylinder((cap_x, 0.0, top - 0.02), (cap_x, 0.0, h), 0.05, sections=12), shade(colour, 0.75))
     # reflectors on the upper slope of both faces
-    reflector = _vary(rng, ((250, 250, 246), (250, 170, 30)), 0.02)
+    reflector = pick(rng, ((250, 250, 246), (250, 170, 30)), variation=0.02)
     ya, za, yb, zb = 0.62 * hy, 0.3 * top, 0.34 * hy, 0.93 * top
     length = math.hypot(ya - yb, zb - za)
     ny, nz = (zb - za) / length, (ya - yb) / length  # outward normal of the +y slope
@@ -264,9 +256,13 @@ def _barrier_board(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    colours = (_vary(rng, (_SAFETY_RED,), 0.04), _vary(rng, _REFLECTIVE, 0.02))
-    foot = _RUBBER if rng.uniform() < 0.6 else _vary(rng, (_SAFETY_YELLOW, _SAFETY_ORANGE[1], _CONCRETE[0]))
-    post_colour = _vary(rng, _GALVANISED) if rng.uniform() < 0.5 else colours[1]
+    colours = (pick(rng, (_SAFETY_RED,), variation=0.04), pick(rng, _REFLECTIVE, variation=0.02))
+    foot = (
+        _RUBBER
+        if rng.uniform() < 0.6
+        else pick(rng, (_SAFETY_YELLOW, _SAFETY_ORANGE[1], _CONCRETE[0]), variation=_VARIATION)
+    )
+    post_colour = pick(rng, _GALVANISED, variation=_VARIATION) if rng.uniform() < 0.5 else colours[1]
     fw = float(np.clip(0.2 * w, 0.25, 0.36))
     fh = float(rng.uniform(0.06, 0.1))
     post = 0.04
@@ -306,7 +302,7 @@ def _barrier_board(rng: np.random.Generator, size: Size) -> Assembly:
         asm.box((xl - 0.03, -0.03, post_top - 0.01), (xl + 0.03, 0.03, post_top + 0.03), (40, 40, 42))
         asm.add(
             cylinder((xl, -0.03, post_top + 0.1), (xl, 0.03, post_top + 0.1), 0.07, sections=12),
-            _vary(rng, ((250, 170, 30), (250, 200, 40)), 0.03),
+            pick(rng, ((250, 170, 30), (250, 200, 40)), variation=0.03),
         )
     return asm
 
@@ -324,9 +320,14 @@ def _sawhorse_barricade(rng: np.random.Generator, size: Size) -> Assembly:
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
     frame = (
-        _vary(rng, ((240, 240, 236), _SAFETY_ORANGE[0])) if rng.uniform() < 0.6 else _vary(rng, _GALVANISED)
+        pick(rng, ((240, 240, 236), _SAFETY_ORANGE[0]), variation=_VARIATION)
+        if rng.uniform() < 0.6
+        else pick(rng, _GALVANISED, variation=_VARIATION)
     )
-    stripe_colours = (_vary(rng, (*_SAFETY_ORANGE, _SAFETY_RED), 0.03), _vary(rng, _REFLECTIVE, 0.02))
+    stripe_colours = (
+        pick(rng, (*_SAFETY_ORANGE, _SAFETY_RED), variation=0.03),
+        pick(rng, _REFLECTIVE, variation=0.02),
+    )
     lamp = rng.uniform() < 0.35
     lamp_h = 0.19 if lamp else 0.0
     apex = h - lamp_h
@@ -378,7 +379,7 @@ def _sawhorse_barricade(rng: np.random.Generator, size: Size) -> Assembly:
         asm.box((xl - 0.06, -0.03, apex + 0.04), (xl + 0.06, 0.03, apex + 0.06), (40, 40, 42))
         asm.add(
             cylinder((xl, -0.035, apex + 0.125), (xl, 0.035, apex + 0.125), 0.065, sections=12),
-            _vary(rng, ((250, 170, 30), (250, 200, 40)), 0.03),
+            pick(rng, ((250, 170, 30), (250, 200, 40)), variation=0.03),
         )
     return asm
 
@@ -388,9 +389,17 @@ def _construction_fence(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    tube = _vary(rng, _GALVANISED) if rng.uniform() < 0.75 else _vary(rng, ((40, 90, 50), (226, 110, 30)))
+    tube = (
+        pick(rng, _GALVANISED, variation=_VARIATION)
+        if rng.uniform() < 0.75
+        else pick(rng, ((40, 90, 50), (226, 110, 30)), variation=_VARIATION)
+    )
     wire = shade(tube, 0.95)
-    foot = _vary(rng, _CONCRETE) if rng.uniform() < 0.5 else _vary(rng, (_RUBBER, (226, 100, 30)))
+    foot = (
+        pick(rng, _CONCRETE, variation=_VARIATION)
+        if rng.uniform() < 0.5
+        else pick(rng, (_RUBBER, (226, 100, 30)), variation=_VARIATION)
+    )
     fw = float(np.clip(0.07 * w, 0.18, 0.24))
     fh = float(rng.uniform(0.12, 0.15))
     r = 0.02
@@ -417,13 +426,17 @@ def _construction_fence(rng: np.random.Generator, size: Size) -> Assembly:
         asm.box((-post_x, -0.5 * t, float(z) - 0.5 * t), (post_x, 0.5 * t, float(z) + 0.5 * t), wire)
     screen_roll = rng.uniform()
     if screen_roll < 0.35:  # privacy screen with a printed band
-        cloth = _vary(rng, ((40, 92, 52), (30, 60, 120), (36, 36, 40), (236, 236, 232)))
+        cloth = pick(rng, ((40, 92, 52), (30, 60, 120), (36, 36, 40), (236, 236, 232)), variation=_VARIATION)
         asm.box((-post_x + r, 0.004, z_bottom + r), (post_x - r, 0.008, z_top - r), cloth)
         band_z = z_bottom + float(rng.uniform(0.45, 0.7)) * (z_top - z_bottom)
         asm.box((-post_x + 0.1, 0.008, band_z), (post_x - 0.1, 0.01, band_z + 0.2), pick(rng, "brand"))
     elif screen_roll < 0.6:  # a site sign wired to the mesh
         sx = float(rng.uniform(-0.5, 0.5)) * (post_x - 0.4)
-        asm.box((sx - 0.3, 0.004, 1.1), (sx + 0.3, 0.01, 1.5), _vary(rng, (_SAFETY_YELLOW, (240, 240, 236))))
+        asm.box(
+            (sx - 0.3, 0.004, 1.1),
+            (sx + 0.3, 0.01, 1.5),
+            pick(rng, (_SAFETY_YELLOW, (240, 240, 236)), variation=_VARIATION),
+        )
         asm.box((sx - 0.2, 0.01, 1.25), (sx + 0.2, 0.012, 1.35), (30, 30, 32))
     return asm
 
@@ -435,12 +448,14 @@ def _ladder(rng: np.random.Generator, size: Size) -> Assembly:
     asm = Assembly()
     fibreglass = rng.uniform() < 0.5
     rail_colour = (
-        _vary(rng, (_SAFETY_YELLOW, _SAFETY_ORANGE[1], (40, 90, 170), (60, 130, 70)))
+        pick(rng, (_SAFETY_YELLOW, _SAFETY_ORANGE[1], (40, 90, 170), (60, 130, 70)), variation=_VARIATION)
         if fibreglass
         else pick(rng, "chrome")
     )
     alu = pick(rng, "chrome")
-    cap_colour = _vary(rng, ((36, 36, 40), (90, 92, 96), _SAFETY_ORANGE[1], (40, 90, 170)))
+    cap_colour = pick(
+        rng, ((36, 36, 40), (90, 92, 96), _SAFETY_ORANGE[1], (40, 90, 170)), variation=_VARIATION
+    )
     cap_h = float(np.clip(0.06 * h, 0.06, 0.1))
     h_top = h - cap_h
     cap_d = float(np.clip(0.22 * d, 0.14, 0.26))
@@ -525,7 +540,7 @@ def _cargo_pallet(rng: np.random.Generator, size: Size) -> Assembly:
         wood = ((214, 184, 132), (200, 168, 118), (222, 196, 150))  # fresh pine
 
     def board(lo: tuple[float, float, float], hi: tuple[float, float, float]) -> None:
-        asm.box(lo, hi, _vary(rng, wood, 0.08))
+        asm.box(lo, hi, pick(rng, wood, variation=0.08))
 
     t = 0.153 * h  # 22 mm of 144 mm
     if rng.uniform() < 0.6:  # EUR block pallet
@@ -570,7 +585,7 @@ def _cargo_pallet(rng: np.random.Generator, size: Size) -> Assembly:
                 )
                 for c in (-0.27 * w, 0.27 * w)
             ]
-            asm.add(difference(stringer, *notches), _vary(rng, wood, 0.08))
+            asm.add(difference(stringer, *notches), pick(rng, wood, variation=0.08))
     return asm
 
 
@@ -579,7 +594,7 @@ def _wheelbarrow(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    tray_colour = _vary(
+    tray_colour = pick(
         rng,
         (
             (46, 120, 60),
@@ -590,12 +605,15 @@ def _wheelbarrow(rng: np.random.Generator, size: Size) -> Assembly:
             (40, 90, 170),
             _SAFETY_YELLOW,
         ),
+        variation=_VARIATION,
     )
     wooden = rng.uniform() < 0.35
     handle_colour = (
-        pick(rng, "light_wood") if wooden else _vary(rng, ((42, 44, 48), tray_colour, (150, 154, 160)))
+        pick(rng, "light_wood")
+        if wooden
+        else pick(rng, ((42, 44, 48), tray_colour, (150, 154, 160)), variation=_VARIATION)
     )
-    grip = _vary(rng, (_RUBBER, (200, 40, 36), (60, 60, 64)))
+    grip = pick(rng, (_RUBBER, (200, 40, 36), (60, 60, 64)), variation=_VARIATION)
     r_wheel = float(np.clip(0.28 * h, 0.15, 0.2))
     tw = float(np.clip(0.13 * w, 0.07, 0.1))
     yw = -hy + r_wheel
@@ -607,7 +625,7 @@ def _wheelbarrow(rng: np.random.Generator, size: Size) -> Assembly:
         r_wheel,
         r_wheel,
         _RUBBER,
-        _vary(rng, ((200, 40, 36), (230, 190, 40), (170, 172, 176))),
+        pick(rng, ((200, 40, 36), (230, 190, 40), (170, 172, 176)), variation=_VARIATION),
     )
     asm.add(cylinder((-0.07, yw, r_wheel), (0.07, yw, r_wheel), 0.012, sections=8), (90, 92, 96))
     # tray: a tapered tub with a sloped front wall
@@ -682,7 +700,9 @@ def _toolbox(rng: np.random.Generator, size: Size) -> Assembly:
             shade(pair[0], float(rng.uniform(0.94, 1.06))),
             shade(pair[1], float(rng.uniform(0.94, 1.06))),
         )
-        accent = _vary(rng, ((232, 190, 40), (200, 36, 36), (60, 60, 64), (220, 220, 220)))
+        accent = pick(
+            rng, ((232, 190, 40), (200, 36, 36), (60, 60, 64), (220, 220, 220)), variation=_VARIATION
+        )
         lp = 0.012  # latches stick out at the front
         yc = -0.5 * lp
         seam = float(rng.uniform(0.55, 0.68)) * h
@@ -708,7 +728,11 @@ def _toolbox(rng: np.random.Generator, size: Size) -> Assembly:
                     )
         asm.box((-0.3 * w, -hy, seam - 0.02), (0.3 * w, -hy + 0.008, seam + 0.01), shade(body, 0.7))
     else:  # steel box
-        colour = _vary(rng, ((190, 36, 32), (40, 80, 160), (46, 110, 64), (120, 124, 128), (30, 30, 34)))
+        colour = pick(
+            rng,
+            ((190, 36, 32), (40, 80, 160), (46, 110, 64), (120, 124, 128), (30, 30, 34)),
+            variation=_VARIATION,
+        )
         hp, lp = 0.03, 0.01
         seam = float(rng.uniform(0.65, 0.75)) * h
         x_body = hx - hp
@@ -771,7 +795,9 @@ def _sandbag_stack(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hy = 0.5 * d
     asm = Assembly()
-    base = _vary(rng, ((226, 220, 200), (176, 150, 106), (108, 112, 72), (240, 240, 236), (40, 40, 44)), 0.03)
+    base = pick(
+        rng, ((226, 220, 200), (176, 150, 106), (108, 112, 72), (240, 240, 236), (40, 40, 44)), variation=0.03
+    )
     rows = 1 if d < 0.55 else 2
     bag_w = d / rows
     n = max(1, round(w / 0.6))
@@ -883,12 +909,16 @@ def _basketball_hoop(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    pole_colour = _vary(rng, ((30, 30, 34), (60, 62, 66), (40, 60, 110)))
+    pole_colour = pick(rng, ((30, 30, 34), (60, 62, 66), (40, 60, 110)), variation=_VARIATION)
     glass = rng.uniform() < 0.5
     board_colour = (196, 216, 224) if glass else (246, 246, 244)
-    line = (246, 246, 244) if glass else _vary(rng, ((200, 36, 36), (30, 30, 34), (30, 60, 140)))
-    frame = _vary(rng, ((30, 30, 34), (90, 92, 96)))
-    orange = _vary(rng, ((236, 90, 24), (220, 60, 30)), 0.03)
+    line = (
+        (246, 246, 244)
+        if glass
+        else pick(rng, ((200, 36, 36), (30, 30, 34), (30, 60, 140)), variation=_VARIATION)
+    )
+    frame = pick(rng, ((30, 30, 34), (90, 92, 96)), variation=_VARIATION)
+    orange = pick(rng, ((236, 90, 24), (220, 60, 30)), variation=0.03)
     bh = float(np.clip(0.58 * w, 0.74, 1.07))
     bt = 0.04
     z_bb = h - bh
@@ -918,7 +948,7 @@ def _basketball_hoop(rng: np.random.Generator, size: Size) -> Assembly:
     asm.box((-0.08, y_bf - 0.01, z_r - 0.12), (0.08, y_bf + 0.01, z_r + 0.02), orange)
     asm.box((-0.05, y_bf, z_r - 0.04), (0.05, y_rc - major + 0.005, z_r + 0.005), orange)
     asm.add(torus((0.0, y_rc, z_r), major, minor, sections=16, tube=6), orange)
-    net = _vary(rng, ((246, 246, 244), (230, 230, 226)), 0.02)
+    net = pick(rng, ((246, 246, 244), (230, 230, 226)), variation=0.02)
     low_r, net_h = 0.6 * major, 0.42
     for k in range(12):
         a = 2.0 * math.pi * (k + 0.5) / 12
@@ -950,7 +980,7 @@ def _basketball_hoop(rng: np.random.Generator, size: Size) -> Assembly:
                 )
         asm.box((-0.5 * ps, y_p - 0.5 * ps, 0.02), (0.5 * ps, y_p + 0.5 * ps, z_pt), pole_colour)
         if rng.uniform() < 0.6:
-            pad = _vary(rng, ((30, 50, 120), (190, 36, 36), (30, 30, 34), (40, 110, 60)))
+            pad = pick(rng, ((30, 50, 120), (190, 36, 36), (30, 30, 34), (40, 110, 60)), variation=_VARIATION)
             asm.box(
                 (-0.5 * ps - 0.04, y_p - 0.5 * ps - 0.04, 0.15),
                 (0.5 * ps + 0.04, y_p + 0.5 * ps + 0.04, 1.6),
@@ -967,7 +997,7 @@ def _basketball_hoop(rng: np.random.Generator, size: Size) -> Assembly:
         bd = float(np.clip(d - 1.0, 0.6, 1.2))
         bw = min(0.8, 0.62 * w)
         bz = float(rng.uniform(0.26, 0.34))
-        tank = _vary(rng, ((30, 30, 34), (60, 62, 66)))
+        tank = pick(rng, ((30, 30, 34), (60, 62, 66)), variation=_VARIATION)
         pts = [(sx * 0.5 * bw, y, 0.0) for sx in (-1.0, 1.0) for y in (-hy, -hy + bd)]
         pts += [(sx * 0.42 * bw, y, bz) for sx in (-1.0, 1.0) for y in (-hy + 0.1, -hy + bd - 0.15)]
         asm.add(hull(pts), tank)
@@ -1041,9 +1071,11 @@ def _skateboard(rng: np.random.Generator, size: Size) -> Assembly:
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
     graphic = pick(rng, "accent") if rng.uniform() < 0.6 else pick(rng, "wood")
-    grip_tape = _vary(rng, ((30, 30, 32), (44, 44, 48)))
-    metal = pick(rng, "chrome") if rng.uniform() < 0.6 else _vary(rng, ((40, 40, 44),))
-    wheel = _vary(rng, ((240, 236, 220), (250, 220, 60), (220, 60, 50), (60, 130, 200), (80, 190, 110)), 0.03)
+    grip_tape = pick(rng, ((30, 30, 32), (44, 44, 48)), variation=_VARIATION)
+    metal = pick(rng, "chrome") if rng.uniform() < 0.6 else pick(rng, ((40, 40, 44),), variation=_VARIATION)
+    wheel = pick(
+        rng, ((240, 236, 220), (250, 220, 60), (220, 60, 50), (60, 130, 200), (80, 190, 110)), variation=0.03
+    )
     cruiser = rng.uniform() < 0.3
     r_w = float(np.clip(0.26 * h, 0.026, 0.032))
     ww = float(rng.uniform(0.032, 0.042))
@@ -1092,10 +1124,10 @@ def _stroller(rng: np.random.Generator, size: Size) -> Assembly:
     frame = (
         pick(rng, "chrome")
         if rng.uniform() < 0.4
-        else _vary(rng, ((30, 30, 34), (60, 62, 66), (226, 226, 222)))
+        else pick(rng, ((30, 30, 34), (60, 62, 66), (226, 226, 222)), variation=_VARIATION)
     )
-    hub = _vary(rng, ((200, 200, 204), (40, 40, 44), (236, 236, 232)))
-    grip = _vary(rng, ((36, 30, 28), (30, 30, 32), (100, 62, 40)))
+    hub = pick(rng, ((200, 200, 204), (40, 40, 44), (236, 236, 232)), variation=_VARIATION)
+    grip = pick(rng, ((36, 30, 28), (30, 30, 32), (100, 62, 40)), variation=_VARIATION)
     r_rear = float(np.clip(0.15 * h, 0.13, 0.17)) if pram else float(np.clip(0.12 * h, 0.1, 0.14))
     r_front = (0.85 if pram else 0.65) * r_rear
     ww = float(rng.uniform(0.035, 0.05))

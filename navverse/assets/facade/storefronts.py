@@ -5,7 +5,7 @@ recessed part; frames, mullions and a dark shop interior behind), window content
 (shelves of goods, tables and chairs, counters, clothes rails, flowers, a salon chair, blinds), an
 optional awning (flat canopy or sloped, plain or striped) and a sign board above the openings whose
 front face is textured with an image of the shop name and a category icon
-(:mod:`navverse.assets.storefront_signs`).
+(:mod:`navverse.assets.facade.storefront_signs`).
 
 Place categories
 ----------------
@@ -66,8 +66,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from navverse.assets import storefront_signs
 from navverse.assets.errors import AssetSizeError, UnknownCategoryError
+from navverse.assets.facade import storefront_signs
 from navverse.assets.materials import RGB, shade
 from navverse.assets.parts import Assembly, Solid, bar, box, cylinder, ellipsoid, hull
 from navverse.assets.primitives import boxes

@@ -101,12 +101,6 @@ _TEXT: RGB = (150, 150, 152)
 _RUBBER: RGB = (30, 30, 32)
 
 
-def _pick(rng: np.random.Generator, colors: Sequence[RGB], variation: float = 0.06) -> RGB:
-    """A colour from a local palette, its brightness varied like :func:`~navverse.assets.materials.pick`."""
-    base = colors[int(rng.integers(len(colors)))]
-    return shade(base, 1.0 + float(rng.uniform(-variation, variation)))
-
-
 def _scaled(solid: Solid, sx: float = 1.0, sy: float = 1.0, sz: float = 1.0) -> Solid:
     """A solid scaled about the origin (positive factors keep it closed and outward)."""
     return solid[0] * np.array([sx, sy, sz]), solid[1]
@@ -195,7 +189,7 @@ def _briefcase(rng: np.random.Generator, size: Size) -> Assembly:
     top = h - float(np.clip(0.1 * h, 0.03, 0.045))
     foot = 0.006
     if rng.uniform() < 0.5:  # hard attaché case, the lid seam at y = 0
-        shell = _pick(rng, _ATTACHE)
+        shell = pick(rng, _ATTACHE)
         zc = 0.5 * (foot + top)
         asm.add(_plate_y(0.0, zc, w - 0.004, top - foot - 0.004, 0.02, -hy, hy), shell)
         asm.add(_plate_y(0.0, zc, w, top - foot, 0.022, -0.004, 0.004), metal)
@@ -205,7 +199,7 @@ def _briefcase(rng: np.random.Generator, size: Size) -> Assembly:
             asm.box((x - 0.01, 0.012, top - 0.03), (x + 0.01, 0.016, top - 0.01), shade(metal, 0.7))
         y_handle, body_color = 0.0, shell
     else:  # soft leather brief: tapered towards the top, flap over the front
-        leather = pick(rng, "leather") if rng.uniform() < 0.7 else _pick(rng, _HANDBAG)
+        leather = pick(rng, "leather") if rng.uniform() < 0.7 else pick(rng, _HANDBAG)
         yc, depth = -0.0025, d - 0.005
         y_top = 0.225 * d
         points = [(x, y + yc, z) for x, y in rounded_rectangle(w, depth, 0.015) for z in (foot, 0.6 * top)]
@@ -296,7 +290,7 @@ def _suitcase(rng: np.random.Generator, size: Size) -> Assembly:
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
     hard = rng.uniform() < 0.6
-    shell = _pick(rng, _LUGGAGE) if hard else pick(rng, "fabric")
+    shell = pick(rng, _LUGGAGE) if hard else pick(rng, "fabric")
     trim = pick(rng, "dark_plastic")
     r = float(np.clip(0.065 * w, 0.024, 0.032))
     z_b = 2.0 * r + 0.012
@@ -359,8 +353,8 @@ def _umbrella(rng: np.random.Generator, size: Size) -> Assembly:
     length, d, h = size
     hx = 0.5 * length
     asm = Assembly()
-    canopy = _pick(rng, _CANOPY)
-    handle = pick(rng, "wood") if rng.uniform() < 0.5 else _pick(rng, ((30, 30, 32), (70, 44, 30), canopy))
+    canopy = pick(rng, _CANOPY)
+    handle = pick(rng, "wood") if rng.uniform() < 0.5 else pick(rng, ((30, 30, 32), (70, 44, 30), canopy))
     metal = pick(rng, "chrome") if rng.uniform() < 0.6 else (40, 40, 44)
     rc = 0.5 * h
     zc = rc
@@ -419,8 +413,8 @@ def _coffee_cup(rng: np.random.Generator, size: Size) -> Assembly:
     def add(solid: Solid, color: RGB) -> None:
         asm.add(_scaled(solid, 1.0, sy, 1.0), color)
 
-    cup = _pick(rng, _CUP, 0.03)
-    lid = _pick(rng, ((248, 248, 246), (30, 30, 32), (120, 84, 60)), 0.03)
+    cup = pick(rng, _CUP, variation=0.03)
+    lid = pick(rng, ((248, 248, 246), (30, 30, 32), (120, 84, 60)), variation=0.03)
     rl = 0.5 * w
     lid_h = float(np.clip(0.12 * h, 0.012, 0.02))
     z0 = h - lid_h
@@ -435,7 +429,7 @@ def _coffee_cup(rng: np.random.Generator, size: Size) -> Assembly:
     if rng.uniform() < 0.75:  # corrugated cardboard sleeve
         s0 = float(rng.uniform(0.25, 0.33)) * cup_top
         s1 = s0 + min(0.055, 0.42 * cup_top)
-        sleeve = _pick(rng, (*_KRAFT, (34, 34, 38), (0, 112, 74), (250, 250, 248)), 0.03)
+        sleeve = pick(rng, (*_KRAFT, (34, 34, 38), (0, 112, 74), (250, 250, 248)), variation=0.03)
         add(frustum((0.0, 0.0, s0), (0.0, 0.0, s1), radius(s0) + 0.0018, radius(s1) + 0.0018), sleeve)
     else:  # printed logo band
         s0 = 0.45 * cup_top
@@ -480,8 +474,7 @@ def _notebook(rng: np.random.Generator, size: Size) -> Assembly:
         pitch = float(rng.uniform(0.009, 0.014))
         count = int((d - 0.02) / pitch) + 1
         for y in np.linspace(-hy + 0.01, hy - 0.01, count):
-            ring = rotate(torus((0.0, 0.0, 0.0), ro - minor, minor, sections=8, tube=4), "x", 0.5 * math.pi)
-            asm.add(translate(ring, (cx, float(y), 0.5 * h)), wire)
+            asm.add(torus((cx, float(y), 0.5 * h), ro - minor, minor, sections=8, tube=4, axis="y"), wire)
     elif style == 1:  # hardbound with a rounded spine and an elastic band
         t = min(0.0022, 0.15 * h)
         rx = min(0.004, 0.04 * w)
@@ -524,7 +517,7 @@ def _shopping_bag(rng: np.random.Generator, size: Size) -> Assembly:
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
     paper = (
-        _pick(rng, _KRAFT) if rng.uniform() < 0.5 else pick(rng, "brand" if rng.uniform() < 0.5 else "paper")
+        pick(rng, _KRAFT) if rng.uniform() < 0.5 else pick(rng, "brand" if rng.uniform() < 0.5 else "paper")
     )
     wall = 0.0025
     rise = float(np.clip(0.22 * h, 0.07, 0.12))
@@ -551,7 +544,7 @@ def _shopping_bag(rng: np.random.Generator, size: Size) -> Assembly:
             asm.add(disc, logo)
     cord = rng.uniform() < 0.6
     radii = (0.0035, 0.0035) if cord else (0.0012, 0.01)
-    handle = paper if rng.uniform() < 0.5 else _pick(rng, ((248, 248, 244), (30, 30, 32), *_KRAFT))
+    handle = paper if rng.uniform() < 0.5 else pick(rng, ((248, 248, 244), (30, 30, 32), *_KRAFT))
     half = float(np.clip(0.22 * w, 0.045, 0.07))
     z_base = top - 0.03
     for s in (-1.0, 1.0):
@@ -586,8 +579,8 @@ def _handbag(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hy = 0.5 * d
     asm = Assembly()
-    leather = _pick(rng, _HANDBAG)
-    trim = shade(leather, 0.7) if rng.uniform() < 0.6 else _pick(rng, _HANDBAG)
+    leather = pick(rng, _HANDBAG)
+    trim = shade(leather, 0.7) if rng.uniform() < 0.6 else pick(rng, _HANDBAG)
     metal = pick(rng, "brass") if rng.uniform() < 0.5 else pick(rng, "chrome")
     r = 0.006
     if rng.uniform() < 0.5:  # tote
@@ -690,20 +683,20 @@ def _water_bottle(rng: np.random.Generator, size: Size) -> Assembly:
                 )
             )
         profile += [(rn, neck_top), (0.0, neck_top)]
-        add(revolve(profile, sections=16), _pick(rng, _PET, 0.02))
+        add(revolve(profile, sections=16), pick(rng, _PET, variation=0.02))
         add(
             cylinder((0.0, 0.0, H + 0.004), (0.0, 0.0, H + 0.006), rn + 0.004, sections=12),
-            _pick(rng, _PET, 0.02),
+            pick(rng, _PET, variation=0.02),
         )
         z0 = float(rng.uniform(0.4, 0.45)) * H
         add(
             cylinder((0.0, 0.0, z0), (0.0, 0.0, z0 + 0.22 * H), R + 0.0008, sections=16),
             pick(rng, "packaging"),
         )
-        cap = _pick(rng, ((40, 90, 170), (240, 240, 236), (196, 40, 44), (40, 140, 80), (30, 30, 32)))
+        cap = pick(rng, ((40, 90, 170), (240, 240, 236), (196, 40, 44), (40, 140, 80), (30, 30, 32)))
         add(cylinder((0.0, 0.0, h - cap_h), (0.0, 0.0, h), cap_r, sections=16), cap)
     else:  # reusable flask
-        body = _pick(rng, _FLASK)
+        body = pick(rng, _FLASK)
         cap = (30, 30, 32) if rng.uniform() < 0.5 else shade(body, 0.75)
         loop_h = 0.018
         cap_r = 0.62 * R
@@ -736,7 +729,7 @@ def _takeaway_box(rng: np.random.Generator, size: Size) -> Assembly:
     hy = 0.5 * d
     asm = Assembly()
     if rng.uniform() < 0.5:  # clamshell
-        color = _pick(rng, ((242, 242, 238), *_KRAFT, (34, 34, 38)), 0.03)
+        color = pick(rng, ((242, 242, 238), *_KRAFT, (34, 34, 38)), variation=0.03)
         zf = float(rng.uniform(0.4, 0.5)) * h
         rad = float(np.clip(0.12 * min(w, d), 0.01, 0.025))
         bw, bd = w - 0.016, d - 0.016
@@ -754,7 +747,7 @@ def _takeaway_box(rng: np.random.Generator, size: Size) -> Assembly:
         )
         asm.add(hinge, shade(color, 0.9))
     else:  # kraft meal box
-        color = _pick(rng, _KRAFT) if rng.uniform() < 0.7 else _pick(rng, ((242, 242, 238), (34, 34, 38)))
+        color = pick(rng, _KRAFT) if rng.uniform() < 0.7 else pick(rng, ((242, 242, 238), (34, 34, 38)))
         sticks = rng.uniform() < 0.5
         lid_top = h - (0.007 if sticks else 0.001)
         body = rounded_rectangle(0.9 * w, 0.9 * d, 0.006)
@@ -792,7 +785,7 @@ def _newspaper(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    paper = _pick(rng, _NEWSPRINT, 0.02)
+    paper = pick(rng, _NEWSPRINT, variation=0.02)
     ink = 0.0006
     hp = h - ink
     rf = 0.5 * hp
@@ -825,7 +818,9 @@ def _newspaper(rng: np.random.Generator, size: Size) -> Assembly:
             py0 = y_col - 0.5 * (y_col - y_end)
             if c == pc:
                 px1 = x0 + (pc + pspan) * pitch - 0.003
-                tone = _pick(rng, ((90, 120, 150), (120, 100, 80), (70, 110, 70), (140, 140, 140)), 0.1)
+                tone = pick(
+                    rng, ((90, 120, 150), (120, 100, 80), (70, 110, 70), (140, 140, 140)), variation=0.1
+                )
                 asm.box((cx0, py0, hp), (px1, y_col, h), tone)
             yb_top = py0 - 0.006
             asm.box((cx0, yb, hp), (cx1, yb_top, h - 0.0003), _TEXT)

@@ -20,7 +20,6 @@ from navverse.assets.parts import (
     difference,
     ellipsoid,
     hull,
-    rotate,
     rounded_prism,
     torus,
 )
@@ -180,14 +179,13 @@ def _wheelchair(rng: np.random.Generator, size: Size) -> Assembly:
     y_axle = -hy + radius
     for sx in (-1.0, 1.0):
         xt = sx * (hx - 0.045)
-        wheel = rotate(torus((0.0, 0.0, 0.0), radius - 0.016, 0.016, sections=20, tube=4), "y", 0.5 * math.pi)
-        asm.add((wheel[0] + (xt, y_axle, radius), wheel[1]), tire)
+        asm.add(torus((xt, y_axle, radius), radius - 0.016, 0.016, sections=20, tube=4, axis="x"), tire)
         asm.add(
             cylinder((xt - 0.004, y_axle, radius), (xt + 0.004, y_axle, radius), radius - 0.03, sections=20),
             (200, 202, 206),
         )
-        rim = rotate(torus((0.0, 0.0, 0.0), radius - 0.04, 0.008, sections=20, tube=4), "y", 0.5 * math.pi)
-        asm.add((rim[0] + (sx * (hx - 0.008), y_axle, radius), rim[1]), frame)
+        rim_center = (sx * (hx - 0.008), y_axle, radius)
+        asm.add(torus(rim_center, radius - 0.04, 0.008, sections=20, tube=4, axis="x"), frame)
         asm.add(cylinder((sx * (hx - 0.12), y_axle, radius), (xt, y_axle, radius), 0.02, sections=8), frame)
         xf = sx * (hx - 0.13)
         caster(asm, xf, hy - 0.17, 0.06, tire, frame)

@@ -108,12 +108,6 @@ _DARK: RGB = (26, 28, 32)
 _X = (1.0, 0.0, 0.0)
 
 
-def _draw(rng: np.random.Generator, colors: Sequence[RGB], *, variation: float = 0.06) -> RGB:
-    """One of `colors` with a slight brightness variation (like :func:`pick`, for a local palette)."""
-    base = colors[int(rng.integers(len(colors)))]
-    return shade(base, 1.0 + float(rng.uniform(-variation, variation)))
-
-
 def _slab(
     origin: Sequence[float],
     u: Sequence[float],
@@ -171,8 +165,8 @@ def _park_bench(rng: np.random.Generator, size: Size) -> Assembly:
     hx, hy = 0.5 * w, 0.5 * d
     backed, seat_top, y0, n, slat = _bench_layout(size)
     asm = Assembly()
-    wood = pick(rng, "wood") if rng.uniform() < 0.7 else _draw(rng, _RECYCLED)
-    frame = _draw(rng, _COATS)
+    wood = pick(rng, "wood") if rng.uniform() < 0.7 else pick(rng, _RECYCLED)
+    frame = pick(rng, _COATS)
     style = int(rng.integers(3))  # 0 cast-iron frames, 1 steel legs, 2 concrete blocks
     st = float(rng.uniform(0.03, 0.045))
     for k in range(n):
@@ -206,7 +200,7 @@ def _park_bench(rng: np.random.Generator, size: Size) -> Assembly:
                 shade(wood, float(rng.uniform(0.93, 1.05))),
             )
         back = (origin, up, normal, length, tt, ay, az, rise, run)
-    block = _draw(rng, _CONCRETE)
+    block = pick(rng, _CONCRETE)
     for x in supports:
         if style == 2:
             asm.box((x - 0.07, -hy + 0.04, 0.0), (x + 0.07, hy - 0.04, rail_top), block)
@@ -278,8 +272,8 @@ def _picnic_table(rng: np.random.Generator, size: Size) -> Assembly:
     top_d, n, bw, gap = _picnic_layout(size)
     asm = Assembly()
     metal = bool(rng.uniform() < 0.4)
-    wood = pick(rng, "wood") if rng.uniform() < 0.75 else _draw(rng, _RECYCLED)
-    frame = _draw(rng, _COATS) if metal else shade(wood, 0.85)
+    wood = pick(rng, "wood") if rng.uniform() < 0.75 else pick(rng, _RECYCLED)
+    frame = pick(rng, _COATS) if metal else shade(wood, 0.85)
     tt = 0.04
     for k in range(n):
         ya = -0.5 * top_d + k * (bw + gap)
@@ -346,14 +340,14 @@ def _bistro_table(rng: np.random.Generator, size: Size) -> Assembly:
     asm = Assembly()
     finish = int(rng.integers(4))
     if finish == 0:
-        top = _draw(rng, _ENAMEL)
+        top = pick(rng, _ENAMEL)
     elif finish == 1:
         top = pick(rng, "stone")
     elif finish == 2:
         top = pick(rng, "wood")
     else:
         top = pick(rng, "metal")
-    metal = _draw(rng, _COATS) if rng.uniform() < 0.7 else pick(rng, "chrome")
+    metal = pick(rng, _COATS) if rng.uniform() < 0.7 else pick(rng, "chrome")
     tt = float(rng.uniform(0.018, 0.03))
     under = h - tt
     if rng.uniform() < 0.6:
@@ -420,16 +414,16 @@ def _bistro_chair(rng: np.random.Generator, size: Size) -> Assembly:
     t = float(rng.uniform(0.02, 0.026))
     seat_top = float(np.clip(0.45, 0.4, h - 0.3))
     if style == 0:
-        frame = _draw(rng, _RATTAN)
+        frame = pick(rng, _RATTAN)
         first = int(rng.integers(len(_WEAVE)))
         second = (first + 1 + int(rng.integers(len(_WEAVE) - 1))) % len(_WEAVE)
         weave = (_WEAVE[first], _WEAVE[second])
     elif style == 1:
-        frame = _draw(rng, _ENAMEL)
+        frame = pick(rng, _ENAMEL)
         weave = (frame, shade(frame, 0.92))
     else:
-        frame = pick(rng, "chrome") if rng.uniform() < 0.5 else _draw(rng, _COATS)
-        wood = pick(rng, "wood") if rng.uniform() < 0.6 else _draw(rng, _RECYCLED)
+        frame = pick(rng, "chrome") if rng.uniform() < 0.5 else pick(rng, _COATS)
+        wood = pick(rng, "wood") if rng.uniform() < 0.6 else pick(rng, _RECYCLED)
         weave = (wood, shade(wood, 0.94))
     xp = hx - 0.06  # back posts and seat sides
     joint_z = seat_top - 0.03
@@ -498,8 +492,8 @@ def _patio_umbrella(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     rx, ry = 0.5 * w, 0.5 * d
     asm = Assembly()
-    cloth = _draw(rng, _CANOPY)
-    stripe = _draw(rng, _CANOPY) if rng.uniform() < 0.3 else cloth
+    cloth = pick(rng, _CANOPY)
+    stripe = pick(rng, _CANOPY) if rng.uniform() < 0.3 else cloth
     metal = pick(rng, "chrome") if rng.uniform() < 0.5 else pick(rng, "dark_wood")
     square = bool(rng.uniform() < 0.35) or abs(w - d) > 0.15 * min(w, d)
     panels = 4 if square else 8
@@ -556,7 +550,7 @@ def _patio_umbrella(rng: np.random.Generator, size: Size) -> Assembly:
     base_top = 0.1
     if style == 0:  # round concrete or resin base with a socket
         br = float(rng.uniform(0.24, 0.3))
-        asm.add(frustum((0, 0, 0), (0, 0, 0.09), br, 0.9 * br, sections=16), _draw(rng, _CONCRETE))
+        asm.add(frustum((0, 0, 0), (0, 0, 0.09), br, 0.9 * br, sections=16), pick(rng, _CONCRETE))
         asm.add(cylinder((0, 0, 0.09), (0, 0, 0.3), pole_r + 0.012, sections=12), _DARK)
     elif style == 1:  # granite slab
         side = float(rng.uniform(0.42, 0.5))
@@ -574,7 +568,7 @@ def _patio_umbrella(rng: np.random.Generator, size: Size) -> Assembly:
                 ),
                 _DARK,
             )
-        slab = _draw(rng, _CONCRETE)
+        slab = pick(rng, _CONCRETE)
         for sx in (-1.0, 1.0):
             for sy in (-1.0, 1.0):
                 x_lo, x_hi = sorted((sx * 0.03, sx * 0.33))
@@ -612,9 +606,9 @@ def _a_frame_sign(rng: np.random.Generator, size: Size) -> Assembly:
     chalk = bool(rng.uniform() < 0.55)
     if chalk:
         frame = pick(rng, "wood")
-        face = _draw(rng, _CHALKBOARD)
+        face = pick(rng, _CHALKBOARD)
     else:
-        frame = _draw(rng, _COATS) if rng.uniform() < 0.6 else pick(rng, "white_plastic")
+        frame = pick(rng, _COATS) if rng.uniform() < 0.6 else pick(rng, "white_plastic")
         face = pick(rng, "paper")
     cap = float(rng.uniform(0.05, 0.08))
     top = h - cap
@@ -622,7 +616,7 @@ def _a_frame_sign(rng: np.random.Generator, size: Size) -> Assembly:
     g = 0.004
     border = float(rng.uniform(0.03, 0.05))
     lines = [
-        (float(rng.uniform(0.5, 0.9)), _draw(rng, _CHALK) if chalk else pick(rng, "brand")) for _ in range(5)
+        (float(rng.uniform(0.5, 0.9)), pick(rng, _CHALK) if chalk else pick(rng, "brand")) for _ in range(5)
     ]
     for s in (1.0, -1.0):
         yb, yt = s * hy, s * (g + t)
@@ -709,7 +703,7 @@ def _street_planter(rng: np.random.Generator, size: Size) -> Assembly:
     round_ok = abs(w - d) < 0.25 * min(w, d)
     style = int(rng.integers(4 if round_ok else 3))
     if style == 0:  # precast concrete box with a lip and a recessed plinth
-        concrete = _draw(rng, _CONCRETE)
+        concrete = pick(rng, _CONCRETE)
         wall = 0.07
         asm.add(rounded_prism((0.0, 0.0), w - 0.03, d - 0.03, 0.03, 0.05, bh - 0.06), concrete)
         lip = rounded_prism((0.0, 0.0), w, d, 0.03, bh - 0.06, bh)
@@ -746,7 +740,7 @@ def _street_planter(rng: np.random.Generator, size: Size) -> Assembly:
         px, py = hx - 0.1, hy - 0.1
         asm.box((-hx + 0.04, -hy + 0.04, 0.04), (hx - 0.04, hy - 0.04, bh - 0.05), soil_color)
     elif style == 2:  # corten steel trough
-        steel = _draw(rng, _CORTEN)
+        steel = pick(rng, _CORTEN)
         shell = difference(
             box((-hx, -hy, 0.0), (hx, hy, bh)),
             box((-hx + 0.012, -hy + 0.012, 0.03), (hx - 0.012, hy - 0.012, bh + 0.01)),
@@ -755,7 +749,7 @@ def _street_planter(rng: np.random.Generator, size: Size) -> Assembly:
         px, py = hx - 0.03, hy - 0.03
         asm.box((-hx + 0.012, -hy + 0.012, 0.03), (hx - 0.012, hy - 0.012, bh - 0.05), soil_color)
     else:  # round concrete bowl on a foot
-        concrete = _draw(rng, _CONCRETE)
+        concrete = pick(rng, _CONCRETE)
         foot = 0.1
         outer = frustum((0, 0, foot), (0, 0, bh), (0.72 * hx, 0.72 * hy), (hx, hy), sections=20)
         inner = frustum(
@@ -840,7 +834,7 @@ def _waste_bin(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    color = _draw(rng, _COATS)
+    color = pick(rng, _COATS)
     style = int(rng.integers(3))
     if style == 0:
         post = float(rng.uniform(0.06, 0.08))
@@ -943,7 +937,7 @@ def _recycling_bin(rng: np.random.Generator, size: Size) -> Assembly:
     colors = [shade(_STREAMS[int(i)], float(rng.uniform(0.94, 1.06))) for i in order]
     pitch = w / streams
     if rng.uniform() < 0.55:
-        body = _draw(rng, _COATS) if rng.uniform() < 0.6 else pick(rng, "stainless")
+        body = pick(rng, _COATS) if rng.uniform() < 0.6 else pick(rng, "stainless")
         roof = 0.05
         face = hy - 0.012
         cutters, holes = [], []
@@ -978,7 +972,7 @@ def _recycling_bin(rng: np.random.Generator, size: Size) -> Assembly:
         asm.box((-hx, -hy, h - roof), (hx, hy, h), shade(body, 0.8))
         asm.box((-hx + 0.03, -hy + 0.04, 0.0), (hx - 0.03, hy - 0.04, 0.06), _DARK)
         return asm
-    frame = _draw(rng, _COATS)
+    frame = pick(rng, _COATS)
     asm.box((-hx, -hy, 0.0), (hx, -hy + 0.05, 0.04), frame)
     for x in (-hx, hx - 0.04):
         asm.box((x, -hy, 0.0), (x + 0.04, -hy + 0.04, h), frame)
@@ -1022,7 +1016,7 @@ def _dumpster(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    body = _draw(rng, _SKIPS)
+    body = pick(rng, _SKIPS)
     lid = pick(rng, "dark_plastic") if rng.uniform() < 0.6 else shade(body, 0.85)
     steel = pick(rng, "metal")
     if rng.uniform() < 0.5:
@@ -1142,7 +1136,7 @@ def _drinking_fountain(rng: np.random.Generator, size: Size) -> Assembly:
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
     finish = int(rng.integers(3))
-    column_color = (pick(rng, "stainless"), _draw(rng, _COATS), _draw(rng, _CONCRETE))[finish]
+    column_color = (pick(rng, "stainless"), pick(rng, _COATS), pick(rng, _CONCRETE))[finish]
     bowl_color = pick(rng, "stainless") if finish != 1 else column_color
     chrome = pick(rng, "chrome")
     hi_lo = w >= 0.65
@@ -1194,8 +1188,8 @@ def _ticket_machine(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    body = _draw(rng, _PAY)
-    trim = shade(body, 0.7) if rng.uniform() < 0.5 else _draw(rng, _COATS)
+    body = pick(rng, _PAY)
+    trim = shade(body, 0.7) if rng.uniform() < 0.5 else pick(rng, _COATS)
     fd = float(rng.uniform(0.05, 0.07))
     face = hy - fd
     top = int(rng.integers(3))

@@ -29,7 +29,7 @@ from navverse.assets.parts import (
     cylinder,
     difference,
     ellipsoid,
-    extrude,
+    extrude_along,
     frustum,
     hull,
     revolve,
@@ -93,12 +93,6 @@ _COLLAR: tuple[RGB, ...] = ((200, 40, 40), (40, 90, 180), (40, 140, 70), (230, 1
 _EYE: RGB = (30, 34, 24)
 _NOSE_DOG: RGB = (26, 24, 24)
 _NOSE_CAT: RGB = (210, 130, 130)
-
-
-def _pick(rng: np.random.Generator, colors: Sequence[RGB], variation: float = 0.06) -> RGB:
-    """One colour of a local palette with a slight brightness variation."""
-    base = colors[int(rng.integers(len(colors)))]
-    return shade(base, 1.0 + float(rng.uniform(-variation, variation)))
 
 
 def _blob(
@@ -209,7 +203,7 @@ def _deciduous_tree(rng: np.random.Generator, size: Size) -> Assembly:
     asm = Assembly()
     bark = pick(rng, "bark")
     palette = _AUTUMN if rng.uniform() < 0.15 else _LEAF
-    greens = [_pick(rng, palette) for _ in range(3)]
+    greens = [pick(rng, palette) for _ in range(3)]
     crown_base = h * float(rng.uniform(0.25, 0.45))
     radius = min(float(np.clip(0.022 * h, 0.1, 0.35) * rng.uniform(0.85, 1.15)), 0.15 * min(w, d))
     fork = crown_base + 0.2 * (h - crown_base)
@@ -242,7 +236,7 @@ def _conifer_tree(rng: np.random.Generator, size: Size) -> Assembly:
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
     bark = pick(rng, "bark")
-    needle = _pick(rng, _CONIFER)
+    needle = pick(rng, _CONIFER)
     needles = [needle, shade(needle, float(rng.uniform(0.84, 0.92)))]
     skirt = h * float(rng.uniform(0.04, 0.16))  # bottom of the lowest tier
     tiers = int(rng.integers(4, 8))
@@ -299,9 +293,9 @@ def _palm_tree(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    trunk_color = _pick(rng, _PALM_BARK)
+    trunk_color = pick(rng, _PALM_BARK)
     ring_color = shade(trunk_color, 0.82)
-    greens = [_pick(rng, _FROND) for _ in range(2)]
+    greens = [pick(rng, _FROND) for _ in range(2)]
     radius = float(np.clip(0.022 * h, 0.14, 0.25) * rng.uniform(0.9, 1.1))
     lean = rng.uniform(-0.12, 0.12, 2) * np.array([w, d])
     count = int(rng.integers(9, 15))
@@ -354,7 +348,7 @@ def _palm_tree(rng: np.random.Generator, size: Size) -> Assembly:
         asm.add_all((translate(p, (0.0, 0.0, crown_z)) for p in pieces), color)
     asm.add(frustum(crown, (lean[0], lean[1], h), 0.06, 0.01, sections=8), greens[0])  # the new spear
     if rng.uniform() < 0.45:  # a bunch of coconuts / dates under the crown
-        nut = _pick(rng, ((110, 80, 40), (150, 120, 50), (200, 140, 50)))
+        nut = pick(rng, ((110, 80, 40), (150, 120, 50), (200, 140, 50)))
         for k in range(int(rng.integers(3, 7))):
             a = 2.0 * math.pi * k / 6 + float(rng.uniform(-0.3, 0.3))
             c = crown + np.array([0.28 * math.cos(a), 0.28 * math.sin(a), -0.25])
@@ -385,10 +379,10 @@ def _street_tree(rng: np.random.Generator, size: Size) -> Assembly:
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
     bark = pick(rng, "bark")
-    greens = [_pick(rng, _LEAF) for _ in range(3)]
+    greens = [pick(rng, _LEAF) for _ in range(3)]
     side = min(float(rng.uniform(1.2, 1.5)), w, d)  # grates are 1.2 m (4 ft) or 1.5 m square
     hole = float(rng.uniform(0.2, 0.3))
-    _tree_grate(asm, side, hole, _pick(rng, _IRON), _pick(rng, _MULCH))
+    _tree_grate(asm, side, hole, pick(rng, _IRON), pick(rng, _MULCH))
     radius = float(rng.uniform(0.05, 0.09))
     crown_base = min(float(rng.uniform(2.0, 2.6)), 0.55 * h)  # clearance over the sidewalk
     fork = crown_base + 0.25 * (h - crown_base)
@@ -405,7 +399,7 @@ def _street_tree(rng: np.random.Generator, size: Size) -> Assembly:
         rings=4,
     )
     _limbs(asm, (0.0, 0.0, fork), [c for c, _ in clumps[1:5]], 0.6 * radius, bark, 0.6)
-    guard = _pick(rng, _GUARD)
+    guard = pick(rng, _GUARD)
     cage_r = min(float(rng.uniform(0.22, 0.32)), 0.5 * side - 0.05)
     cage_h = float(rng.uniform(1.3, 1.8))
     if rng.uniform() < 0.5:  # round cage: vertical bars held by hoops
@@ -440,9 +434,9 @@ def _birch_tree(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    white = _pick(rng, _BIRCH_BARK, 0.03)
+    white = pick(rng, _BIRCH_BARK, variation=0.03)
     dark = (44, 42, 40)
-    greens = [_pick(rng, _BIRCH_LEAF) for _ in range(3)]
+    greens = [pick(rng, _BIRCH_LEAF) for _ in range(3)]
     crown_base = h * float(rng.uniform(0.3, 0.45))
     stems = 1 if rng.uniform() < 0.6 else int(rng.integers(2, 4))
     radius = float(np.clip(0.011 * h, 0.06, 0.16)) * (1.0 if stems == 1 else 0.75)
@@ -497,11 +491,11 @@ def _bush(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    greens = [_pick(rng, _LEAF) for _ in range(3)]
+    greens = [pick(rng, _LEAF) for _ in range(3)]
     trimmed = rng.uniform() < 0.3
     asm.add(
         frustum((0, 0, 0), (0, 0, 0.02), (0.75 * hx, 0.75 * hy), (0.7 * hx, 0.7 * hy), sections=16),
-        _pick(rng, _MULCH),
+        pick(rng, _MULCH),
     )
     skirt = int(rng.integers(3, 6))
     for k in range(skirt):  # clumps resting on the ground, so the shrub sits on its base
@@ -525,7 +519,7 @@ def _bush(rng: np.random.Generator, size: Size) -> Assembly:
         jitter=0.03 if trimmed else 0.14,
     )
     if rng.uniform() < 0.45:  # blossoms on the clumps' upper sides
-        flower = _pick(rng, _FLOWERS)
+        flower = pick(rng, _FLOWERS)
         r = 0.035 * float(np.clip(min(w, d, h), 0.5, 2.0)) + 0.02
         for k in range(int(rng.integers(8, 16))):
             c, radii = clumps[1 + k % (len(clumps) - 1)]
@@ -536,12 +530,6 @@ def _bush(rng: np.random.Generator, size: Size) -> Assembly:
             hi = np.array([hx - r, hy - r, h - r])
             asm.add(ellipsoid(np.clip(p, lo, hi), (r, r, 0.7 * r), segments=8, rings=4), flower)
     return asm
-
-
-def _extrude_x(profile_yz: np.ndarray, x0: float, x1: float) -> Solid:
-    """Extrude a polygon given in the (y, z) plane along x from `x0` to `x1`."""
-    vertices, faces = extrude(profile_yz, x0, x1)
-    return vertices[:, [2, 0, 1]], faces  # (y, z, x) -> (x, y, z) is a rotation: winding is kept
 
 
 def _arc(
@@ -556,7 +544,7 @@ def _hedge(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    color = _pick(rng, _HEDGE)
+    color = pick(rng, _HEDGE)
     m = float(np.clip(0.1 * min(d, h), 0.04, 0.08))  # depth of the leafy bulges on the trimmed faces
     a, top = hy - m, h - m
     style = int(rng.integers(3))
@@ -583,7 +571,9 @@ def _hedge(rng: np.random.Generator, size: Size) -> Assembly:
         rz = top - vertical
         return vertical + rz * math.sqrt(max(0.0, 1.0 - (y / a) ** 2))
 
-    asm.add(_extrude_x(np.array(pts), -hx, hx), shade(color, 0.85))  # the shaded inside of the foliage
+    asm.add(
+        extrude_along(np.array(pts), -hx, hx, axis="x"), shade(color, 0.85)
+    )  # the shaded inside of the foliage
     n_side = int(np.clip(round(1.6 * w * max(h, 0.8) / 0.5), 3, 14))
     n_top = int(np.clip(round(1.6 * w / 0.6), 2, 9))
     for k in range(2 * n_side + n_top):
@@ -608,7 +598,7 @@ def _flower_bed(rng: np.random.Generator, size: Size) -> Assembly:
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
     edge = ("wood", "stone", "steel")[int(rng.integers(3))]
-    edge_color = _pick(rng, _BED_EDGE[edge])
+    edge_color = pick(rng, _BED_EDGE[edge])
     rim = min(float(rng.uniform(0.18, 0.45)), h - 0.12)
     t = {"wood": 0.045, "stone": float(rng.uniform(0.1, 0.15)), "steel": 0.012}[edge]
     if edge == "stone":  # block wall under a coping that overhangs by 2 cm
@@ -639,8 +629,8 @@ def _flower_bed(rng: np.random.Generator, size: Size) -> Assembly:
     cw, cd = inner_w / nx, inner_d / ny
     spikes = rng.uniform() < 0.3  # lavender / salvia spikes instead of flat flower heads
     scheme = int(rng.integers(3))  # 0 one colour per row, 1 random mix, 2 two-colour checkerboard
-    colors = [_pick(rng, _FLOWERS) for _ in range(3)]
-    leaf = _pick(rng, _LEAF)
+    colors = [pick(rng, _FLOWERS) for _ in range(3)]
+    leaf = pick(rng, _LEAF)
     tallest = int(rng.integers(nx * ny))
     grow = h - soil_top  # room for the plants above the soil
     for i in range(nx):
@@ -689,7 +679,7 @@ def _boulder(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    stone = _pick(rng, _ROCK)
+    stone = pick(rng, _ROCK)
     angular = rng.uniform() < 0.5
     count, rough = (int(rng.integers(12, 17)), 0.35) if angular else (int(rng.integers(20, 30)), 0.15)
     if rng.uniform() < 0.35:  # two fused lobes, one lower
@@ -722,7 +712,7 @@ def _boulder(rng: np.random.Generator, size: Size) -> Assembly:
         pts = np.concatenate([cap, cap - (0.0, 0.0, 0.12 * h)])
         pts = np.clip(pts, (-hx, -hy, 0.0), (hx, hy, h))
         if len(cap) >= 3:
-            asm.add(hull(pts), _pick(rng, _MOSS))
+            asm.add(hull(pts), pick(rng, _MOSS))
     return asm
 
 
@@ -773,7 +763,7 @@ def _tree_stump(rng: np.random.Generator, size: Size) -> Assembly:
             tip = (0.75 * r * math.cos(a), 0.75 * r * math.sin(a), tip_z)
             asm.add(hull([*base, tip]), wood if k % 2 else shade(bark, 1.1))
     if rng.uniform() < 0.35:  # a few bracket mushrooms on the bark
-        cap = _pick(rng, ((196, 150, 96), (226, 216, 196), (170, 90, 50)))
+        cap = pick(rng, ((196, 150, 96), (226, 216, 196), (170, 90, 50)))
         for _ in range(int(rng.integers(2, 4))):
             a = float(rng.uniform(0.0, 2.0 * math.pi))
             z = float(rng.uniform(0.25, 0.7)) * body_top
@@ -802,8 +792,8 @@ def _quadruped(rng: np.random.Generator, size: Size, dog: bool) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    coat = _pick(rng, _DOG_FUR if dog else _CAT_FUR)
-    accent = _pick(rng, _FUR_ACCENT) if rng.uniform() < 0.5 else coat  # white chest and socks
+    coat = pick(rng, _DOG_FUR if dog else _CAT_FUR)
+    accent = pick(rng, _FUR_ACCENT) if rng.uniform() < 0.5 else coat  # white chest and socks
     dark = shade(coat, 0.75)
     floppy = dog and rng.uniform() < 0.55
     ear_h = 0.0 if floppy else (0.12 if dog else 0.13) * h
@@ -868,7 +858,7 @@ def _quadruped(rng: np.random.Generator, size: Size, dog: bool) -> Assembly:
         axis = (neck1 - neck0) / np.linalg.norm(neck1 - neck0)
         c = neck0 + 0.65 * (neck1 - neck0)
         rc = neck_r0 + 0.65 * (neck_r1 - neck_r0) + 0.006
-        asm.add(frustum(c - 0.012 * axis, c + 0.012 * axis, rc, rc, sections=12), _pick(rng, _COLLAR))
+        asm.add(frustum(c - 0.012 * axis, c + 0.012 * axis, rc, rc, sections=12), pick(rng, _COLLAR))
     # legs: straight front legs, angled hind legs (stifle forward, hock back), paws on the ground
     leg_r = (0.09 if dog else 0.075) * w
     paw = np.array([1.2 * leg_r, 1.7 * leg_r, 0.8 * leg_r])
@@ -923,8 +913,8 @@ def _sitting_cat(rng: np.random.Generator, size: Size) -> Assembly:
     w, d, h = size
     hx, hy = 0.5 * w, 0.5 * d
     asm = Assembly()
-    coat = _pick(rng, _CAT_FUR)
-    accent = _pick(rng, _FUR_ACCENT) if rng.uniform() < 0.4 else coat
+    coat = pick(rng, _CAT_FUR)
+    accent = pick(rng, _FUR_ACCENT) if rng.uniform() < 0.4 else coat
     ear_h = 0.12 * h
     haunch = np.array([hx, 0.28 * d, 0.22 * h])
     haunch_c = np.array([0.0, -hy + haunch[1], haunch[2]])
