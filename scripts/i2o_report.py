@@ -24,6 +24,7 @@ from shapely.geometry import Polygon
 
 from navverse.nav.scene_navmesh import load_scene_navmesh, read_navmesh_info
 from navverse.scene import read_annotations
+from navverse.scene_types import scene_profile
 
 ROOT = Path(__file__).resolve().parent.parent
 TARGETS = ROOT / "data" / "built" / "targets"
@@ -75,7 +76,8 @@ def main(argv: list[str]) -> int:
     targets = argv or sorted(
         p.name
         for p in TARGETS.iterdir()
-        if (p / "scene" / "scene.json").is_file() and read_annotations(p / "scene").scene_type == "i2o"
+        if (p / "scene" / "scene.json").is_file()
+        and scene_profile(read_annotations(p / "scene").scene_type).transition_metrics  # joined to a city
     )
     print(
         "| target | facade | opening | floor step | navmesh islands | rooms and street one island "
