@@ -17,8 +17,9 @@ from types import SimpleNamespace
 import pytest
 from rich.console import Console
 
-from navverse import __version__, cli, cli_data
-from navverse.cli_data import PlainProgress
+from navverse import __version__, cli
+from navverse.cli import evaluate
+from navverse.cli.progress import PlainProgress, show_progress
 
 REPO = Path(__file__).resolve().parents[1]
 NAVVERSE = str(Path(sys.executable).parent / "navverse")
@@ -215,12 +216,12 @@ def test_plain_progress_estimates_from_the_items_done_since_it_started():
 
 def test_the_progress_shown_depends_on_whether_the_output_is_a_terminal(capsys):
     piped = Console(file=io.StringIO(), force_terminal=False)
-    with cli_data._progress(piped, "eval: scoring run.jsonl", unit="episodes") as progress:
+    with show_progress(piped, "eval: scoring run.jsonl", unit="episodes") as progress:
         progress(0, 3)
         progress(3, 3)
     assert capsys.readouterr().err == "eval: scoring run.jsonl: 3/3 episodes, 0 s\n"
     terminal = Console(file=io.StringIO(), force_terminal=True)
-    with cli_data._progress(terminal, "eval: scoring run.jsonl", unit="episodes") as progress:
+    with show_progress(terminal, "eval: scoring run.jsonl", unit="episodes") as progress:
         progress(0, 3)
         progress(3, 3)
     assert capsys.readouterr().err == ""
@@ -246,8 +247,8 @@ def test_run_agent_prints_progress_lines_when_its_output_is_piped(monkeypatch, c
 
     monkeypatch.setattr(navverse.dataset, "Dataset", lambda root: fake_dataset)
     monkeypatch.setattr(navverse.eval.runner, "run_agent", fake_run)
-    monkeypatch.setattr(cli_data, "_dataset_scene_dirs", lambda *args: {"corridor": Path("corridor")})
-    monkeypatch.setattr(cli_data, "PLAIN_PROGRESS_SECONDS", 0.0)
+    monkeypatch.setattr(evaluate, "dataset_scene_dirs", lambda *args: {"corridor": Path("corridor")})
+    monkeypatch.setattr("navverse.cli.progress.PLAIN_PROGRESS_SECONDS", 0.0)
     code = cli.main(["run-agent", "--dataset", "episodes/x/v1.0", "--agent", "oracle", "--out", "o.jsonl"])
     captured = capsys.readouterr()
     assert code == 0, captured.err

@@ -58,6 +58,12 @@ def test_the_tree_keeps_its_layers() -> None:
             "from pipeline.store import ArtifactStore",
             "navverse.cli_support -> pipeline.store",
         ),
+        # Within navverse.cli, only the package module and the build commands reach the engine.
+        (
+            "navverse/cli/evaluate.py",
+            "from pipeline.store import ArtifactStore",
+            "navverse.cli.evaluate -> pipeline.store",
+        ),
         (
             "navverse/sim/spot.py",
             "from navverse.sim.embodiments import make_embodiment",
@@ -74,6 +80,7 @@ def test_the_tree_keeps_its_layers() -> None:
         "pipeline-stages",
         "navverse-pipeline",
         "beside-cli-pipeline",
+        "cli-data-command-pipeline",
         "robot-registry",
         "protocol-robot",
     ],

@@ -1,7 +1,8 @@
 """``navverse review DATASET``: serve the review page of a dataset version until Ctrl-C.
 
-:func:`cmd_review` is the command (wired into the parser by :mod:`navverse.cli`); :func:`open_review`
-does its work short of serving, so tests and other tools can start the same server in a thread.
+:func:`cmd_review` is the command, :func:`register` adds its parser (called by
+:func:`navverse.cli.build_parser`); :func:`open_review` does its work short of serving, so tests and
+other tools can start the same server in a thread.
 """
 
 from __future__ import annotations
@@ -10,13 +11,18 @@ import argparse
 import os
 import webbrowser
 from collections.abc import Callable, Sequence
+from functools import partial
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from rich.console import Console
 
 from navverse.errors import NavverseError
 
-__all__ = ["cmd_review", "open_review"]
+if TYPE_CHECKING:
+    from navverse.cli.common import Shared, Subparsers
+
+__all__ = ["cmd_review", "open_review", "register"]
 
 
 def _warn(text: str) -> None:
@@ -102,6 +108,35 @@ def open_review(
         return make_server(state, port=port)
     except OSError as exc:
         raise NavverseError(f"cannot listen on 127.0.0.1 port {port}: {exc.strerror or exc}") from None
+
+
+def register(sub: Subparsers, shared: Shared) -> None:
+    """Add ``navverse review DATASET`` to ``sub``: the local page where a person accepts or rejects
+    episodes. (:mod:`navverse.cli` is imported here, so the review server does not load it.)"""
+    from navverse.cli.common import MINI, command
+
+    review = command(
+        sub, "review", parents=[shared.scene_options],
+        summary="serve a local page to accept or reject a dataset's episodes (manual quality control)",
+        description=(
+            "List a dataset version's episodes with their bird's-eye view, keyframes along the verification "
+            "rollout and instruction texts, on a page served at 127.0.0.1; each Accept or Reject (with a "
+            "reason) is saved at once to recipes/datasets/<name>.review.yml. Name that file in the "
+            "recipe (package_dataset or merge_datasets: {review: <name>.review.yml}) and build again: a "
+            "new minor version is published without the rejected episodes; the reviewed one is untouched."
+        ),
+        examples=(f"navverse review {MINI}",
+                  "navverse review episodes/navverse-outdoor --port 8765 --no-browser"),
+    )  # fmt: skip
+    review.add_argument(
+        "dataset", help="episodes/<name>[/v<version>], or a name under episodes/ (newest version)"
+    )
+    review.add_argument("--port", type=int, default=0, help="port on 127.0.0.1 (default: any free one)")
+    review.add_argument("--no-browser", action="store_true", help="only print the URL, do not open a browser")
+    review.add_argument(
+        "--recipe", help="the dataset recipe (default: the manifest's recipe in this workspace)"
+    )
+    review.set_defaults(func=partial(cmd_review, built_dir=shared.built_dir))
 
 
 def cmd_review(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:

@@ -18,8 +18,9 @@ import numpy as np
 import pytest
 from rich.console import Console
 
-from navverse import cli_data
 from navverse.cli import build_parser, main
+from navverse.cli.evaluate import cmd_eval
+from navverse.cli.validate import cmd_validate_submission
 from navverse.eval.measures import EpisodeTarget, Robot, measure
 from navverse.eval.metrics import compute_metrics
 from navverse.eval.submission import (
@@ -320,20 +321,20 @@ def test_validate_submission_checks_the_scene_bounds_when_the_scenes_are_built(t
     path = write(tmp_path / "s.jsonl", [record("room-objnav-0000", far(1000.0))])
     args = argparse.Namespace(submission=str(path), dataset=str(dataset), split="eval")
     console = Console(width=300)
-    assert cli_data.cmd_validate_submission(args, console, built_dir=lambda: store) == 1
+    assert cmd_validate_submission(args, console, built_dir=lambda: store) == 1
     out = capsys.readouterr().out
     assert (
         "line 1 (room-objnav-0000): trajectory row 1 is at (1000, 0, 0) m, outside scene tiny_room's" in out
     )
     assert "0 of 6 episodes of eval valid; 1 problems, 5 missing" in out
-    assert cli_data.cmd_validate_submission(args, console) == 1  # 6 missing episodes; bounds unchecked
+    assert cmd_validate_submission(args, console) == 1  # 6 missing episodes; bounds unchecked
     assert "note: the scenes' bounds are not checked" in capsys.readouterr().out
     args = argparse.Namespace(submission=str(path), dataset=None, split="eval")
-    assert cli_data.cmd_validate_submission(args, console) == 0
+    assert cmd_validate_submission(args, console) == 0
     assert "1 valid records; 0 problems (no --dataset" in capsys.readouterr().out
     path = write(tmp_path / "t.jsonl", [record("room-objnav-0000", far(1e7))])
     args = argparse.Namespace(submission=str(path), dataset=None, split="eval")
-    assert cli_data.cmd_validate_submission(args, console) == 1
+    assert cmd_validate_submission(args, console) == 1
     assert "more than 100000 m from the origin" in capsys.readouterr().out
 
 
@@ -344,7 +345,7 @@ def test_eval_scores_a_far_record_as_invalid(tmp_path: Path, toy, capsys, monkey
     args = build_parser().parse_args(  # every option's default, as the command gets them
         ["eval", "--submission", str(path), "--dataset", str(dataset), "--out", str(tmp_path / "out")]
     )
-    assert cli_data.cmd_eval(args, Console(width=300), built_dir=lambda: store) == 0
+    assert cmd_eval(args, Console(width=300), built_dir=lambda: store) == 0
     metrics = json.loads((tmp_path / "out" / "metrics.json").read_text())
     assert {row["label"] for row in metrics["episodes"]} == {"invalid"}
     assert "more than 100000 m from the origin" in metrics["problems"][0]

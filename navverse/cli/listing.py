@@ -5,7 +5,7 @@ columns that say how a row is shown in a table. :func:`cmd_list` prints them as 
 ``--json``, the rows of every table as one JSON list. The navmesh presets and scene-type profiles are
 printed by ``navverse show presets`` and are not listed here. The registries are imported inside the
 functions, so the command line starts quickly and listing one kind does not load the others (PyBullet,
-the object library).
+the object library). :func:`register` adds the command's parser.
 """
 
 from __future__ import annotations
@@ -19,7 +19,9 @@ from typing import Any
 
 from rich.console import Console
 
-__all__ = ["CATEGORY_KINDS", "LIST_KINDS", "Column", "Listing", "cmd_list", "listings"]
+from navverse.cli.common import Shared, Subparsers, command
+
+__all__ = ["CATEGORY_KINDS", "LIST_KINDS", "Column", "Listing", "cmd_list", "listings", "register"]
 
 Row = dict[str, Any]
 
@@ -315,3 +317,25 @@ def cmd_list(args: argparse.Namespace, console: Console) -> int:
     else:
         _print_tables(console, tables)
     return 0
+
+
+def register(sub: Subparsers, shared: Shared) -> None:
+    """Add ``navverse list WHAT`` to ``sub``."""
+    listing = command(
+        sub, "list", summary="list building types, room types, categories, agents or embodiments",
+        examples=("navverse list building-types", "navverse list categories --kind places",
+                  "navverse list agents --json"),
+    )  # fmt: skip
+    listing.add_argument(
+        "what", choices=LIST_KINDS, metavar="WHAT",
+        help=f"one of: {', '.join(LIST_KINDS)} (navmesh presets: navverse show presets)",
+    )  # fmt: skip
+    listing.add_argument(
+        "--kind", choices=CATEGORY_KINDS, default=None,
+        help="for categories: only object categories (goal objects, furniture, street objects) or only "
+        "place categories (PlaceNav goals); default: both",
+    )  # fmt: skip
+    listing.add_argument(
+        "--json", action="store_true", help="print the rows as one JSON list (for scripts) instead of tables"
+    )
+    listing.set_defaults(func=cmd_list)

@@ -1,0 +1,430 @@
+"""The build commands of ``navverse``: build, status, clean and validate recipe, each beside its
+parser; the commands that reach into the build engine (``pipeline``, ``stages``).
+
+:func:`build_targets` is ``navverse build`` for :func:`navverse.api.build`, and
+:func:`workspace_built_dir` finds the build store that :func:`navverse.cli.build_parser` hands the data
+commands. The engine is imported inside the functions, so the command line starts quickly.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from functools import partial
+from pathlib import Path
+
+from rich.console import Console
+
+from navverse.cli.common import Shared, Subparsers, command, validate_commands
+from navverse.errors import NavverseError
+from pipeline.errors import PipelineError
+
+__all__ = [
+    "STAGES_PACKAGE",
+    "build_targets",
+    "cmd_build",
+    "cmd_clean",
+    "cmd_status",
+    "cmd_validate_recipe",
+    "register",
+    "workspace_built_dir",
+]
+
+STAGES_PACKAGE = "stages"
+"""The package whose modules register the stages (the tests point it at toy stages)."""
+
+
+def _workspace(root: Path | None = None):
+    """The workspace at ``root``, else the one found from here (or ``$NAVVERSE_ROOT``)."""
+    from pipeline.workspace import Workspace
+
+    return Workspace(root=Path(root).resolve()) if root is not None else Workspace.find()
+
+
+def workspace_built_dir(root: Path | None = None) -> Path:
+    """The build store of the workspace (``data/built``): at ``root``, else the one found from here.
+
+    Raises
+    ------
+    NavverseError
+        If there is no workspace here (the engine's error, as a navverse one: the data commands then
+        name it as the reason the build store was not searched).
+    """
+    try:
+        return _workspace(root).built_dir
+    except PipelineError as exc:
+        raise NavverseError(str(exc)) from None
+
+
+def _loader(workspace):
+    from pipeline.recipes import RecipeLoader
+    from pipeline.stage import discover
+
+    return RecipeLoader(workspace, stages=discover(STAGES_PACKAGE))
+
+
+def _warn(warnings: Sequence[str]) -> None:
+    console = Console(stderr=True)
+    for text in warnings:
+        console.print(f"warning: {text}", style="yellow", highlight=False, markup=False, soft_wrap=True)
+
+
+def _graph_for(
+    selectors: Sequence[str],
+    *,
+    every_target: bool = False,
+    root: Path | None = None,
+    extra_files: Sequence[Path] = (),
+):
+    """The selected targets and their build graph (recipes of the workspace at ``root``, or found from
+    here, and ``extra_files``).
+
+    Recipe files with problems do not block a selection that does not need them: their targets are
+    left out, with a warning per file (see :func:`pipeline.selection.select_loaded`).
+    """
+    from pipeline.selection import select_loaded
+    from pipeline.store import ArtifactStore
+
+    workspace = _workspace(root)
+    loader = _loader(workspace)
+    recipes = loader.load_all([*loader.recipe_files(), *extra_files] if extra_files else None)
+    if every_target and recipes.broken:
+        raise recipes.error()
+    chosen = list(recipes.targets) if every_target else select_loaded(recipes, selectors)
+    graph = _graph_over(chosen, recipes, selectors=selectors)
+    return workspace, chosen, graph, ArtifactStore(workspace.built_dir)
+
+
+def _graph_over(chosen, recipes, *, selectors: Sequence[str]):
+    """The graph of ``chosen``, linking to the targets of ``recipes``; warns of its broken files.
+
+    A broken file that a ``links`` glob of the graph might match is an error: the link would
+    silently read fewer targets.
+    """
+    from pipeline.dag import build_graph
+    from pipeline.errors import DagError
+    from pipeline.selection import linked_broken, skipped_warnings
+
+    try:
+        graph = build_graph(chosen, universe=recipes.targets)
+    except DagError as exc:
+        raise DagError(f"{exc}\n{recipes.skipped_note()}" if recipes.broken else str(exc)) from None
+    needed = linked_broken(recipes, (node.target for node in graph.nodes.values()))
+    if needed:
+        raise recipes.error(needed)
+    _warn(skipped_warnings(recipes, selectors=selectors))
+    return graph
+
+
+def register(sub: Subparsers, shared: Shared) -> None:
+    """Add ``navverse build``, ``status``, ``clean`` and ``validate recipe`` to ``sub``."""
+    _build_parser(sub, shared)
+    _status_parser(sub, shared)
+    _clean_parser(sub, shared)
+    _validate_recipe_parser(sub, shared)
+
+
+def _build_parser(sub: Subparsers, shared: Shared) -> None:
+    """``navverse build``."""
+    build = command(
+        sub, "build", parents=[shared.recipe_options], summary="build targets from recipes (default: all)",
+        examples=("navverse build office-s1", "navverse build scenes/indoor --jobs 2",
+                  "navverse build navverse-mini --dry-run"),
+    )  # fmt: skip
+    build.add_argument(
+        "targets",
+        nargs="*",
+        metavar="TARGET",
+        help="target ids (globs allowed) or recipe paths/folders such as 'scenes/indoor'",
+    )
+    build.add_argument(
+        "--jobs",
+        "-j",
+        type=int,
+        default=None,
+        help="parallel processes (default: number of cores; 0 runs in this process); with --executor ray, "
+        "the CPUs of the Ray instance started here, or a cap on the tasks sent to a cluster",
+    )
+    build.add_argument(
+        "--executor",
+        choices=("local", "ray"),
+        default="local",
+        help="where stages run: local processes (default) or Ray tasks (needs navverse[cluster]; the "
+        "build store must be on a filesystem every Ray node mounts at the same path)",
+    )
+    build.add_argument(
+        "--address",
+        default=None,
+        metavar="ADDR",
+        help="with --executor ray: the cluster to use ('auto', host:port or ray://host:port; "
+        "default: start Ray on this machine)",
+    )
+    build.add_argument(
+        "--force", action="store_true", help="rebuild the selected targets even if cached (replacing them)"
+    )
+    build.add_argument("--dry-run", action="store_true", help="print the build graph and what would run")
+    build.add_argument(
+        "--verify",
+        action="store_true",
+        help="check the sha256 of every file reused (default: sizes only) and rebuild what differs",
+    )
+    build.add_argument(
+        "--no-wait",
+        action="store_true",
+        help="exit 1 at once if another build holds the workspace (default: wait for it)",
+    )
+    build.set_defaults(func=cmd_build)
+
+
+def cmd_build(args: argparse.Namespace, console: Console) -> int:
+    """Build targets (default: all), holding the workspace lock; exit 1 if a stage failed."""
+
+    from pipeline.executors import make_executor
+    from pipeline.runner import describe_plan, find_corrupt, plan, print_corrupt
+
+    if args.address is not None and args.executor != "ray":
+        raise PipelineError("--address names a Ray cluster: use it with --executor ray")
+    _, chosen, graph, store = _graph_for(args.targets)
+    force = [t.id for t in chosen] if args.force else []
+    verify = "hash" if args.verify else "size"
+    if args.dry_run:
+        forced = {n for n, node in graph.nodes.items() if node.target.id in force}
+        corrupt = find_corrupt(graph, store, level=verify, skip=forced)
+        print_corrupt(corrupt, store, console, action="would rebuild")
+        describe_plan(graph, plan(graph, store, force=force, corrupt=corrupt), console)
+        return 0
+    executor = partial(make_executor, args.jobs, kind=args.executor, address=args.address)
+    report = _run_locked(graph, store, executor, force=force, verify=verify, wait=not args.no_wait,
+                         console=console, then=lambda: _publish_datasets(chosen, store, console))  # fmt: skip
+    return 0 if report.ok else 1
+
+
+def _run_locked(graph, store, executor, *, force, verify, wait: bool, console: Console, then=None):
+    """Run a build graph holding the workspace lock, without logging tracebacks; ``then()`` after a
+    build that succeeded, still under the lock. The engine's report."""
+    import logging
+
+    from pipeline.runner import run_build
+
+    raise_exceptions, logging.raiseExceptions = logging.raiseExceptions, False  # no logging tracebacks
+    try:
+        with _locked(store, wait=wait):
+            report = run_build(graph, store, executor, force=force, verify=verify, console=console)
+            if report.ok and then is not None:
+                then()
+    finally:
+        logging.raiseExceptions = raise_exceptions
+    return report
+
+
+def build_targets(
+    selectors: Sequence[str],
+    *,
+    root: Path | None = None,
+    extra_files: Sequence[Path] = (),
+    jobs: int | None = None,
+    force: bool = False,
+    console: Console,
+) -> tuple[dict[str, dict[str, Path]], object]:
+    """Build the selected targets as ``navverse build`` does, for :func:`navverse.api.build`: their
+    outputs ``{target: {artifact: directory}}`` and the engine's report.
+
+    Raises
+    ------
+    NavverseError
+        The engine's error (a recipe problem, an unknown target), as a navverse one.
+    """
+    from pipeline.executors import make_executor
+
+    try:
+        _, chosen, graph, store = _graph_for(selectors, root=root, extra_files=extra_files)
+        force_ids = [t.id for t in chosen] if force else []
+        report = _run_locked(graph, store, partial(make_executor, jobs), force=force_ids, verify="size",
+                             wait=True, console=console)  # fmt: skip
+    except PipelineError as exc:
+        raise NavverseError(str(exc)) from None
+    outputs = {
+        t.id: {out: path for call in t.stages for out in call.spec.outputs
+               if (path := store.target_output(t.id, out)) is not None}
+        for t in chosen
+    }  # fmt: skip
+    return outputs, report
+
+
+@contextmanager
+def _locked(store, *, wait: bool) -> Iterator[None]:
+    """Hold the workspace lock (SIGTERM interrupting like Ctrl-C), saying so when another holds it."""
+    from pipeline.lock import workspace_lock
+    from pipeline.runner import sigterm_interrupts
+
+    def waiting(holder: str) -> None:
+        Console(stderr=True).print(
+            f"{holder} holds the workspace; waiting… — Ctrl-C to stop", highlight=False
+        )
+
+    with sigterm_interrupts(), workspace_lock(store.lock_path, wait=wait, on_wait=waiting):
+        yield
+
+
+def _publish_datasets(targets, store, console: Console) -> None:
+    """Copy the built dataset versions into ``episodes/`` (a published version never changes)."""
+    from navverse.dataset import built_version, publish
+
+    episodes_dir = _workspace().root / "episodes"
+    for target in targets:
+        if not any("dataset" in call.spec.outputs for call in target.stages):
+            continue
+        built = store.target_output(target.id, "dataset")
+        if built is None:
+            continue
+        path, written = publish(built_version(built), episodes_dir)
+        shown = path.relative_to(episodes_dir.parent)
+        console.print(f"{'published' if written else 'up to date'}: {shown}")
+
+
+def _status_parser(sub: Subparsers, shared: Shared) -> None:
+    """``navverse status``."""
+    status = command(
+        sub, "status", parents=[shared.recipe_options],
+        summary="fresh / stale / missing / corrupt per target",
+        examples=("navverse status", "navverse status 'office-*' --verify"),
+    )  # fmt: skip
+    status.add_argument(
+        "targets", nargs="*", metavar="TARGET",
+        help="target ids (globs allowed) or recipe paths/folders (default: every target)",
+    )  # fmt: skip
+    status.add_argument(
+        "--verify",
+        action="store_true",
+        help="check the sha256 of every built file (default: sizes only); exit 1 if one differs",
+    )
+    status.set_defaults(func=cmd_status)
+
+
+def cmd_status(args: argparse.Namespace, console: Console) -> int:
+    """Print fresh / stale / missing / corrupt per target; exit 1 if an artifact is corrupt.
+
+    The files of current artifacts are checked by size, with ``--verify`` by sha256 too. Takes no
+    lock: with a build running, the statuses are those of the moment (a note says so).
+    """
+    from rich.table import Table
+
+    from pipeline.lock import running_build
+    from pipeline.runner import find_corrupt, print_corrupt, target_status
+
+    _, chosen, graph, store = _graph_for(args.targets)
+    corrupt = find_corrupt(graph, store, level="hash" if args.verify else "size")
+    statuses = target_status(graph, store, corrupt=corrupt)
+    colour = {"fresh": "green", "stale": "yellow", "missing": "red", "corrupt": "red"}
+    table = Table(box=None, show_edge=False)
+    for column in ("target", "status", "recipe"):
+        table.add_column(column)
+    recipes = {t.id: t.recipe for t in chosen}
+    for target_id, status in statuses.items():
+        table.add_row(target_id, f"[{colour[status]}]{status}[/]", recipes.get(target_id, "(linked)"))
+    console.print(table)
+    counts = {s: list(statuses.values()).count(s) for s in colour}
+    console.print(", ".join(f"{n} {s}" for s, n in counts.items() if n or s != "corrupt"))
+    print_corrupt(corrupt, store, console)
+    if corrupt:
+        console.print("run `navverse build` to rebuild the corrupt artifacts", highlight=False)
+    running = running_build(store.lock_path)
+    if running:
+        console.print(
+            f"note: {running} is running in this workspace; these statuses may change", soft_wrap=True
+        )
+    return 1 if corrupt else 0
+
+
+def _clean_parser(sub: Subparsers, shared: Shared) -> None:
+    """``navverse clean``."""
+    clean = command(
+        sub, "clean", parents=[shared.recipe_options],
+        summary="remove unused build outputs (or all with --all)",
+        examples=("navverse clean", "navverse clean --all"),
+    )  # fmt: skip
+    clean.add_argument("--all", action="store_true", help="remove every build output")
+    clean.set_defaults(func=cmd_clean)
+
+
+def cmd_clean(args: argparse.Namespace, console: Console) -> int:
+    """Remove build outputs: unused artifacts (default) or everything (--all), holding the lock."""
+    from pipeline.store import ArtifactStore
+
+    workspace = _workspace()
+    store = ArtifactStore(workspace.built_dir)
+    if args.all:
+        with _locked(store, wait=True):
+            for child in (store.artifacts_dir, store.targets_dir, store.tmp_dir, store.logs_dir):
+                shutil.rmtree(child, ignore_errors=True)
+        console.print(f"removed every build output in {workspace.built_dir}")
+        return 0
+    _, _, graph, store = _graph_for([], every_target=True)  # manual targets' artifacts are kept too
+    with _locked(store, wait=True):
+        return _clean_unused(graph, store, console)
+
+
+def _clean_unused(graph, store, console: Console) -> int:
+    """Remove the artifacts no target of ``graph`` uses now, and stale work directories."""
+    keep = {
+        store.artifact_path(node.stage, out, key)
+        for node in graph.nodes.values()
+        for out, key in node.artifact_keys.items()
+    }
+    removed = 0
+    if store.artifacts_dir.is_dir():
+        for path in sorted(store.artifacts_dir.glob("*/*")):
+            if path not in keep:
+                shutil.rmtree(path, ignore_errors=True)
+                removed += 1
+    removed += store.clean_stale_tmp()
+    console.print(f"removed {removed} unused artifacts; kept {len(keep)} current ones")
+    return 0
+
+
+def _validate_recipe_parser(sub: Subparsers, shared: Shared) -> None:
+    """``navverse validate recipe``."""
+    recipe = command(
+        validate_commands(sub, shared), "recipe", parents=[shared.recipe_options],
+        summary="validate recipe files (all when none given)",
+        examples=("navverse validate recipe", "navverse validate recipe recipes/scenes/indoor/office.yaml"),
+    )  # fmt: skip
+    recipe.add_argument(
+        "files", nargs="*", metavar="FILE",
+        help="recipe files (as given, or relative to the project or to recipes/); default: every recipe",
+    )  # fmt: skip
+    recipe.set_defaults(func=cmd_validate_recipe)
+
+
+def cmd_validate_recipe(args: argparse.Namespace, console: Console) -> int:
+    """Validate recipe files (all of them when none is given).
+
+    Every problem of the files named is the error; other files with problems are warned about
+    (the named files' links may have needed them).
+    """
+    from pipeline.dag import build_graph
+
+    workspace = _workspace()
+    loader = _loader(workspace)
+    if not args.files:
+        targets = loader.load()
+        build_graph(targets, universe=targets)
+        console.print(f"[green]valid[/]: all recipe file(s), {len(targets)} targets")
+        return 0
+    files = [_recipe_path(workspace, name) for name in args.files]
+    targets = loader.load(files)
+    _graph_over(targets, loader.load_all(), selectors=[])
+    console.print(f"[green]valid[/]: {len(files)} recipe file(s), {len(targets)} targets")
+    return 0
+
+
+def _recipe_path(workspace, name: str) -> Path:
+    """A recipe file named on the command line: as given, else under the project or recipes folder."""
+    import os
+
+    for path in (Path(name), workspace.root / name, workspace.recipes_dir / name):
+        if os.path.lexists(path):
+            return path
+    return Path(name)

@@ -1,0 +1,344 @@
+"""``navverse eval`` and ``run-agent``, each beside its parser: score a submission against a dataset
+split, and run an agent online over a split to write its submission. Each command returns the exit code;
+its imports are inside it, so the command line starts quickly."""
+
+from __future__ import annotations
+
+import argparse
+import os
+from collections.abc import Callable
+from functools import partial
+from pathlib import Path
+
+from rich.console import Console
+
+from navverse.cli.common import DATASET_VERSION_HELP, MINI, OUTDOOR, Shared, Subparsers, command
+from navverse.cli.datasets import dataset_scene_dirs, problem_count, split_of
+from navverse.cli.progress import show_progress
+
+__all__ = ["cmd_eval", "cmd_run_agent", "register"]
+
+
+def register(sub: Subparsers, shared: Shared) -> None:
+    """Add ``navverse eval`` and ``run-agent`` to ``sub``."""
+    _eval_parser(sub, shared)
+    _run_parser(sub, shared)
+
+
+def _eval_parser(sub: Subparsers, shared: Shared) -> None:
+    """``navverse eval``."""
+    evaluate = command(
+        sub, "eval", parents=[shared.scene_options], summary="score a submission against a dataset split",
+        examples=(f"navverse eval --dataset {MINI} --submission run.jsonl --out eval-out",
+                  f"navverse eval --dataset {MINI} --submission run.jsonl --episodes submitted",
+                  f"navverse eval --dataset {OUTDOOR} --submission oracle-category.jsonl \\\n"
+                  "--submission oracle-route.jsonl --submission oracle-intention.jsonl"),
+    )  # fmt: skip
+    evaluate.add_argument("--dataset", required=True, help=DATASET_VERSION_HELP)
+    evaluate.add_argument(
+        "--submission", required=True, action="append",
+        help="JSONL file (optionally .gz). Repeatable: the same agent's runs under different PlaceNav "
+        "instruction types (one each) fill the instruction-type table (instruction_types.md); every "
+        "other output (metrics.json, tables, report) is the first submission's",
+    )  # fmt: skip
+    evaluate.add_argument("--split", default="eval", help="split scored (default: eval)")
+    evaluate.add_argument("--embodiment", default=None, help="robot scored (default: the dataset's)")
+    evaluate.add_argument("--out", default="eval-out", help="output folder (default: eval-out)")
+    evaluate.add_argument(
+        "--episodes",
+        choices=("all", "submitted"),
+        default="all",
+        help="all: every episode of the split, one without a valid record scored as a failure (the "
+        "benchmark's number; default); submitted: only the episodes the submission has a line for "
+        "(a partial scoring, labelled PARTIAL in every output)",
+    )
+    evaluate.set_defaults(func=partial(cmd_eval, built_dir=shared.built_dir))
+
+
+def _check_out_dir(out: str | os.PathLike[str]) -> Path:
+    """`out` as a directory the outputs can be written into (made later), or a NavverseError saying what
+    to change: it is a file, a parent is a file, or the place is not writable."""
+    import tempfile
+
+    from navverse.errors import NavverseError
+
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise NavverseError(f"--out {out} is a file: give a directory (it gets metrics.json, report.html)")
+    existing = next(p for p in (out, *out.absolute().parents) if p.exists())
+    if not existing.is_dir():
+        raise NavverseError(f"--out {out}: {existing} is a file, not a directory; choose another --out")
+    try:
+        with tempfile.TemporaryFile(dir=existing):
+            pass
+    except OSError as exc:
+        raise NavverseError(
+            f"--out {out}: cannot write into {existing} ({exc.strerror or exc}); choose a writable --out"
+        ) from None
+    return out
+
+
+def _submission_paths(args: argparse.Namespace) -> list[str]:
+    """The ``--submission`` files of ``eval`` (a list from the parser; one path is taken too)."""
+    given = args.submission
+    return [os.fspath(given)] if isinstance(given, (str, os.PathLike)) else [os.fspath(p) for p in given]
+
+
+def _read_for_eval(args: argparse.Namespace, dataset, scene_dirs: dict) -> list:
+    """The submissions given to ``eval`` (read against the split), each under its own instruction type
+    when there are several, or a NavverseError saying what to change."""
+    from navverse.errors import NavverseError
+    from navverse.eval.scoring import instruction_type_of
+    from navverse.eval.submission import episode_bounds, read_submission
+
+    ids = split_of(dataset, args.split)
+    episodes = list(dataset.episodes(split=args.split))
+    bounds = episode_bounds(episodes, scene_dirs)
+    paths = _submission_paths(args)
+    submissions, kinds = [], {}
+    for path in paths:
+        submission = read_submission(path, episode_ids=ids, bounds=bounds)
+        kind = instruction_type_of(submission, episodes)
+        if len(paths) > 1 and kind is None:
+            raise NavverseError(
+                f"several --submission are scored to compare PlaceNav instruction types, but split "
+                f"{args.split!r} has no PlaceNav episodes: give one --submission"
+            )
+        if kind in kinds:
+            raise NavverseError(
+                f"--submission {kinds[kind]} and {path} were both run under instruction type {kind!r}: give "
+                "one submission per instruction type (`navverse run-agent --instruction-type ...`)"
+            )
+        kinds[kind] = path
+        submissions.append(submission)
+    return submissions
+
+
+def _score_for_eval(args: argparse.Namespace, console: Console, dataset, submissions: list, scene_dirs: dict):
+    """Each submission's :class:`~navverse.eval.scoring.EvalResult`, showing progress."""
+    from navverse.eval.scoring import score
+
+    results = []
+    for submission in submissions:
+        with show_progress(console, f"eval: scoring {submission.path.name}", unit="episodes") as progress:
+            progress(0, len(submission.records))
+            results.append(
+                score(
+                    dataset,
+                    submission,
+                    split=args.split,
+                    scene_dirs=scene_dirs,
+                    embodiment=args.embodiment,
+                    episodes=args.episodes,
+                    progress=progress,
+                )
+            )
+    return results
+
+
+def _print_table(console: Console, header: list[str], rows: list[list[str]], title: str) -> None:
+    from rich.table import Table
+
+    table = Table(title=title)
+    for column in header:
+        table.add_column(column, justify="left" if column == header[0] else "right")
+    for row in rows:
+        table.add_row(*row)
+    console.print(table)
+
+
+def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
+    """Score a submission: metrics.json, tables (md, csv), report.html, and the headline table. Several
+    submissions (one per PlaceNav instruction type) add rows to the instruction-type table; the other
+    outputs are the first one's."""
+    from navverse import __version__
+    from navverse.dataset import Dataset
+    from navverse.eval.protocol import describe
+    from navverse.eval.report import write_report
+    from navverse.eval.tables import (
+        instruction_type_entries,
+        instruction_type_table,
+        scope_text,
+        table_rows,
+        write_outputs,
+    )
+
+    _check_out_dir(args.out)
+    dataset = Dataset(args.dataset)
+    dataset.verify()
+    split_of(dataset, args.split)
+    scene_dirs = dataset_scene_dirs(args, dataset, dataset.episodes(split=args.split), built_dir)
+    submissions = _read_for_eval(args, dataset, scene_dirs)
+    results = _score_for_eval(args, console, dataset, submissions, scene_dirs)
+    submission, result = submissions[0], results[0]
+    meta = {
+        "dataset": str(dataset.root),
+        "dataset_version": dataset.manifest.version,
+        "split": args.split,
+        "submission": _submission_paths(args)[0],
+        "embodiment": args.embodiment or dataset.manifest.embodiment,
+        "episodes": args.episodes,
+        "toolkit_version": __version__,
+    }
+    out = write_outputs(result, args.out, meta=meta, others=results[1:])
+    with show_progress(console, "eval: drawing the report", unit="episodes") as progress:
+        progress(0, len(result.episodes))
+        report = write_report(
+            result,
+            dataset=dataset,
+            submission=submission,
+            scene_dirs=scene_dirs,
+            out_dir=Path(out),
+            embodiment=args.embodiment,
+            progress=progress,
+        )
+    if submission.problems:
+        count = problem_count(submission)
+        console.print(f"[yellow]{count} submission problems[/] (listed in metrics.json):")
+        for problem in submission.problems[:10]:
+            console.print(f"  {problem}", highlight=False, markup=False)
+    for other in submissions[1:]:
+        if other.problems:
+            console.print(
+                f"{problem_count(other)} problems in {other.path} (see `navverse validate submission`)",
+                style="yellow",
+                highlight=False,
+                markup=False,
+            )
+    invalid = [row["episode_id"] for row in result.episodes if row["label"] == "invalid"]
+    if invalid:
+        console.print(
+            f"[yellow]{len(invalid)} episodes have no valid trajectory, scored as failures:[/] "
+            + ", ".join(invalid[:10])
+            + (f" ... ({len(invalid) - 10} more)" if len(invalid) > 10 else ""),
+            highlight=False,
+        )
+    header, rows = table_rows(result, "task_scene")
+    marked = " (PARTIAL)" if result.partial else ""
+    title = f"{dataset.manifest.name} v{dataset.manifest.version} / {args.split}{marked}"
+    _print_table(console, header, rows, title)
+    console.print(scope_text(result), style="yellow" if result.partial else None, highlight=False)
+    console.print(f"track: {describe(result.track)}", highlight=False, markup=False)
+    entries = instruction_type_entries(results) if result.instruction_type is not None else []
+    if entries:
+        _print_table(console, *instruction_type_table(entries), "PlaceNav by instruction type (SR, SPL in %)")
+    written = ", instruction_types.md" if entries else ""
+    console.print(f"wrote {out}/metrics.json, tables.md, *.csv{written}, {report.name}", highlight=False)
+    return 0
+
+
+def _run_parser(sub: Subparsers, shared: Shared) -> None:
+    """``navverse run-agent``."""
+    from navverse.dataset import INSTRUCTION_TYPES, TASKS
+
+    run = command(
+        sub, "run-agent", parents=[shared.scene_options],
+        summary="run an agent over a dataset split and write its submission",
+        examples=(f"navverse run-agent --dataset {MINI} --agent oracle --out oracle.jsonl.gz",
+                  f"navverse run-agent --dataset {MINI} --agent examples/my_agent.py:GoalSeekingAgent \\\n"
+                  "--limit 10 --out mine.jsonl",
+                  f"navverse run-agent --dataset {OUTDOOR} --agent frontier --embodiment turtlebot \\\n"
+                  "--instruction-type route --out frontier-route.jsonl.gz"),
+    )  # fmt: skip
+    run.add_argument("--dataset", required=True, help=DATASET_VERSION_HELP)
+    run.add_argument("--split", default="eval", help="split run (default: eval)")
+    run.add_argument(
+        "--agent",
+        required=True,
+        help="oracle, gt_goal, random, frontier (navverse list agents), or your own 'module:Class' / "
+        "'path/to/file.py:Class'",
+    )
+    run.add_argument("--embodiment", default=None, help="spot or turtlebot (default: the dataset's)")
+    run.add_argument("--out", required=True, help="submission to write (.jsonl or .jsonl.gz)")
+    run.add_argument("--jobs", "-j", type=int, default=None, help="processes (default: cores; 0: in process)")
+    run.add_argument("--limit", type=int, default=None, help="run only K episodes, spread over the split")
+    run.add_argument("--task", choices=TASKS, default=None, help="run only this task's episodes")
+    run.add_argument("--seed", type=int, default=0, help="seed of the agent's per-episode seeds")
+    run.add_argument(
+        "--instruction-type", choices=INSTRUCTION_TYPES, default="category",
+        help="the instruction PlaceNav episodes give the agent: the place category, a route description "
+        "or an intention (default: category); under route and intention an agent that is not privileged "
+        "is not told the category",
+    )  # fmt: skip
+    run.add_argument("--max-steps", type=int, default=None, help="cut an episode after this many actions")
+    run.add_argument(
+        "--friction", type=float, default=None, help="friction of every terrain class (a diagnostic)"
+    )
+    run.add_argument(
+        "--step-timeout", type=float, default=None, metavar="SECONDS",
+        help="wall-clock limit of one agent call (reset or act); over it the episode ends as "
+        "agent_timeout (default: 30)",
+    )  # fmt: skip
+    run.add_argument(
+        "--episode-timeout", type=float, default=None, metavar="SECONDS",
+        help="wall-clock limit of the agent's calls in one episode, together (default: 600)",
+    )  # fmt: skip
+    run.set_defaults(func=partial(cmd_run_agent, built_dir=shared.built_dir))
+
+
+def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
+    """Run an agent online over a split and write its submission."""
+    from rich.progress import BarColumn, MofNCompleteColumn, TextColumn, TimeRemainingColumn
+
+    from navverse.dataset import Dataset
+    from navverse.eval.runner import EPISODE_TIMEOUT, STEP_TIMEOUT, run_agent
+
+    dataset = Dataset(args.dataset)
+    dataset.verify()
+    split_of(dataset, args.split)
+    embodiment = args.embodiment or dataset.manifest.embodiment
+    scene_dirs = dataset_scene_dirs(args, dataset, dataset.episodes(split=args.split), built_dir)
+    jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
+    label = f"run-agent {args.agent} on {args.split}"
+    with show_progress(console, label, unit="episodes", columns=columns) as progress:
+        summary = run_agent(
+            dataset,
+            agent=args.agent,
+            split=args.split,
+            embodiment=embodiment,
+            scene_dirs=scene_dirs,
+            out=args.out,
+            jobs=jobs,
+            limit=args.limit,
+            task=args.task,
+            seed=args.seed,
+            max_steps=args.max_steps,
+            terrain_friction=args.friction,
+            step_timeout=STEP_TIMEOUT if args.step_timeout is None else args.step_timeout,
+            episode_timeout=EPISODE_TIMEOUT if args.episode_timeout is None else args.episode_timeout,
+            instruction_type=args.instruction_type,
+            progress=progress,
+        )
+    for episode_id, reason in summary.timeouts[:10]:
+        console.print(
+            f"agent_timeout: {episode_id}: {reason}",
+            style="yellow",
+            highlight=False,
+            markup=False,
+            soft_wrap=True,
+        )
+    if len(summary.timeouts) > 10:
+        console.print(f"agent_timeout: ... and {len(summary.timeouts) - 10} more episodes", style="yellow")
+    if summary.log is not None:
+        console.print(
+            f"the agent's output is in {summary.log}", highlight=False, markup=False, soft_wrap=True
+        )
+    ended = ", ".join(f"{label} {count}" for label, count in sorted(summary.terminations.items()))
+    resumed = f" ({summary.resumed} resumed from an interrupted run)" if summary.resumed else ""
+    kind = f", PlaceNav: {args.instruction_type}" if args.instruction_type != "category" else ""
+    console.print(
+        f"{args.agent} ({embodiment}{kind}): {summary.episodes} episodes{resumed} in "
+        f"{summary.seconds:.0f} s; ended: {ended}",
+        highlight=False,
+        markup=False,
+        soft_wrap=True,
+    )
+    console.print(
+        f"wrote {summary.out}; score it with: navverse eval --dataset {args.dataset} "
+        f"--submission {summary.out} --split {args.split}",
+        highlight=False,
+        markup=False,
+        soft_wrap=True,
+    )
+    return 0
