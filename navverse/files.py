@@ -25,20 +25,25 @@ in ``.tmp``, not matched by the patterns readers look for (``*.json``, ``v*``, `
 Only :func:`atomic_path` adds the target's suffix after ``.tmp``, for the writers that choose a format
 by it. A file's content is flushed to disk (``fsync``) before the rename, so a crash right after it
 cannot leave an empty file under the target's name; a directory's files are not.
+
+Beside them, helpers for reading files: what a file is in words (:func:`file_kind`), why a file
+cannot be read as a regular file within a size cap (:func:`regular_file_problem`), and a file's
+SHA-256 read in chunks (:func:`file_sha256`).
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
 import secrets
 import shutil
 import stat
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import IO, Any, Literal
 
-__all__ = ["atomic_dir", "atomic_path", "atomic_write"]
+__all__ = ["atomic_dir", "atomic_path", "atomic_write", "file_sha256"]
 
 
 def _temporary(target: Path, *, suffix: str = "") -> Path:
@@ -171,3 +176,28 @@ def regular_file_problem(path: str | os.PathLike[str], *, max_bytes: int, what: 
         size, limit = info.st_size / 1024**3, max_bytes / 1024**3
         return f"{path} is {size:.2f} GiB, over the {limit:.2f} GiB limit of a {what}"
     return None
+
+
+def file_sha256(path: str | os.PathLike[str], *, progress: Callable[[str, int], None] | None = None) -> str:
+    """The SHA-256 of a file's bytes, hex, read in 1 MiB chunks.
+
+    Parameters
+    ----------
+    path : path
+        The file.
+    progress : callable, optional
+        Called as ``progress("checksum", bytes_hashed)`` after every 64 MiB.
+
+    Returns
+    -------
+    str
+        64 lowercase hex digits.
+    """
+    digest, done = hashlib.sha256(), 0
+    with open(path, "rb") as handle:
+        while chunk := handle.read(1024 * 1024):
+            digest.update(chunk)
+            done += len(chunk)
+            if progress is not None and done % (64 * 1024 * 1024) < len(chunk):
+                progress("checksum", done)
+    return digest.hexdigest()

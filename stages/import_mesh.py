@@ -14,7 +14,8 @@ from pipeline import Params, SourceFile, StageContext, stage
 from pipeline.params import ReadPolicy
 
 if TYPE_CHECKING:
-    from navverse.scene.mesh_import import MeshNode, NodeRole
+    from navverse.scene.mesh_nodes import MeshNode
+    from navverse.scene.mesh_parts import NodeRole
 
 DROP = "drop"
 
@@ -33,7 +34,8 @@ def _mesh_suffix(path: Path) -> Path:
 def _usd_files_allowed(path: Path, info: ValidationInfo) -> Path:
     """Refuse a USD file that brings in (sublayers, references, payloads, clips) a file the recipe
     may not read: not a regular file, too big, or outside the allowed folders."""
-    from navverse.scene.mesh_import import USD_SUFFIXES, MeshImportError, UsdDependencyError, usd_layer_files
+    from navverse.scene.mesh_files import MeshImportError, UsdDependencyError, usd_layer_files
+    from navverse.scene.mesh_import import USD_SUFFIXES
 
     policy = ReadPolicy.from_context(info)
     if policy is None or path.suffix.lower() not in USD_SUFFIXES:
@@ -137,7 +139,8 @@ class ImportMeshParams(Params):
     def dependency_files(self) -> dict[str, Path]:
         """The layers a USD source brings in (sublayers, references, payloads, clips): their content
         is part of the cache key too, so editing a sublayer rebuilds the scene."""
-        from navverse.scene.mesh_import import USD_SUFFIXES, MeshImportError, usd_layer_files
+        from navverse.scene.mesh_files import MeshImportError, usd_layer_files
+        from navverse.scene.mesh_import import USD_SUFFIXES
 
         if self.source.suffix.lower() not in USD_SUFFIXES:
             return {}
@@ -194,7 +197,7 @@ class ImportMeshParams(Params):
 
 def _roles(params: ImportMeshParams, nodes: list[MeshNode]) -> tuple[list[NodeRole | None], list[int]]:
     """The role of every node (first matching rule, else the default) and the matches per rule."""
-    from navverse.scene.mesh_import import NodeRole
+    from navverse.scene.mesh_parts import NodeRole
 
     hits = [0] * len(params.rules)
     roles: list[NodeRole | None] = []
@@ -223,14 +226,10 @@ def import_mesh(ctx: StageContext, params: ImportMeshParams) -> None:
     """A scene directory (scene.usdc, scene.json, bev.png) of a mesh file's nodes as objects and surfaces."""
     import navverse
     from navverse.scene import SceneSource, assemble_scene, terrain_classes, write_scene_dir
-    from navverse.scene.mesh_import import (
-        MeshImportError,
-        MeshNode,
-        check_extent,
-        read_mesh_nodes,
-        scene_parts,
-        to_z_up,
-    )
+    from navverse.scene.mesh_files import MeshImportError
+    from navverse.scene.mesh_import import check_extent, read_mesh_nodes, to_z_up
+    from navverse.scene.mesh_nodes import MeshNode
+    from navverse.scene.mesh_parts import scene_parts
 
     nodes, frame = read_mesh_nodes(params.source, progress=ctx.progress)
     up_axis = params.up_axis or frame.up_axis or "z"

@@ -87,12 +87,12 @@ from navverse.city.osm_files import (
     Progress,
     check_osm_file,
     file_bounds,
-    file_sha256,
     head_bounds,
     peek_osm_file,
 )
 from navverse.city.osm_read import read_extract
 from navverse.city.osm_window import OsmWindow, Window, box_text, make_window
+from navverse.files import file_sha256
 
 __all__ = ["OSM_ATTRIBUTION", "check_window", "read_osm"]
 

@@ -18,7 +18,6 @@ becomes a :class:`~navverse.city.map.CityMapError` naming the file (:func:`osmiu
 
 from __future__ import annotations
 
-import hashlib
 import io
 import math
 import os
@@ -46,7 +45,6 @@ __all__ = [
     "Progress",
     "check_osm_file",
     "file_bounds",
-    "file_sha256",
     "osmium_failure",
 ]
 
@@ -410,18 +408,6 @@ def head_bounds(head: bytes) -> LonLatBox | None:
     if not (-180 <= box[0] <= box[2] <= 180 and -90 <= box[1] <= box[3] <= 90):
         return None
     return box
-
-
-def file_sha256(path: str | os.PathLike[str], *, progress: Progress | None = None) -> str:
-    """The sha256 of a file, hex, read in 1 MiB chunks (``progress("checksum", bytes)`` per 64 MiB)."""
-    digest, done = hashlib.sha256(), 0
-    with open(path, "rb") as handle:
-        while chunk := handle.read(1024 * 1024):
-            digest.update(chunk)
-            done += len(chunk)
-            if progress is not None and done % (64 * 1024 * 1024) < len(chunk):
-                progress("checksum", done)
-    return digest.hexdigest()
 
 
 def osmium_failure(path: Path, fmt: str, exc: Exception) -> CityMapError:

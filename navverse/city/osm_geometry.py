@@ -20,6 +20,7 @@ from shapely.geometry import LineString, MultiPolygon, Polygon, box
 from shapely.geometry.base import BaseGeometry
 from shapely.geometry.polygon import orient
 
+from navverse.city.clipping import Rect, clip_segment
 from navverse.city.map import Path2, Polygon2
 
 __all__ = [
@@ -47,31 +48,6 @@ MIN_POLYGON_AREA = 0.5
 """Smaller polygon parts are degenerate (m²)."""
 
 DEGENERATE = "degenerate geometry (after clipping or repair)"
-Rect = tuple[float, float, float, float]
-
-
-def _clip_segment(a: np.ndarray, b: np.ndarray, rect: Rect) -> tuple[float, float] | None:
-    """Parameters ``(t0, t1)`` of the part of segment a→b inside ``rect`` (Liang–Barsky), or None."""
-    t0, t1 = 0.0, 1.0
-    d = b - a
-    for p, q in (
-        (-d[0], a[0] - rect[0]),
-        (d[0], rect[2] - a[0]),
-        (-d[1], a[1] - rect[1]),
-        (d[1], rect[3] - a[1]),
-    ):
-        if p == 0.0:
-            if q < 0.0:
-                return None
-            continue
-        t = q / p
-        if p < 0.0:
-            t0 = max(t0, t)
-        else:
-            t1 = min(t1, t)
-        if t0 > t1:
-            return None
-    return t0, t1
 
 
 def clip_polyline(points: np.ndarray, rect: Rect) -> list[np.ndarray]:
@@ -92,7 +68,7 @@ def clip_polyline(points: np.ndarray, rect: Rect) -> list[np.ndarray]:
     pieces: list[np.ndarray] = []
     current: list[np.ndarray] = []
     for a, b in itertools.pairwise(points):
-        span = _clip_segment(a, b, rect)
+        span = clip_segment(a, b, rect)
         if span is None:
             if current:
                 pieces.append(np.array(current))

@@ -34,6 +34,8 @@ import shapely
 from shapely.geometry import LineString, MultiLineString, Point, Polygon, box
 from shapely.geometry.base import BaseGeometry
 
+from navverse.city.clipping import clip_segment
+
 __all__ = [
     "Network",
     "Piece",
@@ -402,24 +404,14 @@ def organic_network(
     return Network(streets, pieces)
 
 
-def _clip_segment(a: XY, b: XY, window: Window) -> tuple[XY, XY] | None:
+def _clipped_part(a: XY, b: XY, window: Window) -> tuple[XY, XY] | None:
     """The part of segment ``a``-``b`` in the closed ``window`` (Liang-Barsky); end points inside
     are returned as they are."""
-    min_x, min_y, max_x, max_y = window
+    span = clip_segment(a, b, window)
+    if span is None:
+        return None
+    t0, t1 = span
     dx, dy = b[0] - a[0], b[1] - a[1]
-    t0, t1 = 0.0, 1.0
-    for p, q in ((-dx, a[0] - min_x), (dx, max_x - a[0]), (-dy, a[1] - min_y), (dy, max_y - a[1])):
-        if p == 0.0:
-            if q < 0.0:
-                return None
-            continue
-        t = q / p
-        if p < 0.0:
-            t0 = max(t0, t)
-        else:
-            t1 = min(t1, t)
-        if t0 > t1:
-            return None
     start = a if t0 == 0.0 else (a[0] + t0 * dx, a[1] + t0 * dy)
     end = b if t1 == 1.0 else (a[0] + t1 * dx, a[1] + t1 * dy)
     return start, end
@@ -433,7 +425,7 @@ def clip(network: Network, window: Window, *, shortest: float = 2.0) -> Network:
         runs: list[list[XY]] = []
         current: list[XY] = []
         for a, b in itertools.pairwise(piece.points):
-            part = _clip_segment(a, b, window)
+            part = _clipped_part(a, b, window)
             if part is None:
                 if current:
                     runs.append(current)

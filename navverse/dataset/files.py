@@ -1,4 +1,4 @@
-"""Bounded, checked reading of dataset files (:mod:`navverse.dataset` uses it to verify a version).
+"""Bounded, checked reading of dataset files (:mod:`navverse.dataset.reader` uses it to verify a version).
 
 Every read here is streamed in chunks of :data:`CHUNK` bytes: a file's SHA-256, what a gzip file
 decompresses to (stopped past a limit, so a gzip bomb costs one chunk of memory), the entries of a
@@ -6,7 +6,7 @@ version directory (never following a symbolic link, at most :data:`MAX_ENTRIES`)
 as regular files only: a symbolic link, a FIFO or a device is a problem, never followed or waited on.
 
 Problems are reported as kinds (:data:`PROBLEMS`), which :func:`describe` turns into the sentence a
-:class:`~navverse.dataset.DatasetError` carries.
+:class:`~navverse.dataset.errors.DatasetError` carries.
 """
 
 from __future__ import annotations

@@ -14,9 +14,10 @@ from pathlib import Path
 
 import pytest
 
-from navverse.dataset import Dataset, DatasetError, Episode, EpisodeInfo, Verification, file_sha256
+from navverse.dataset import Dataset, DatasetError, Episode, EpisodeInfo, Verification
 from navverse.episodes.packaging import write_dataset
 from navverse.errors import SceneError
+from navverse.files import file_sha256
 from navverse.scene.directory import scene_hash
 from tests.navverse.test_env import build_room, table_episodes
 

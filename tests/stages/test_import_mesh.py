@@ -13,7 +13,7 @@ import yaml
 from PIL import Image
 
 from navverse.scene import Scene, read_annotations, read_scene
-from navverse.scene.mesh_import import split_components, subdivide
+from navverse.scene.mesh_parts import split_components, subdivide
 from pipeline.errors import RecipeError
 from pipeline.recipes import RecipeLoader
 from pipeline.stage import discover

@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 
 from navverse.cli import main
-from navverse.scene.mesh_import import MeshImportError, read_mesh_nodes
+from navverse.scene.mesh_files import MeshImportError
+from navverse.scene.mesh_import import read_mesh_nodes
 from pipeline.dag import build_graph
 from pipeline.errors import RecipeError
 from pipeline.params import allow_reading

@@ -13,9 +13,9 @@ from navverse.dataset import (
     Episode,
     EpisodeFile,
     counts_table,
-    file_sha256,
     write_json_gz,
 )
+from navverse.files import file_sha256
 
 
 def write_toy_dataset(
