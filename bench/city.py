@@ -140,7 +140,7 @@ def _child_peak_mb() -> float:
 
 
 def _read_window(path: str, center: tuple[float, float], size_m: float) -> dict[str, Any]:
-    from navverse.city.osm import read_osm
+    from navverse.city.osm.reader import read_osm
 
     start = time.perf_counter()
     city = read_osm(path, center=center, size_m=(size_m, size_m))
@@ -192,9 +192,9 @@ def in_child(fn: Callable[..., dict[str, Any]], *args: Any) -> dict[str, Any]:
 
 def synthetic_osm(path: Path, side_m: float, seed: int) -> Path:
     """Write a synthetic city of ``side_m`` x ``side_m`` as OSM XML."""
-    from navverse.city.osm_xml import write_osm
-    from navverse.city.synthetic import synthetic_city
-    from navverse.city.synthetic_params import SyntheticCityParams
+    from navverse.city.osm.writer import write_osm
+    from navverse.city.synthetic.generator import synthetic_city
+    from navverse.city.synthetic.params import SyntheticCityParams
 
     return write_osm(synthetic_city(SyntheticCityParams(size=(side_m, side_m)), seed=seed), path)
 

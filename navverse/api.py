@@ -15,8 +15,8 @@ Everything the command line does with recipes and datasets, from Python::
     town = nv.generate_city(seed=0, size=(300, 300))            # a synthetic city's map and scene
 
 :func:`build` runs the engine on the workspace, with its cache, lock and store, through
-:func:`navverse.cli.build_targets`, the code of ``navverse build``: :mod:`navverse.cli` stays the one
-navverse module that imports the engine and the stages. The other functions need no
+:func:`navverse.cli.build.build_targets`, the code of ``navverse build``: :mod:`navverse.cli` stays the
+one navverse package that imports the engine and the stages. The other functions need no
 workspace. (The API is not re-exported from ``navverse`` itself: every stage's cache key covers the
 package's ``__init__`` and all it imports.)
 """
@@ -37,8 +37,8 @@ import gymnasium
 from navverse.errors import NavverseError
 
 if TYPE_CHECKING:
+    from navverse.city.geometry.street_plan import StreetPlan
     from navverse.city.map import CityMap
-    from navverse.city.street_plan import StreetPlan
     from navverse.env import NavVerseEnv
     from navverse.nav import PathFinder
     from navverse.scene import Scene
@@ -157,7 +157,7 @@ def build(
     """
     from rich.console import Console
 
-    from navverse.cli import build_targets, workspace_built_dir
+    from navverse.cli.build import build_targets, workspace_built_dir
 
     root = Path(root) if root is not None else None
     extra: list[Path] = []
@@ -223,7 +223,7 @@ def load_scene(
 
 def _workspace_built_dir() -> Path:
     """The build store of the workspace here (the last place of the scene search path)."""
-    from navverse.cli import workspace_built_dir
+    from navverse.cli.build import workspace_built_dir
 
     return workspace_built_dir()
 
@@ -316,29 +316,33 @@ def generate_building(
     """A furnished procedural building as a scene, in-process (no engine, no files).
 
     ``options`` are those of :class:`~navverse.indoor.building.BuildingOptions` (``length``,
-    ``depth``, ``density``, ``exclude``...); the same type, seed and options give the same scene.
+    ``depth``, ``density``, ``exclude_categories``...), the ``indoor_layout`` stage's recipe keys,
+    checked as a recipe's are; the same type, seed and options give the same scene.
     Write it with :func:`navverse.scene.write_scene_dir`, or build its navmesh with
     :func:`navverse.nav.scene_navmesh.build_scene_navmesh`.
     """
     import numpy as np
+    from pydantic import ValidationError
 
-    from navverse.indoor.building import BuildingOptions
+    from navverse.indoor.building import BuildingOptions, BuildingSettings
     from navverse.indoor.building import generate_building as generate
     from navverse.indoor.programs import PROGRAMS
 
     if building_type not in PROGRAMS:
         raise ApiError(f"unknown building type {building_type!r}; choose from: {', '.join(PROGRAMS)}")
+    unknown = sorted(set(options) - set(BuildingOptions.model_fields))
+    if unknown:
+        known = ", ".join(BuildingOptions.model_fields)
+        raise ApiError(f"unknown building options {unknown}; the building options are: {known}")
     try:
-        chosen = BuildingOptions(**options)
-    except TypeError:
-        unknown = sorted(set(options) - set(BuildingOptions.__dataclass_fields__))
-        known = ", ".join(BuildingOptions.__dataclass_fields__)
-        raise ApiError(f"unknown building options {unknown}; the building options are: {known}") from None
+        chosen = BuildingSettings(building_type=building_type, **options)
+    except ValidationError as exc:
+        raise ApiError(f"building options: {exc}") from None
     return generate(
         building_type,
         np.random.default_rng(seed),
         scene_id=scene_id or f"{building_type}-s{seed}",
-        options=chosen,
+        options=BuildingOptions.of(chosen),
     )
 
 
@@ -354,13 +358,13 @@ class GeneratedCity:
 def generate_city(*, seed: int = 0, scene_id: str | None = None, **params: Any) -> GeneratedCity:
     """A synthetic city drawn from a seed, in-process: its map, street plan and 3-D scene.
 
-    ``params`` are those of :class:`~navverse.city.synthetic_params.SyntheticCityParams` (``size``,
+    ``params`` are those of :class:`~navverse.city.synthetic.params.SyntheticCityParams` (``size``,
     ``layout``...); the same seed and parameters give the same city.
     """
     from pydantic import ValidationError
 
-    from navverse.city.scene import CityGeometry, city_scene, geometry_plan
-    from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+    from navverse.city.geometry.scene import CityGeometry, city_scene, geometry_plan
+    from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
 
     try:
         chosen = SyntheticCityParams(**params)

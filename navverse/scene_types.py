@@ -30,12 +30,14 @@ from types import MappingProxyType
 from typing import Literal
 
 from navverse.errors import NavverseError
+from navverse.settings import Settings
 
 __all__ = [
     "PROFILES",
     "SCENE_TYPES",
     "SceneType",
     "SceneTypeProfile",
+    "SceneTypeSettings",
     "UnknownSceneTypeError",
     "scene_profile",
 ]
@@ -156,3 +158,11 @@ def scene_profile(scene_type: str) -> SceneTypeProfile:
         raise UnknownSceneTypeError(
             f"unknown scene type {scene_type!r}; expected one of {', '.join(SCENE_TYPES)}"
         ) from None
+
+
+class SceneTypeSettings(Settings):
+    """The type a scene is given when it is made from declared parts (primitive solids, an imported
+    mesh) rather than generated as a building or a city."""
+
+    scene_type: SceneType = "indoor"
+    """The scene's type, and so its profile (navmesh preset, episode starts, metrics...)."""

@@ -11,7 +11,7 @@ For a built city target (``navverse build <target>``; its ``populate`` stage on)
   within 25 m ahead along the street;
 - ``street_<target>_zones.png``: a bird's-eye view of ``--size`` meters around that camera: the
   street plan's classes, the sidewalk zones (furniture, walkway, frontage, verge) and parking bands
-  (``navverse/city/street_zones.py``), every object's footprint coloured by what placed it (mapped
+  (``navverse/city/street_life/zones.py``), every object's footprint coloured by what placed it (mapped
   furniture, the zone grammar, parking, contextual groups), and the camera.
 """
 
@@ -34,10 +34,10 @@ from PIL import Image
 from render_frames import panel, rgb_image, semantic_image
 from shapely.geometry import LineString, Point, box
 
+from navverse.city.geometry.street_plan import STREET_PLAN_FILE, load_street_plan
 from navverse.city.map import read_city_map
-from navverse.city.street_objects import footprint
-from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan
-from navverse.city.street_zones import street_zones
+from navverse.city.street_life.objects import footprint
+from navverse.city.street_life.zones import street_zones
 from navverse.errors import NavverseError
 from navverse.scene.directory import read_scene
 from navverse.sim.camera import look_at

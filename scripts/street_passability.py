@@ -8,7 +8,8 @@ For each built city target (default: every target with a ``street_geometry`` and
 ``scene``), the populated navmesh is the target's own (``scene/navmesh.bin``); the bare one is
 built here from ``street_geometry`` with the same settings. The table gives the sidewalk grid points,
 those objects took off the navmesh, the sidewalk islands before and after, cut-off pieces and
-pockets, crosswalks still on their island (``navverse/city/passability.py``), and the clear walkway
+pockets, crosswalks still on their island (``navverse/city/street_life/passability.py``), and the clear
+walkway
 width the populate stage measured (min / median).
 """
 
@@ -22,8 +23,8 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from navverse.city.passability import sidewalk_passability
-from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan
+from navverse.city.geometry.street_plan import STREET_PLAN_FILE, load_street_plan
+from navverse.city.street_life.passability import sidewalk_passability
 from navverse.nav.scene_navmesh import build_scene_navmesh, load_scene_navmesh
 from navverse.scene import read_scene
 from navverse.scene.heights import SurfaceHeights

@@ -10,8 +10,8 @@ from pipeline import StageContext
 
 if TYPE_CHECKING:
     from navverse.city.city_settings import CitySettings
+    from navverse.city.geometry.street_plan import StreetPlan
     from navverse.city.map import CityMap
-    from navverse.city.street_plan import StreetPlan
     from navverse.scene.geometry import Scene
 
 
@@ -19,8 +19,8 @@ def read_city_step(ctx: StageContext, scene_artifact: str) -> tuple[CityMap, Sce
     """The city map (artifact ``city_map``), the scene of `scene_artifact`, its street plan and the
     settings it was built with."""
     from navverse.city.city_settings import CITY_SETTINGS_FILE, load_city_settings
+    from navverse.city.geometry.street_plan import STREET_PLAN_FILE, load_street_plan
     from navverse.city.map import read_city_map
-    from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan
     from navverse.scene import read_scene
     from stages.city import CITY_MAP_FILE
 
@@ -42,7 +42,7 @@ def write_city_step(
     import shutil
 
     from navverse.city.city_settings import CITY_SETTINGS_FILE, save_city_settings
-    from navverse.city.street_plan import STREET_PLAN_FILE, save_street_plan
+    from navverse.city.geometry.street_plan import STREET_PLAN_FILE, save_street_plan
     from navverse.scene import write_scene_dir
     from stages.city import CITY_MAP_FILE
 

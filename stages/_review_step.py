@@ -1,14 +1,30 @@
-"""What the stages that package a dataset share: applying the decisions of ``navverse review``."""
+"""What the stages that package a dataset share: the version they publish, and applying the decisions
+of ``navverse review``."""
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Annotated
 
-from pipeline import StageContext
+from pydantic import Field
+
+from pipeline import Params, SourceFile, StageContext
 
 if TYPE_CHECKING:
     from navverse.dataset import Episode
+
+
+class ReleaseParams(Params):
+    """The dataset version a packaging stage publishes (``episodes/<name>/v<version>``) and the review
+    decisions applied to it."""
+
+    version: Annotated[str, Field(pattern=r"^\d+\.\d+$")]
+    """``MAJOR.MINOR``; a published version never changes, so bump it when the content changes."""
+    name: Annotated[str, Field(pattern=r"^[a-z0-9][a-z0-9._-]*$")] | None = None
+    """The dataset's name; None: the target id."""
+    review: SourceFile | None = None
+    """The decisions file of ``navverse review`` (``<name>.review.yml`` beside the recipe); its content
+    is part of the cache key."""
 
 
 def apply_review(

@@ -7,8 +7,8 @@ from typing import Annotated
 
 from pydantic import AfterValidator
 
-from navverse.city.densify import DensifySettings
-from navverse.city.i2o import AssemblySettings
+from navverse.city.i2o.assembly import AssemblySettings
+from navverse.city.i2o.densify import DensifySettings
 from pipeline import Input, Params, StageContext, stage
 
 
@@ -21,8 +21,8 @@ def _building_type(name: str) -> str:
 
 
 class AssembleI2OParams(Params, AssemblySettings, DensifySettings):
-    """Parameters of :func:`assemble_i2o`: those of :class:`navverse.city.i2o.AssemblySettings` and
-    :class:`navverse.city.densify.DensifySettings`.
+    """Parameters of :func:`assemble_i2o`: those of :class:`navverse.city.i2o.assembly.AssemblySettings` and
+    :class:`navverse.city.i2o.densify.DensifySettings`.
 
     The recipe links the pair: ``city`` (the ``geometry`` of a city target, after its storefronts)
     and ``building`` (the ``geometry`` of an indoor building target); when a link's globs match
@@ -46,7 +46,7 @@ class AssembleI2OParams(Params, AssemblySettings, DensifySettings):
 )
 def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
     """An i2o scene: the linked building set into the linked city at a road-facing facade."""
-    from navverse.city.i2o import assemble_i2o as assemble
+    from navverse.city.i2o.assembly import assemble_i2o as assemble
     from navverse.scene import read_scene
 
     city, city_map, plan, carried = _read_city(ctx)
@@ -66,7 +66,7 @@ class GenerateI2OParams(AssembleI2OParams):
 @stage(name="generate_i2o", inputs=[Input("city", artifact="geometry", many=True)], outputs=["geometry"])
 def generate_i2o(ctx: StageContext, params: GenerateI2OParams) -> None:
     """An i2o scene: a procedural building sized to a road-facing city building, set in its place."""
-    from navverse.city.i2o import generate_i2o as generate
+    from navverse.city.i2o.assembly import generate_i2o as generate
 
     city, city_map, plan, carried = _read_city(ctx)
     ctx.progress(1, 3, "generating")
@@ -79,9 +79,9 @@ def _read_city(ctx: StageContext):
     """The linked city scene, the map it was made from, its street plan and the settings it was
     built with (all in its directory)."""
     from navverse.city.city_settings import CITY_SETTINGS_FILE, load_city_settings
-    from navverse.city.i2o import AssemblyError
+    from navverse.city.geometry.street_plan import STREET_PLAN_FILE, load_street_plan
+    from navverse.city.i2o.assembly import AssemblyError
     from navverse.city.map import read_city_map
-    from navverse.city.street_plan import STREET_PLAN_FILE, load_street_plan
     from navverse.scene import read_scene
     from stages.city import CITY_MAP_FILE
 
@@ -114,7 +114,7 @@ def _finish(
     how it was made."""
     from shapely.geometry import Point
 
-    from navverse.city.densify import densify_neighbourhood
+    from navverse.city.i2o.densify import densify_neighbourhood
     from navverse.scene import write_scene_dir
 
     anchor = result.scene.annotations.indoor_anchor

@@ -9,7 +9,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from navverse.scene.terrain import TerrainName
-from navverse.scene_types import SceneType
+from navverse.scene_types import SceneTypeSettings
 from pipeline import Params, StageContext, stage
 
 MAX_SIZE_M = 2000.0
@@ -98,10 +98,10 @@ class ObjectSolid(Solid):
     category: Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*$")]
 
 
-class BlockoutParams(Params):
-    """Parameters of :func:`blockout`."""
+class BlockoutParams(Params, SceneTypeSettings):
+    """Parameters of :func:`blockout`: the ``scene_type`` (:class:`navverse.scene_types.SceneTypeSettings`),
+    ``friction`` per terrain class used, the ``surfaces`` and the ``objects``."""
 
-    scene_type: SceneType = "indoor"
     friction: dict[str, Annotated[float, Field(ge=0, le=5, description="Friction coefficient, 0 to 5.")]] = {}
     surfaces: Annotated[list[SurfaceSolid], Field(min_length=1, max_length=MAX_SOLIDS)]
     objects: Annotated[list[ObjectSolid], Field(max_length=MAX_SOLIDS)] = []

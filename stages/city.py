@@ -7,9 +7,9 @@ from typing import TYPE_CHECKING, Annotated
 
 from pydantic import AfterValidator, model_validator
 
-from navverse.city.osm_window import OsmWindow
-from navverse.city.scene import CityGeometry
-from navverse.city.synthetic import SyntheticCityParams
+from navverse.city.geometry.scene import CityGeometry
+from navverse.city.osm.window import OsmWindow
+from navverse.city.synthetic.generator import SyntheticCityParams
 from pipeline import Params, SourceFile, StageContext, stage
 
 if TYPE_CHECKING:
@@ -41,7 +41,7 @@ class OsmCityParams(Params, OsmWindow):
     @model_validator(mode="after")
     def _window_on_the_data(self) -> OsmCityParams:
         from navverse.city.map import CityMapError
-        from navverse.city.osm import check_window
+        from navverse.city.osm.reader import check_window
 
         try:
             check_window(self.source, center=self.center, size_m=self.size_m, bbox=self.bbox)
@@ -54,7 +54,7 @@ class OsmCityParams(Params, OsmWindow):
 def osm_city(ctx: StageContext, params: OsmCityParams) -> None:
     """city_map.json: roads, walkways, crossings, areas, buildings, POIs and furniture of an OSM window."""
     from navverse.city.map import write_city_map
-    from navverse.city.osm import read_osm
+    from navverse.city.osm.reader import read_osm
 
     def progress(phase: str, done: int) -> None:
         ctx.progress(done, 0, "checksum (bytes)" if phase == "checksum" else "OSM objects")
@@ -72,7 +72,7 @@ def osm_city(ctx: StageContext, params: OsmCityParams) -> None:
 
 
 class SyntheticCityStageParams(Params, SyntheticCityParams):
-    """Parameters of :func:`synthetic_city` (:class:`navverse.city.synthetic.SyntheticCityParams`),
+    """Parameters of :func:`synthetic_city` (:class:`navverse.city.synthetic.generator.SyntheticCityParams`),
     plus ``write_osm``: also write the map as ``city.osm`` (OSM XML that osmnx and JOSM read)."""
 
     write_osm: bool = False
@@ -82,8 +82,8 @@ class SyntheticCityStageParams(Params, SyntheticCityParams):
 def synthetic_city(ctx: StageContext, params: SyntheticCityStageParams) -> None:
     """city_map.json (and city.osm if asked): a city drawn from the target's seed, as a real one's records."""
     from navverse.city.map import write_city_map
-    from navverse.city.osm_xml import write_osm
-    from navverse.city.synthetic import synthetic_city as draw_city
+    from navverse.city.osm.writer import write_osm
+    from navverse.city.synthetic.generator import synthetic_city as draw_city
 
     knobs = SyntheticCityParams.model_validate(params.model_dump(exclude={"write_osm"}))
     city = draw_city(knobs, seed=ctx.seed % 2**32)
@@ -94,7 +94,7 @@ def synthetic_city(ctx: StageContext, params: SyntheticCityStageParams) -> None:
 
 
 def _record_map(ctx: StageContext, city: CityMap) -> None:
-    from navverse.city.scene import road_length
+    from navverse.city.geometry.scene import road_length
 
     ctx.record(
         roads=len(city.roads),
@@ -116,7 +116,7 @@ def _record_map(ctx: StageContext, city: CityMap) -> None:
 
 
 class CityGeometryParams(Params, CityGeometry):
-    """Parameters of :func:`city_geometry`: those of :class:`navverse.city.scene.CityGeometry`
+    """Parameters of :func:`city_geometry`: those of :class:`navverse.city.geometry.scene.CityGeometry`
     (lengths in meters): the ground's heights, curb and crosswalk widths, junction crosswalks, an
     analytic ``slope`` every surface follows, and ``friction`` per terrain class."""
 
@@ -126,9 +126,9 @@ def city_geometry(ctx: StageContext, params: CityGeometryParams) -> None:
     """A scene (roads below curbs, crosswalks, sidewalks, land, buildings), its street plan and settings."""
     import navverse
     from navverse.city.city_settings import CITY_SETTINGS_FILE, CitySettings, save_city_settings
+    from navverse.city.geometry.scene import city_scene, geometry_plan
+    from navverse.city.geometry.street_plan import STREET_PLAN_FILE, save_street_plan
     from navverse.city.map import read_city_map
-    from navverse.city.scene import city_scene, geometry_plan
-    from navverse.city.street_plan import STREET_PLAN_FILE, save_street_plan
     from navverse.scene import SceneSource, write_scene_dir
 
     city = read_city_map(ctx.input("city_map") / CITY_MAP_FILE)

@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import time
-from typing import TYPE_CHECKING, Annotated, Literal
+from typing import TYPE_CHECKING
 
-from pydantic import Field, model_validator
-
+from navverse.scene.simplify import DecimateSettings
 from pipeline import Params, StageContext, stage
 
 if TYPE_CHECKING:
@@ -14,35 +13,14 @@ if TYPE_CHECKING:
     from navverse.scene import Scene
 
 
-class DecimateParams(Params):
-    """Parameters of :func:`decimate`.
-
-    Give ``ratio`` (the fraction of faces to keep in every mesh) or ``target_faces`` (a budget for
-    the whole scene, shared in proportion to the meshes' faces), or neither: then the meshes are
-    only cleaned (vertices within ``merge_tolerance`` meters merged, degenerate and repeated
-    triangles dropped), which is cheap for light procedural scenes. Meshes (and colour groups of a
-    mesh) under ``min_faces`` faces are never simplified; each colour group is simplified alone, so
-    colours stay where they were. ``method``: ``open3d`` (Open3D's quadric decimation with boundary
-    quadrics: floor outlines keep their place) or ``fast`` (fast-simplification with border vertices
-    pinned: about twice as fast, fewer faces removed on meshes with long open borders).
-    ``measure_navmesh`` builds the navmesh (preset of the scene type) before and after and records
-    build times and navigable areas in the manifest.
+class DecimateParams(Params, DecimateSettings):
+    """Parameters of :func:`decimate`: those of :class:`navverse.scene.simplify.DecimateSettings` (a
+    ``ratio`` of faces kept, a ``target_faces`` budget or neither: only cleaning; ``min_faces``,
+    ``merge_tolerance``, ``method``), and ``measure_navmesh``: build the navmesh (preset of the scene
+    type) before and after and record build times and navigable areas in the manifest.
     """
 
-    ratio: (
-        Annotated[float, Field(gt=0.0, le=1.0, description="Fraction kept, more than 0, at most 1.")] | None
-    ) = None
-    target_faces: Annotated[int, Field(ge=1, le=100_000_000, description="Faces, 1 to 1e8.")] | None = None
-    min_faces: Annotated[int, Field(ge=4, le=10_000_000, description="Faces, 4 to 1e7.")] = 64
-    merge_tolerance: Annotated[float, Field(ge=0.0, le=0.1, description="Meters, 0 to 0.1.")] = 1e-4
-    method: Literal["open3d", "fast"] = "open3d"
     measure_navmesh: bool = True
-
-    @model_validator(mode="after")
-    def _one_budget(self) -> DecimateParams:
-        if self.ratio is not None and self.target_faces is not None:
-            raise ValueError("give either 'ratio' or 'target_faces', not both")
-        return self
 
 
 def _navmesh_figures(
@@ -70,15 +48,7 @@ def decimate(ctx: StageContext, params: DecimateParams) -> None:
     from navverse.scene_types import scene_profile
 
     source = read_scene(ctx.input("raw_geometry"))
-    scene, report = decimate_scene(
-        source,
-        ratio=params.ratio,
-        target_faces=params.target_faces,
-        min_faces=params.min_faces,
-        tolerance=params.merge_tolerance,
-        method=params.method,
-        progress=ctx.progress,
-    )
+    scene, report = decimate_scene(source, settings=DecimateSettings.of(params), progress=ctx.progress)
     write_scene_dir(scene, ctx.output)
     removed = 1.0 - report.faces_after / report.faces_before if report.faces_before else 0.0
     ctx.record(

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Annotated, Literal
 from pydantic import AfterValidator, Field, ValidationInfo, field_validator, model_validator
 
 from navverse.scene.terrain import TerrainName, known_terrain_class
-from navverse.scene_types import SceneType
+from navverse.scene_types import SceneTypeSettings
 from pipeline import Params, SourceFile, StageContext, stage
 from pipeline.params import ReadPolicy
 
@@ -110,7 +110,7 @@ class NodeRule(Params):
         return re.search(self.pattern, name if self.on == "name" else path) is not None
 
 
-class ImportMeshParams(Params):
+class ImportMeshParams(Params, SceneTypeSettings):
     """Parameters of :func:`import_mesh`.
 
     ``units`` (meters per file unit, or a unit name) and ``up_axis`` (the file's up axis) default
@@ -128,7 +128,6 @@ class ImportMeshParams(Params):
         | None
     ) = None
     up_axis: Literal["y", "z"] | None = None
-    scene_type: SceneType = "indoor"
     rules: list[NodeRule] = []
     default: str = "obstacle"
     friction: dict[

@@ -6,11 +6,13 @@ from typing import Annotated
 
 from pydantic import Field
 
+from navverse.episodes.instructions.settings import InstructionSettings
 from pipeline import Input, Params, StageContext, stage
 
 
-class InstructionsParams(Params):
-    """Parameters of :func:`instructions` (Appendix D.3).
+class InstructionsParams(Params, InstructionSettings):
+    """Parameters of :func:`instructions` (Appendix D.3): those of
+    :class:`navverse.episodes.instructions.settings.InstructionSettings`, and the refiner.
 
     Each verified VLN episode gets a template (turns and distances along the simplified reference path,
     aligned to its rollout) and a rewrite naming landmarks, objects seen by the robot's camera near each
@@ -26,8 +28,6 @@ class InstructionsParams(Params):
     cash."); one whose route instruction is dropped is dropped.
     """
 
-    min_landmarks: Annotated[int, Field(ge=0, le=16)] = 2
-    max_landmark_distance: Annotated[float, Field(gt=0.0, le=20.0)] = 3.5
     refiner: Annotated[str, Field(pattern=r"^[A-Za-z_][\w.]*:[A-Za-z_][\w.]*$")] | None = None
 
 
@@ -41,7 +41,6 @@ def instructions(ctx: StageContext, params: InstructionsParams) -> None:
 
     from navverse.dataset import Episode, read_json_gz, write_json_gz
     from navverse.episodes import files
-    from navverse.episodes.instructions.settings import InstructionSettings
     from navverse.episodes.instructions.writer import load_refiner
     from navverse.scene import read_annotations
 
@@ -58,9 +57,7 @@ def instructions(ctx: StageContext, params: InstructionsParams) -> None:
     missing = sorted(set(by_scene) - set(scene_dirs))
     if missing:
         raise RuntimeError(f"VLN or PlaceNav episodes of scenes that are not linked: {', '.join(missing)}")
-    settings = InstructionSettings(
-        min_landmarks=params.min_landmarks, max_distance=params.max_landmark_distance
-    )
+    settings = InstructionSettings.of(params)
     total = sum(map(len, by_scene.values()))
     ctx.progress(0, total, "writing")
     jobs = [

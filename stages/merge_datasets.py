@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-from typing import Annotated
-
-from pydantic import Field
-
-from pipeline import Input, Params, SourceFile, StageContext, stage
-from stages._review_step import apply_review
+from pipeline import Input, StageContext, stage
+from stages._review_step import ReleaseParams, apply_review
 
 
-class MergeDatasetsParams(Params):
+class MergeDatasetsParams(ReleaseParams):
     """Parameters of :func:`merge_datasets`.
 
     The recipe links the parts (``links: {parts: {artifact: dataset, targets: [...]}}``): built dataset
@@ -18,10 +14,6 @@ class MergeDatasetsParams(Params):
     gave it; difficulties are relabelled over all the episodes. ``version``, ``name`` and ``review``
     (the decisions file of ``navverse review``) are as for ``package_dataset``.
     """
-
-    version: Annotated[str, Field(pattern=r"^\d+\.\d+$")]
-    name: Annotated[str, Field(pattern=r"^[a-z0-9][a-z0-9._-]*$")] | None = None
-    review: SourceFile | None = None
 
 
 @stage(name="merge_datasets", inputs=[Input("parts", artifact="dataset", many=True)], outputs=["dataset"])

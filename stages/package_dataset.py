@@ -6,11 +6,11 @@ from typing import Annotated, Literal
 
 from pydantic import Field, field_validator
 
-from pipeline import Input, Params, SourceFile, StageContext, stage
-from stages._review_step import apply_review
+from pipeline import Input, StageContext, stage
+from stages._review_step import ReleaseParams, apply_review
 
 
-class PackageDatasetParams(Params):
+class PackageDatasetParams(ReleaseParams):
     """Parameters of :func:`package_dataset`.
 
     ``version`` (``MAJOR.MINOR``) names the published directory ``episodes/<name>/v<version>``; a
@@ -30,10 +30,7 @@ class PackageDatasetParams(Params):
     apply_quota`). A split and task left short of its quota is a warning in the build summary.
     """
 
-    version: Annotated[str, Field(pattern=r"^\d+\.\d+$")]
-    name: Annotated[str, Field(pattern=r"^[a-z0-9][a-z0-9._-]*$")] | None = None
     splits: dict[Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*$")], list[str]]
-    review: SourceFile | None = None
     quota: (
         dict[
             Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*$")],

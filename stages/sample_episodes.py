@@ -7,6 +7,7 @@ from typing import Annotated, Literal
 
 from pydantic import AfterValidator, Field, model_validator
 
+from navverse.episodes.sampling import SamplingSettings
 from navverse.scene.categories import CATEGORY_PATTERN, CategoryRule, unmatched_rules
 from pipeline import Input, Params, StageContext, stage
 
@@ -22,17 +23,15 @@ def _known_embodiment(name: str) -> str:
     return name
 
 
-PathLength = Annotated[float, Field(gt=0.0, le=1000.0, description="Meters, more than 0, at most 1000.")]
-
-
 class TaskParams(Params):
     """How many candidates of a task to draw per scene."""
 
     episodes_per_scene: Annotated[int, Field(ge=0, le=10_000)]
 
 
-class SampleEpisodesParams(Params):
-    """Parameters of :func:`sample_episodes`.
+class SampleEpisodesParams(Params, SamplingSettings):
+    """Parameters of :func:`sample_episodes`: those of :class:`navverse.episodes.sampling.SamplingSettings`
+    and the tasks, goals and robot.
 
     ``tasks`` maps ``objnav``, ``vln`` and ``placenav`` to the candidates wanted per scene. Object goals
     are the objects whose category (after ``goal_rules``: regular expressions over prim names or paths,
@@ -48,15 +47,9 @@ class SampleEpisodesParams(Params):
     place_categories: list[str] | None = None
     goal_rules: list[CategoryRule] = []
     embodiment: Annotated[str, AfterValidator(_known_embodiment)] = "spot"
-    path_length: tuple[PathLength, PathLength] = (5.0, 50.0)
-    yaw_jitter_deg: Annotated[float, Field(ge=0.0, le=180.0)] = 30.0
-    attempts: Annotated[int, Field(ge=1, le=10_000)] = 50
-    start_region: Literal["auto", "anywhere", "indoor"] = "auto"
 
     @model_validator(mode="after")
-    def _ranges(self) -> SampleEpisodesParams:
-        if self.path_length[0] >= self.path_length[1]:
-            raise ValueError(f"path_length must be [shortest, longest], got {list(self.path_length)}")
+    def _some_task(self) -> SampleEpisodesParams:
         if not self.tasks:
             raise ValueError("name at least one task under 'tasks' (objnav, vln, placenav)")
         return self
@@ -67,22 +60,13 @@ def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
     """candidates.json.gz: episode candidates of every task in every linked scene, with their statistics."""
     from navverse.dataset import write_json_gz
     from navverse.episodes import files
-    from navverse.episodes.sampling import SamplingSettings
     from navverse.scene import read_annotations
     from navverse.sim.embodiments import make_embodiment
 
     robot = make_embodiment(params.embodiment)
-    settings = SamplingSettings(
-        robot_radius=robot.radius,
-        base_height=robot.standing_height,
-        min_length=params.path_length[0],
-        max_length=params.path_length[1],
-        yaw_jitter_deg=params.yaw_jitter_deg,
-        attempts=params.attempts,
-        start_region=params.start_region,
-    )
     scenes = sorted((read_annotations(path).scene_id, path) for path in ctx.inputs["scene"])
-    jobs = [(scene_id, path, ctx.seed, params, settings) for scene_id, path in scenes]
+    body = (robot.radius, robot.standing_height)
+    jobs = [(scene_id, path, ctx.seed, params, body) for scene_id, path in scenes]
     ctx.progress(0, len(scenes), "sampling")
     episodes = []
     per_scene: dict[str, dict[str, int]] = {}
@@ -130,7 +114,8 @@ def _sample_scene(job: tuple) -> dict:
     from navverse.nav.scene_navmesh import load_scene_navmesh
     from navverse.scene import read_annotations
 
-    scene_id, path, seed, params, settings = job
+    scene_id, path, seed, params, (robot_radius, base_height) = job
+    settings = SamplingSettings.of(params)
     annotations = read_annotations(path)
     finder = load_scene_navmesh(path)
     out: dict = {"episodes": [], "counts": {}, "hits": [0] * len(params.goal_rules), "short": []}
@@ -145,8 +130,9 @@ def _sample_scene(job: tuple) -> dict:
         out["found"]["placenav" if task == "placenav" else "objnav"].update(goals)
         rng = np.random.default_rng([seed, zlib.crc32(scene_id.encode()), task_index])
         sample = sample_scene_episodes(
-            finder, annotations, goals, task=task, count=spec.episodes_per_scene, rng=rng, settings=settings
-        )
+            finder, annotations, goals, task=task, count=spec.episodes_per_scene, rng=rng,
+            robot_radius=robot_radius, base_height=base_height, settings=settings,
+        )  # fmt: skip
         out["episodes"].extend(sample.episodes)
         out["counts"][task] = len(sample.episodes)
         if len(sample.episodes) < spec.episodes_per_scene:

@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from navverse.city.storefronts import StorefrontSettings
+from navverse.city.places.storefronts import StorefrontSettings
 from pipeline import Params, StageContext, stage
 
 
 class StorefrontsParams(Params, StorefrontSettings):
-    """Parameters of :func:`storefronts`: those of :class:`navverse.city.storefronts.StorefrontSettings`."""
+    """Parameters of :func:`storefronts`: those of
+    :class:`navverse.city.places.storefronts.StorefrontSettings`."""
 
 
 @stage(
@@ -18,7 +19,7 @@ class StorefrontsParams(Params, StorefrontSettings):
 )
 def storefronts(ctx: StageContext, params: StorefrontsParams) -> None:
     """The city scene with storefronts carved into its facades at the map's places (scene.json records)."""
-    from navverse.city.storefronts import place_storefronts
+    from navverse.city.places.storefronts import place_storefronts
     from stages._city_step import read_city_step, write_city_step
 
     city, scene, plan, carried = read_city_step(ctx, "populated_geometry")

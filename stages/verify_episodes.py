@@ -2,39 +2,15 @@
 
 from __future__ import annotations
 
-from typing import Annotated
-
-from pydantic import Field, model_validator
-
+from navverse.episodes.verification import VerificationSettings
 from pipeline import Input, Params, StageContext, stage
 
 
-class VerifyEpisodesParams(Params):
-    """Parameters of :func:`verify_episodes` (Appendix D.2; the robot is the candidates' own).
-
-    A rollout must reach a goal instance (oracle success), last more than ``duration_s[0]`` and at most
-    ``duration_s[1]`` seconds, travel more than ``traveled_m[0]`` and less than ``traveled_m[1]``
-    meters, and end without a fall, getting stuck or leaving the scene. ``keyframes`` RGB frames are
-    rendered along each accepted rollout and kept (0: none).
-    """
-
-    duration_s: tuple[
-        Annotated[float, Field(ge=0.0, le=3600.0, description="Seconds, 0 to 3600.")],
-        Annotated[float, Field(gt=0.0, le=3600.0, description="Seconds, more than 0, at most 3600.")],
-    ] = (5.0, 100.0)
-    traveled_m: tuple[
-        Annotated[float, Field(ge=0.0, le=1000.0, description="Meters, 0 to 1000.")],
-        Annotated[float, Field(gt=0.0, le=1000.0, description="Meters, more than 0, at most 1000.")],
-    ] = (5.0, 50.0)
-    keyframes: Annotated[int, Field(ge=0, le=64)] = 0
-
-    @model_validator(mode="after")
-    def _ranges(self) -> VerifyEpisodesParams:
-        for name in ("duration_s", "traveled_m"):
-            low, high = getattr(self, name)
-            if low >= high:
-                raise ValueError(f"{name} must be [lowest, highest], got {[low, high]}")
-        return self
+class VerifyEpisodesParams(Params, VerificationSettings):
+    """Parameters of :func:`verify_episodes` (Appendix D.2; the robot is the candidates' own): those of
+    :class:`navverse.episodes.verification.VerificationSettings`, the acceptance bounds of a rollout
+    (``duration_s``, ``traveled_m``) and the ``keyframes`` (of ``keyframe_size`` pixels) rendered
+    along each accepted one and kept (0: none)."""
 
 
 @stage(name="verify_episodes", inputs=["candidates", Input("scene", many=True)], outputs=["verified"])
@@ -46,7 +22,6 @@ def verify_episodes(ctx: StageContext, params: VerifyEpisodesParams) -> None:
 
     from navverse.dataset import Episode, read_json_gz, write_json_gz
     from navverse.episodes import files
-    from navverse.episodes.verification import VerificationSettings
     from navverse.episodes.verification import verify_episodes as run
     from navverse.scene import read_annotations
 
@@ -56,19 +31,12 @@ def verify_episodes(ctx: StageContext, params: VerifyEpisodesParams) -> None:
     missing = sorted({e.scene_id for e in episodes} - set(scene_dirs))
     if missing:
         raise RuntimeError(f"candidates of scenes that are not linked: {', '.join(missing)}")
-    settings = VerificationSettings(
-        timeout_s=params.duration_s[1],
-        min_duration_s=params.duration_s[0],
-        min_traveled_m=params.traveled_m[0],
-        max_traveled_m=params.traveled_m[1],
-        keyframes=params.keyframes,
-    )
     ctx.progress(0, len(scene_dirs), "verifying")
     results = run(
         episodes,
         scene_dirs,
         embodiment=candidates["embodiment"],
-        settings=settings,
+        settings=VerificationSettings.of(params),
         mapper=lambda fn, tasks: ctx.map(fn, tasks, chunksize=1),  # a scene per job, on the build's executor
     )
     accepted, rollouts, rejections = [], {}, []

@@ -74,6 +74,17 @@ def test_the_tree_keeps_its_layers() -> None:
             "from navverse.sim.turtlebot import TurtleBot",
             "navverse.sim.embodiment -> navverse.sim.turtlebot",
         ),
+        # The city's subpackages: OSM reading knows no street life; the map in 3-D nothing built on it.
+        (
+            "navverse/city/osm/reader.py",
+            "from navverse.city.street_life.populate import populate_city",
+            "navverse.city.osm.reader -> navverse.city.street_life.populate",
+        ),
+        (
+            "navverse/city/geometry/scene.py",
+            "from navverse.city.street_life.zones import street_zones",
+            "navverse.city.geometry.scene -> navverse.city.street_life.zones",
+        ),
     ],
     ids=[
         "pipeline-navverse",
@@ -83,6 +94,8 @@ def test_the_tree_keeps_its_layers() -> None:
         "cli-data-command-pipeline",
         "robot-registry",
         "protocol-robot",
+        "osm-street-life",
+        "geometry-street-life",
     ],
 )
 def test_an_import_across_the_layers_breaks_a_contract(

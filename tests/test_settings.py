@@ -169,7 +169,7 @@ def test_the_library_calls_of_a_stage_repeat_none_of_its_defaults(name: str) -> 
 def test_the_checks_catch_a_default_declared_twice() -> None:
     """The checks fail on purpose-made duplicates: a stage re-declaring a library field, a second
     library model declaring it, and a function repeating a stage default."""
-    from navverse.city.scene import CityGeometry
+    from navverse.city.geometry.scene import CityGeometry
     from pipeline import Params
 
     class Stage(Params, CityGeometry):

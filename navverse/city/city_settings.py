@@ -1,9 +1,9 @@
 """The settings a city scene was built with, carried beside it (``city_settings.json``).
 
 The stages that build a city write it next to the scene: the city geometry stage its
-:class:`~navverse.city.scene.CityGeometry`, population its
-:class:`~navverse.city.populate.PopulateSettings`, storefronts its
-:class:`~navverse.city.storefronts.StorefrontSettings`. A stage that changes a built city later (the
+:class:`~navverse.city.geometry.scene.CityGeometry`, population its
+:class:`~navverse.city.street_life.populate.PopulateSettings`, storefronts its
+:class:`~navverse.city.places.storefronts.StorefrontSettings`. A stage that changes a built city later (the
 indoor-to-outdoor assembly densifying the neighbourhood of an exit) reads them, so what it adds
 follows the city's own rules (excluded categories, zone widths, storefront categories) rather than
 defaults. A step that was skipped leaves its entry null.
@@ -21,9 +21,9 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, ValidationError
 
-from navverse.city.populate import PopulateSettings
-from navverse.city.scene import CityGeometry
-from navverse.city.storefronts import StorefrontSettings
+from navverse.city.geometry.scene import CityGeometry
+from navverse.city.places.storefronts import StorefrontSettings
+from navverse.city.street_life.populate import PopulateSettings
 from navverse.errors import NavverseError, rebuild_hint
 from navverse.files import atomic_write
 

@@ -16,10 +16,9 @@ from navverse.dataset import (
     EpisodeFile,
     Goal,
     counts_table,
-    file_sha256,
     write_json_gz,
 )
-from navverse.files import atomic_write
+from navverse.files import atomic_write, file_sha256
 
 __all__ = ["apply_quota", "assign_splits", "difficulty_of", "difficulty_thresholds", "write_dataset"]
 

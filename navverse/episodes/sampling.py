@@ -22,15 +22,18 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Annotated, Literal
 
 import numpy as np
 import shapely
+from pydantic import Field, model_validator
 
 from navverse.dataset import Episode, EpisodeInfo, Goal, success_distance
 from navverse.nav.pathfinder import PathFinder
 from navverse.scene.annotations import SceneAnnotations
 from navverse.scene.categories import CategoryRule, assign_category
 from navverse.scene_types import scene_profile
+from navverse.settings import Settings
 
 __all__ = [
     "GoalRegion",
@@ -46,36 +49,42 @@ _RING_STEP = 0.2  # m between rings of candidate region points
 _RING_POINTS = 24
 
 
-@dataclass(frozen=True)
-class SamplingSettings:
-    """How candidates are drawn.
+PathLength = Annotated[float, Field(gt=0.0, le=1000.0, description="Meters, more than 0, at most 1000.")]
+"""A path length (m), more than 0, at most 1000."""
 
-    Parameters
-    ----------
-    robot_radius : float
-        ``r_robot`` of the embodiment: the success distance is ``1.0 + r_robot``.
-    base_height : float
-        Height of the embodiment's base above the ground when standing (m): goal distances are
-        measured from the base.
-    min_length, max_length : float
-        Accepted shortest-path lengths from the start to a goal instance's region (m).
-    yaw_jitter_deg : float
-        The start faces the reference path's next corner, plus a uniform turn within ± this.
-    attempts : int
-        Starts drawn per episode before the episode is given up.
-    start_region : {"auto", "anywhere", "indoor"}
-        Where starts may be: ``indoor`` inside the scene's indoor region; ``auto`` follows the scene
-        type's profile (:mod:`navverse.scene_types`: ``indoor`` for indoor-to-outdoor scenes, else
-        ``anywhere``).
-    """
 
-    robot_radius: float = 0.6
-    base_height: float = 0.55
-    min_length: float = 5.0
-    max_length: float = 50.0
-    yaw_jitter_deg: float = 30.0
-    attempts: int = 50
-    start_region: str = "auto"
+class SamplingSettings(Settings):
+    """How candidates are drawn: the accepted path lengths, the start's yaw, the attempts per episode
+    and where starts may be. The robot's radius and base height are the embodiment's, given to
+    :func:`sample_scene_episodes` beside these."""
+
+    path_length: tuple[PathLength, PathLength] = (5.0, 50.0)
+    """Accepted shortest-path lengths from the start to a goal instance's region: [shortest, longest]
+    (m)."""
+    yaw_jitter_deg: Annotated[float, Field(ge=0.0, le=180.0)] = 30.0
+    """The start faces the reference path's next corner, plus a uniform turn within ± this (degrees)."""
+    attempts: Annotated[int, Field(ge=1, le=10_000)] = 50
+    """Starts drawn per episode before the episode is given up."""
+    start_region: Literal["auto", "anywhere", "indoor"] = "auto"
+    """Where starts may be: ``indoor`` inside the scene's indoor region; ``auto`` follows the scene
+    type's profile (:mod:`navverse.scene_types`: ``indoor`` for indoor-to-outdoor scenes, else
+    ``anywhere``)."""
+
+    @model_validator(mode="after")
+    def _ordered_lengths(self) -> SamplingSettings:
+        if self.path_length[0] >= self.path_length[1]:
+            raise ValueError(f"path_length must be [shortest, longest], got {list(self.path_length)}")
+        return self
+
+    @property
+    def min_length(self) -> float:
+        """The shortest accepted path (m)."""
+        return self.path_length[0]
+
+    @property
+    def max_length(self) -> float:
+        """The longest accepted path (m)."""
+        return self.path_length[1]
 
 
 @dataclass(frozen=True)
@@ -235,7 +244,9 @@ def sample_scene_episodes(
     task: str,
     count: int,
     rng: np.random.Generator,
-    settings: SamplingSettings = SamplingSettings(),
+    robot_radius: float,
+    base_height: float,
+    settings: SamplingSettings | None = None,
     id_offset: int = 0,
 ) -> SceneSample:
     """Draw up to ``count`` candidate episodes of one task in one scene.
@@ -254,8 +265,13 @@ def sample_scene_episodes(
         Episodes wanted.
     rng : numpy.random.Generator
         All randomness.
-    settings : SamplingSettings
-        Path lengths, start yaw, attempts, start region.
+    robot_radius : float
+        ``r_robot`` of the embodiment: the success distance is ``1.0 + r_robot``.
+    base_height : float
+        Height of the embodiment's base above the ground when standing (m): goal distances are
+        measured from the base.
+    settings : SamplingSettings, optional
+        Path lengths, start yaw, attempts, start region (default: the defaults).
     id_offset : int
         First episode number (ids are ``<scene_id>-<task>-<number:04d>``).
 
@@ -264,10 +280,11 @@ def sample_scene_episodes(
     SceneSample
         Fewer than ``count`` episodes when the scene cannot give more (every category's attempts used).
     """
-    success = success_distance(settings.robot_radius, scene_type=annotations.scene_type)
+    settings = settings or SamplingSettings()
+    success = success_distance(robot_radius, scene_type=annotations.scene_type)
     regions_by_category: dict[str, list[GoalRegion]] = {}
     for category, goals in goals_by_category.items():
-        regions = goal_regions(finder, goals, success=success, base_height=settings.base_height)
+        regions = goal_regions(finder, goals, success=success, base_height=base_height)
         if regions:
             regions_by_category[category] = regions
     sample = SceneSample(episodes=[], categories={c: len(r) for c, r in regions_by_category.items()})
@@ -280,7 +297,7 @@ def sample_scene_episodes(
     indoor_only = settings.start_region == "indoor" or (
         settings.start_region == "auto" and scene_profile(annotations.scene_type).start_region == "indoor"
     )
-    if indoor_only and annotations.scene_type != "indoor":  # leave the building: the goals are outdoors
+    if indoor_only and scene_profile(annotations.scene_type).goals_outside:  # the goals are outdoors
         reach = _indoor_reach(annotations, settings.max_length)
         outdoor = {
             c: [
@@ -308,7 +325,7 @@ def sample_scene_episodes(
                 start = finder.get_random_navigable_point(rng, island=island)
             if indoor_only and not _inside_indoor(annotations, start):
                 continue
-            episode = _episode(finder, annotations, start, regions, task, number, rng, settings)
+            episode = _episode(finder, annotations, start, regions, task, number, rng, settings, success)
             if episode is not None:
                 break
         if episode is None:
@@ -328,6 +345,7 @@ def _episode(
     number: int,
     rng: np.random.Generator,
     settings: SamplingSettings,
+    success: float,
 ) -> Episode | None:
     """The episode from ``start`` to the instances of a category; None when no instance is in range."""
     kept: list[tuple[float, GoalRegion, np.ndarray]] = []
@@ -363,6 +381,6 @@ def _episode(
             geodesic_distance=round(length, 4),
             euclidean_distance=round(float(np.linalg.norm(goal_xy - points[0, :2])), 4),
             closest_goal_object_id=closest.goal.object_id,
-            success_distance=success_distance(settings.robot_radius, scene_type=annotations.scene_type),
+            success_distance=success,
         ),
     )

@@ -22,11 +22,15 @@ import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Annotated
 
 import numpy as np
+from pydantic import Field, model_validator
 
 from navverse.dataset import Episode, Verification, goal_distance
 from navverse.processes import end_with_parent
+from navverse.settings import Settings
+from navverse.sim.camera import ImageSize
 
 __all__ = ["REASONS", "VerificationResult", "VerificationSettings", "verify_episodes", "verify_scene"]
 
@@ -44,30 +48,37 @@ REASONS = (
 """Rejection reasons, in the order they are checked."""
 
 
-@dataclass(frozen=True)
-class VerificationSettings:
+class VerificationSettings(Settings):
     """Acceptance bounds of a rollout (Appendix D.2) and what to keep of it.
 
-    Parameters
-    ----------
-    timeout_s : float
-        Longest rollout (s of simulated time); longer ones end as ``timeout``.
-    min_duration_s : float
-        A rollout must last longer than this (s).
-    min_traveled_m, max_traveled_m : float
-        The executed path must be longer than the first and shorter than the second (m).
-    keyframes : int
-        RGB frames rendered along each accepted rollout (0: none).
-    keyframe_size : tuple of int
-        Width and height of keyframes (pixels).
+    A rollout must reach a goal instance (oracle success), last more than ``duration_s[0]`` and at
+    most ``duration_s[1]`` seconds, travel more than ``traveled_m[0]`` and less than
+    ``traveled_m[1]`` meters, and end without a fall, getting stuck or leaving the scene.
     """
 
-    timeout_s: float = 100.0
-    min_duration_s: float = 5.0
-    min_traveled_m: float = 5.0
-    max_traveled_m: float = 50.0
-    keyframes: int = 0
-    keyframe_size: tuple[int, int] = (320, 240)
+    duration_s: tuple[
+        Annotated[float, Field(ge=0.0, le=3600.0, description="Seconds, 0 to 3600.")],
+        Annotated[float, Field(gt=0.0, le=3600.0, description="Seconds, more than 0, at most 3600.")],
+    ] = (5.0, 100.0)
+    """A rollout must last longer than the first and at most the second (s of simulated time); the
+    second is the timeout: longer rollouts end as ``timeout``."""
+    traveled_m: tuple[
+        Annotated[float, Field(ge=0.0, le=1000.0, description="Meters, 0 to 1000.")],
+        Annotated[float, Field(gt=0.0, le=1000.0, description="Meters, more than 0, at most 1000.")],
+    ] = (5.0, 50.0)
+    """The executed path must be longer than the first and shorter than the second (m)."""
+    keyframes: Annotated[int, Field(ge=0, le=64)] = 0
+    """RGB frames rendered along each accepted rollout and kept (0: none)."""
+    keyframe_size: ImageSize = (320, 240)
+    """Width and height of keyframes (pixels)."""
+
+    @model_validator(mode="after")
+    def _ordered_bounds(self) -> VerificationSettings:
+        for name in ("duration_s", "traveled_m"):
+            low, high = getattr(self, name)
+            if low >= high:
+                raise ValueError(f"{name} must be [lowest, highest], got {[low, high]}")
+        return self
 
 
 @dataclass(frozen=True, eq=False)
@@ -101,13 +112,15 @@ def _judge(episode: Episode, termination: str | None, duration: float, traveled:
         return termination
     if success_time is None:
         return "no_oracle_success"
-    if duration <= settings.min_duration_s:
+    shortest, longest = settings.duration_s
+    if duration <= shortest:
         return "too_short_duration"
-    if duration > settings.timeout_s:
+    if duration > longest:
         return "too_long_duration"
-    if traveled <= settings.min_traveled_m:
+    least, most = settings.traveled_m
+    if traveled <= least:
         return "too_short_distance"
-    if traveled >= settings.max_traveled_m:
+    if traveled >= most:
         return "too_long_distance"
     return None
 
@@ -117,7 +130,7 @@ def verify_scene(
     episodes: Sequence[Episode],
     *,
     embodiment: str,
-    settings: VerificationSettings = VerificationSettings(),
+    settings: VerificationSettings | None = None,
     collision_cache: str | Path | None = "default",
     progress: Callable[[int], None] | None = None,
 ) -> list[VerificationResult]:
@@ -131,8 +144,8 @@ def verify_scene(
         Candidates of this scene.
     embodiment : str
         The robot (``spot``, ``turtlebot``...).
-    settings : VerificationSettings
-        Bounds and keyframes.
+    settings : VerificationSettings, optional
+        Bounds and keyframes (default: the defaults).
     collision_cache : path, "default" or None
         Where convex decompositions are cached (see :class:`~navverse.sim.world.World`).
     progress : callable, optional
@@ -144,13 +157,14 @@ def verify_scene(
     from navverse.sim.terminations import TerminationMonitor
     from navverse.sim.world import World
 
+    settings = settings or VerificationSettings()
     results = []
     with World(scene_dir, collision_cache=collision_cache) as world:
         sim = Simulator(world, make_embodiment(embodiment))
         renderer = None
         for episode in episodes:
             sim.spawn(episode.start_position, episode.start_yaw)
-            monitor = TerminationMonitor(timeout=settings.timeout_s, detect_stuck=True)
+            monitor = TerminationMonitor(timeout=settings.duration_s[1], detect_stuck=True)
             rollout = follow_path(sim, np.asarray(episode.reference_path), monitor=monitor)
             trajectory = rollout.trajectory
             success_time = _oracle_success_time(episode, trajectory)
@@ -200,7 +214,7 @@ def verify_episodes(
     scene_dirs: dict[str, Path],
     *,
     embodiment: str,
-    settings: VerificationSettings = VerificationSettings(),
+    settings: VerificationSettings | None = None,
     jobs: int | None = None,
     progress: Callable[[int, int], None] | None = None,
     mapper: Callable[[Callable, list], list] | None = None,
@@ -215,8 +229,8 @@ def verify_episodes(
         Built scene directory by scene id; every candidate's scene must be there.
     embodiment : str
         The robot.
-    settings : VerificationSettings
-        Bounds and keyframes.
+    settings : VerificationSettings, optional
+        Bounds and keyframes (default: the defaults).
     jobs : int, optional
         Processes (default: the number of CPUs; 0 or 1 verifies in this process).
     progress : callable, optional
@@ -226,6 +240,7 @@ def verify_episodes(
         ``ctx.map`` (local processes or Ray tasks, as the build runs); then ``jobs`` and ``progress``
         are the mapper's business.
     """
+    settings = settings or VerificationSettings()
     by_scene: dict[str, list[Episode]] = {}
     for episode in episodes:
         by_scene.setdefault(episode.scene_id, []).append(episode)

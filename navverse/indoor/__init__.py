@@ -3,7 +3,13 @@
 >>> scene = generate_building("office", np.random.default_rng(0), scene_id="office-0")  # doctest: +SKIP
 """
 
-from navverse.indoor.building import BuildingOptions, ExtraFurniture, describe_rooms, generate_building
+from navverse.indoor.building import (
+    BuildingOptions,
+    BuildingSettings,
+    ExtraFurniture,
+    describe_rooms,
+    generate_building,
+)
 from navverse.indoor.floorplan import WALL_THICKNESS, Door, Exit, Floorplan, Rect, Room, generate_floorplan
 from navverse.indoor.programs import BUILDING_TYPES, PROGRAMS, ROOM_FURNITURE, BuildingProgram, Furniture
 
@@ -14,6 +20,7 @@ __all__ = [
     "WALL_THICKNESS",
     "BuildingOptions",
     "BuildingProgram",
+    "BuildingSettings",
     "Door",
     "Exit",
     "ExtraFurniture",

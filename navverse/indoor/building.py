@@ -3,14 +3,15 @@
 from __future__ import annotations
 
 from collections import Counter
-from dataclasses import dataclass
+from typing import Annotated, Literal
 
 import numpy as np
+from pydantic import AfterValidator, Field, model_validator
 
 from navverse.errors import SceneError
-from navverse.indoor.floorplan import Floorplan, generate_floorplan
+from navverse.indoor.floorplan import Floorplan, depth_range, generate_floorplan
 from navverse.indoor.furnish import Placement, furnish_room
-from navverse.indoor.programs import PROGRAMS, ROOM_FURNITURE, Furniture
+from navverse.indoor.programs import BUILDING_TYPES, PROGRAMS, ROOM_FURNITURE, Furniture
 from navverse.indoor.structure import SLAB, build_structure
 from navverse.scene import (
     BuildingAnnotation,
@@ -29,46 +30,89 @@ from navverse.scene import (
 )
 from navverse.scene.categories import CategoryRule, assign_category
 from navverse.scene.naming import OBJECTS_ROOT, sanitize_identifier
+from navverse.settings import Settings
 
-__all__ = ["BuildingOptions", "ExtraFurniture", "generate_building"]
+__all__ = ["BuildingOptions", "BuildingSettings", "BuildingType", "ExtraFurniture", "generate_building"]
+
+BuildingType = Literal[BUILDING_TYPES]  # type: ignore[valid-type]
+"""A building type: a key of :data:`~navverse.indoor.programs.PROGRAMS`."""
 
 
-@dataclass(frozen=True)
-class ExtraFurniture:
-    """Furniture a recipe adds to every room of a type: ``count`` of ``category``."""
+def _known_category(name: str) -> str:
+    from navverse.assets.library import categories
+
+    known = categories()
+    if name not in known:
+        raise ValueError(f"unknown object category {name!r} (known: {', '.join(known)})")
+    return name
+
+
+AssetCategory = Annotated[str, AfterValidator(_known_category)]
+"""An object category of the asset library (:func:`navverse.assets.library.categories`)."""
+
+
+class ExtraFurniture(Settings):
+    """Furniture added to every room of a type: ``count`` of ``category``."""
 
     room_type: str
-    category: str
-    count: int = 1
+    """The room type (of the building's program) whose rooms get it."""
+    category: AssetCategory
+    """The asset category placed."""
+    count: Annotated[int, Field(ge=1, le=20)] = 1
+    """How many per room."""
 
 
-@dataclass(frozen=True)
-class BuildingOptions:
-    """What a recipe can change about a procedural building.
+class BuildingOptions(Settings):
+    """What a recipe can change about a procedural building of a given type.
 
-    Attributes
-    ----------
-    length : float or None
-        Footprint length along the spine (m); sampled from the program when None.
-    depth : float or None
-        Footprint depth across the spine (m), within the program's range
-        (:func:`~navverse.indoor.floorplan.depth_range`); sampled when None.
-    density : float
-        Multiplies furniture counts.
-    exclude : tuple of str
-        Asset categories never placed.
-    extra : tuple of ExtraFurniture
-        Furniture added to rooms of a type.
-    category_rules : tuple of CategoryRule
-        Regexes over object prim names/paths giving annotated categories (default: the asset's).
+    ``length`` fixes the footprint along the building's spine and ``depth`` across it (m, within the
+    program's range); either is drawn from the program when None. ``density`` scales furniture
+    counts. ``exclude_categories`` and ``extra_furniture`` remove or add asset categories.
+    ``category_rules`` (regexes over object prim names such as ``office_chair_0007`` or paths) give
+    the annotated goal categories; objects matching a rule with ``category: null`` stay as
+    unannotated geometry.
     """
 
-    length: float | None = None
-    depth: float | None = None
-    density: float = 1.0
-    exclude: tuple[str, ...] = ()
-    extra: tuple[ExtraFurniture, ...] = ()
-    category_rules: tuple[CategoryRule, ...] = ()
+    length: Annotated[float, Field(gt=6.0, le=120.0)] | None = None
+    """Footprint length along the spine (m); drawn from the program when None."""
+    depth: Annotated[float, Field(gt=3.0, le=60.0)] | None = None
+    """Footprint depth across the spine (m), within the program's range
+    (:func:`~navverse.indoor.floorplan.depth_range`); drawn when None."""
+    density: Annotated[float, Field(gt=0.0, le=3.0)] = 1.0
+    """Multiplies furniture counts."""
+    exclude_categories: list[AssetCategory] = []
+    """Asset categories never placed."""
+    extra_furniture: list[ExtraFurniture] = []
+    """Furniture added to every room of a type."""
+    category_rules: list[CategoryRule] = []
+    """Regexes over object prim names or paths giving annotated categories (default: the asset's);
+    the first match wins, a rule without a category leaves the object unannotated."""
+
+
+class BuildingSettings(BuildingOptions):
+    """A building type and its options, checked together: the depth within the type's range, extra
+    furniture only in room types the type has."""
+
+    building_type: BuildingType
+    """The program (rooms, sizes, furniture): a key of :data:`~navverse.indoor.programs.PROGRAMS`."""
+
+    @model_validator(mode="after")
+    def _room_types(self) -> BuildingSettings:
+        program = PROGRAMS[self.building_type]
+        if self.depth is not None:
+            lo, hi = depth_range(program)
+            if not lo <= self.depth <= hi:
+                raise ValueError(
+                    f"a {self.building_type} footprint is {lo:.1f}-{hi:.1f} m deep, not {self.depth} m"
+                )
+        known = [program.spine.room_type] + [r.room_type for r in program.rooms]
+        for extra in self.extra_furniture:
+            if extra.room_type not in known:
+                rooms = ", ".join(known)
+                raise ValueError(
+                    f"a {self.building_type} has no room type {extra.room_type!r} (its rooms: {rooms})"
+                )
+        return self
 
 
 def _spawn(rng: np.random.Generator) -> np.random.Generator:
@@ -77,11 +121,13 @@ def _spawn(rng: np.random.Generator) -> np.random.Generator:
 
 def _furnish(plan: Floorplan, options: BuildingOptions, rng: np.random.Generator) -> list[Placement]:
     placements: list[Placement] = []
-    excluded = set(options.exclude)
+    excluded = set(options.exclude_categories)
     for room in plan.rooms:
         rules = ROOM_FURNITURE.get(room.room_type, ())
         rules = rules + tuple(
-            Furniture(e.category, (e.count, e.count)) for e in options.extra if e.room_type == room.room_type
+            Furniture(e.category, (e.count, e.count))
+            for e in options.extra_furniture
+            if e.room_type == room.room_type
         )
         placements += furnish_room(
             plan, room, rules, _spawn(rng), density=options.density, allowed=lambda c: c not in excluded
@@ -94,7 +140,7 @@ def generate_building(
     rng: np.random.Generator,
     *,
     scene_id: str,
-    options: BuildingOptions = BuildingOptions(),
+    options: BuildingOptions | None = None,
     source: SceneSource | None = None,
     rule_hits: list[int] | None = None,
 ) -> Scene:
@@ -108,8 +154,8 @@ def generate_building(
         The only randomness: the same seed gives the same scene.
     scene_id : str
         The scene's id.
-    options : BuildingOptions
-        Recipe options.
+    options : BuildingOptions, optional
+        Recipe options (default: the defaults).
     source : SceneSource, optional
         Recorded in the annotations.
     rule_hits : list of int, optional
@@ -127,6 +173,7 @@ def generate_building(
     """
     if building_type not in PROGRAMS:
         raise SceneError(f"unknown building type {building_type!r}; choose from: {', '.join(PROGRAMS)}")
+    options = options or BuildingOptions()
     plan = generate_floorplan(
         PROGRAMS[building_type], _spawn(rng), length=options.length, depth=options.depth
     )

@@ -7,7 +7,7 @@ faces, so colours stay exactly where they were; :func:`decimate_scene` does that
 a scene. All are deterministic: the same mesh gives the same arrays.
 
 >>> mesh = MeshData.box((1.0, 1.0, 1.0))
->>> decimate_mesh(mesh, 0.5, min_faces=100).num_faces  # too small to simplify: only cleaned
+>>> decimate_mesh(mesh, 0.5, min_faces=100, method="open3d").num_faces  # too small: only cleaned
 12
 """
 
@@ -15,9 +15,10 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
-from typing import Literal
+from typing import Annotated, Literal
 
 import numpy as np
+from pydantic import Field, model_validator
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
@@ -25,9 +26,11 @@ from scipy.spatial import cKDTree
 from navverse.errors import NavverseError
 from navverse.scene.compose import object_parts, replace_parts
 from navverse.scene.geometry import MeshData, Scene, Surface
+from navverse.settings import Settings
 
 __all__ = [
     "MIN_TRIANGLE_AREA",
+    "DecimateSettings",
     "SimplifyError",
     "SimplifyReport",
     "budget_ratio",
@@ -190,9 +193,9 @@ def decimate_mesh(
     mesh: MeshData,
     ratio: float,
     *,
-    min_faces: int = 64,
+    min_faces: int,
+    method: Method,
     tolerance: float = 0.0,
-    method: Method = "open3d",
 ) -> MeshData:
     """Clean a mesh, then simplify it to about ``ratio`` of its faces, colour group by colour group.
 
@@ -203,13 +206,12 @@ def decimate_mesh(
     ratio : float
         Fraction of the (cleaned) faces to keep, in (0, 1]; 1 only cleans.
     min_faces : int
-        Colour groups (and meshes) with fewer faces are left as they are.
+        Colour groups (and meshes) with fewer faces are left as they are
+        (:attr:`DecimateSettings.min_faces`).
+    method : {"open3d", "fast"}
+        The simplification (:attr:`DecimateSettings.method`).
     tolerance : float
         Vertex merge distance of the cleanup (see :func:`clean_mesh`).
-    method : {"open3d", "fast"}
-        ``open3d``: Open3D's quadric decimation with boundary quadrics (open outlines such as floor
-        edges are simplified along themselves, not shrunk). ``fast``: fast-simplification with border
-        vertices pinned (about twice as fast, reaches fewer faces on meshes with long borders).
 
     Returns
     -------
@@ -253,6 +255,41 @@ def decimate_mesh(
 
 class SimplifyError(NavverseError):
     """A decimation budget that cannot be met."""
+
+
+class DecimateSettings(Settings):
+    """How a scene's meshes are cleaned and simplified (:func:`decimate_scene`).
+
+    Give ``ratio`` (the fraction of faces to keep in every mesh) or ``target_faces`` (a budget for
+    the whole scene, shared in proportion to the meshes' faces), or neither: then the meshes are
+    only cleaned (vertices within ``merge_tolerance`` meters merged, degenerate and repeated
+    triangles dropped), which is cheap for light procedural scenes. Meshes (and colour groups of a
+    mesh) under ``min_faces`` faces are never simplified; each colour group is simplified alone, so
+    colours stay where they were.
+    """
+
+    ratio: (
+        Annotated[float, Field(gt=0.0, le=1.0, description="Fraction kept, more than 0, at most 1.")] | None
+    ) = None
+    """Fraction of faces to keep in every mesh; None: ``target_faces``, or only cleaning."""
+    target_faces: Annotated[int, Field(ge=1, le=100_000_000, description="Faces, 1 to 1e8.")] | None = None
+    """Total faces wanted, turned into one ratio for all meshes (:func:`budget_ratio`); None:
+    ``ratio``, or only cleaning."""
+    min_faces: Annotated[int, Field(ge=4, le=10_000_000, description="Faces, 4 to 1e7.")] = 64
+    """Meshes and colour groups with fewer faces are left as they are."""
+    merge_tolerance: Annotated[float, Field(ge=0.0, le=0.1, description="Meters, 0 to 0.1.")] = 1e-4
+    """Vertex merge distance of the cleanup (m, see :func:`clean_mesh`)."""
+    method: Method = "open3d"
+    """``open3d``: Open3D's quadric decimation with boundary quadrics (open outlines such as floor
+    edges are simplified along themselves, not shrunk: floor outlines keep their place). ``fast``:
+    fast-simplification with border vertices pinned (about twice as fast, fewer faces removed on
+    meshes with long open borders)."""
+
+    @model_validator(mode="after")
+    def _one_budget(self) -> DecimateSettings:
+        if self.ratio is not None and self.target_faces is not None:
+            raise ValueError("give either 'ratio' or 'target_faces', not both")
+        return self
 
 
 @dataclass(frozen=True)
@@ -300,11 +337,7 @@ def budget_ratio(meshes: Sequence[MeshData], target_faces: int, *, min_faces: in
 def decimate_scene(
     scene: Scene,
     *,
-    ratio: float | None = None,
-    target_faces: int | None = None,
-    min_faces: int = 64,
-    tolerance: float = 0.0,
-    method: Method = "open3d",
+    settings: DecimateSettings | None = None,
     progress: Callable[[int, int, str], None] | None = None,
 ) -> tuple[Scene, SimplifyReport]:
     """Clean and decimate every surface and object mesh of a scene.
@@ -313,13 +346,9 @@ def decimate_scene(
     ----------
     scene : Scene
         The scene; objects are simplified in their own frames and keep their annotations.
-    ratio : float, optional
-        Fraction of faces to keep in every mesh; with neither `ratio` nor `target_faces` the meshes
-        are only cleaned.
-    target_faces : int, optional
-        Total faces wanted; turned into one ratio for all meshes (see :func:`budget_ratio`).
-    min_faces, tolerance, method
-        See :func:`decimate_mesh`.
+    settings : DecimateSettings, optional
+        The budget (a ratio, a face count or none: only cleaning), the smallest meshes simplified,
+        the merge tolerance and the method.
     progress : callable, optional
         Called as ``progress(done, total, description)`` per mesh.
 
@@ -335,16 +364,20 @@ def decimate_scene(
     SimplifyError
         If `target_faces` cannot be met.
     """
-    if ratio is not None and target_faces is not None:
-        raise ValueError("give ratio or target_faces, not both")
+    settings = settings or DecimateSettings()
     meshes = [s.mesh for s in scene.surfaces] + [o.mesh for o in scene.objects]
-    cleaned = [clean_mesh(m, tolerance=tolerance) for m in meshes]
-    if target_faces is not None:
-        ratio = budget_ratio(cleaned, target_faces, min_faces=min_faces)
+    cleaned = [clean_mesh(m, tolerance=settings.merge_tolerance) for m in meshes]
+    ratio = settings.ratio
+    if settings.target_faces is not None:
+        ratio = budget_ratio(cleaned, settings.target_faces, min_faces=settings.min_faces)
     keep = 1.0 if ratio is None else float(ratio)
     simplified = []
     for index, mesh in enumerate(cleaned):
-        simplified.append(decimate_mesh(mesh, keep, min_faces=min_faces, method=method) if keep < 1 else mesh)
+        simplified.append(
+            decimate_mesh(mesh, keep, min_faces=settings.min_faces, method=settings.method)
+            if keep < 1
+            else mesh
+        )
         if progress is not None:
             progress(index + 1, len(cleaned), "decimate")
     surfaces = [

@@ -14,12 +14,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Annotated
 
 import numpy as np
 from numpy.typing import ArrayLike
+from pydantic import Field
 
 __all__ = [
     "CameraIntrinsics",
+    "ImageSize",
     "check_pose",
     "look_at",
     "optical_from_body",
@@ -27,6 +30,11 @@ __all__ = [
 ]
 
 _OPTICAL_FROM_BODY = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]])
+
+Pixels = Annotated[int, Field(ge=1, le=4096, description="Pixels, 1 to 4096.")]
+"""An image side (pixels), 1 to 4096."""
+ImageSize = tuple[Pixels, Pixels]
+"""``(width, height)`` of an image (pixels, each 1 to 4096): a settings field's type."""
 
 
 @dataclass(frozen=True)

@@ -96,10 +96,10 @@ def test_densification_follows_the_city_s_own_settings(tmp_path_factory: pytest.
     """The settings travel: the neighbourhood of the exit is densified by the linked city's
     population and storefront settings (carried in its city_settings.json), not by defaults."""
     from navverse.city.city_settings import load_city_settings
-    from navverse.city.densify import base_footprint
+    from navverse.city.geometry.street_plan import load_street_plan
+    from navverse.city.i2o.densify import base_footprint
     from navverse.city.map import read_city_map
-    from navverse.city.street_plan import load_street_plan
-    from navverse.city.street_zones import street_zones
+    from navverse.city.street_life.zones import street_zones
 
     workspace = workspace_with(
         tmp_path_factory.mktemp("i2o-rules") / "ws",

@@ -14,11 +14,12 @@ One mechanism, in four steps, behind :class:`InstructionWriter`:
    farther than ``max_alignment_error`` from a directive's vertex is dropped.
 3. **Landmarks.** Frames are ray-cast from the rollout's camera poses in a window before each turn
    (after the initial turn for the start, before the end for the arrival). Objects with at least
-   ``min_pixels`` pixels at a mean depth of at most ``max_distance`` are candidates; distinctive ones
-   (their category unique among the objects seen there, else made unique by their colour) are
-   preferred, then larger and nearer ones. Each directive names at most one landmark, described by
-   colour (:func:`object_color`, a small palette named by :func:`color_name`) and category. The text is
-   rewritten from sentence patterns drawn with the episode's random generator, with no distances.
+   ``min_pixels`` pixels at a mean depth of at most ``max_landmark_distance`` are candidates;
+   distinctive ones (their category unique among the objects seen there, else made unique by their
+   colour) are preferred, then larger and nearer ones. Each directive names at most one landmark,
+   described by colour (:func:`object_color`, a small palette named by :func:`color_name`) and
+   category. The text is rewritten from sentence patterns drawn with the episode's random generator,
+   with no distances.
    Episodes with fewer than ``min_landmarks`` landmarks are dropped.
 4. **Refiner (optional).** A callable (e.g. wrapping a vision-language model) receives keyframes
    (RGB at each directive's time), the template, the landmark text and the episode, and returns the

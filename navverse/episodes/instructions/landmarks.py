@@ -2,9 +2,9 @@
 
 Frames are ray-cast from a rollout's camera poses in a window before each turn (after the initial turn
 for the start, before the end for the arrival). Objects with at least ``min_pixels`` pixels at a mean
-depth of at most ``max_distance`` are candidates; distinctive ones (their category unique among the
-objects seen there, else made unique by their colour) are preferred, then larger and nearer ones
-(:class:`LandmarkFinder`). A landmark is described by colour (:func:`object_color`, a small palette
+depth of at most ``max_landmark_distance`` are candidates; distinctive ones (their category unique
+among the objects seen there, else made unique by their colour) are preferred, then larger and nearer
+ones (:class:`LandmarkFinder`). A landmark is described by colour (:func:`object_color`, a small palette
 named by :func:`color_name`) and category.
 """
 
@@ -141,8 +141,8 @@ class LandmarkFinder:
     camera_to_base : array_like, shape (4, 4)
         Pose of the robot camera's optical frame in the base frame (``Embodiment.camera_to_base``).
     settings : InstructionSettings
-        ``resolution``, ``window``, ``frames_per_window``, ``max_distance``, ``min_pixels`` and
-        ``near_goal`` are used.
+        ``resolution``, ``window``, ``frames_per_window``, ``max_landmark_distance``, ``min_pixels``
+        and ``near_goal`` are used.
 
     Notes
     -----
@@ -200,7 +200,8 @@ class LandmarkFinder:
                 category, color = self._describe(i)
                 obj = self._objects[i]
                 if category == episode.goal_category or (
-                    directive.kind == "turn" and _footprint_distance(obj, directive.position) > s.max_distance
+                    directive.kind == "turn"
+                    and _footprint_distance(obj, directive.position) > s.max_landmark_distance
                 ):
                     continue
                 if categories[category] == 1:
@@ -256,7 +257,8 @@ class LandmarkFinder:
 
     def _visibility(self, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Per object id over the frames of rollout `rows`: the most pixels it covers in a frame where its
-        mean depth is within `max_distance`, that depth, and the most pixels at any distance."""
+        mean depth is within `max_landmark_distance`, that depth, and the most pixels at any
+        distance."""
         near, depth, seen = np.zeros(self._ids), np.full(self._ids, np.inf), np.zeros(self._ids)
         for frame in self._renderer.render_batch(camera_poses(rows, self._camera_to_base)):
             ids = frame.semantic.ravel()
@@ -264,7 +266,7 @@ class LandmarkFinder:
             total = np.bincount(ids, weights=frame.depth.ravel(), minlength=self._ids)[: self._ids]
             mean = np.divide(total, counts, out=np.full(self._ids, np.inf), where=counts > 0)
             seen = np.maximum(seen, counts)
-            better = (mean <= self._settings.max_distance) & (counts > near)
+            better = (mean <= self._settings.max_landmark_distance) & (counts > near)
             near[better], depth[better] = counts[better], mean[better]
         near[0] = seen[0] = 0.0  # no object
         return near, depth, seen

@@ -15,8 +15,8 @@ import open3d as o3d
 import pytest
 import trimesh
 
-from navverse.city.osm import read_osm
-from navverse.city.scene import CityGeometry, city_scene
+from navverse.city.geometry.scene import CityGeometry, city_scene
+from navverse.city.osm.reader import read_osm
 from navverse.scene.geometry import Scene
 from navverse.sim.embodiments import make_embodiment
 from navverse.sim.rollout import follow_path

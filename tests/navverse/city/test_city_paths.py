@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from navverse.city.scene import CityGeometry, city_scene
-from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.city.geometry.scene import CityGeometry, city_scene
+from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
 from navverse.nav import OUTDOOR
 from navverse.nav.sampling import sample_paths
 from navverse.nav.scene_navmesh import build_scene_navmesh

@@ -13,12 +13,12 @@ from shapely.geometry import LineString, Point
 from shapely.strtree import STRtree
 
 from navverse.assets.library import asset, categories
-from navverse.city.context_groups import plan_groups
-from navverse.city.group_catalogue import GROUPS, REGIONS
-from navverse.city.scene import CityGeometry, geometry_plan
-from navverse.city.street_objects import BASE_FOOTPRINT, footprint, plan_street_objects
-from navverse.city.street_zones import ZoneSettings, street_zones
-from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.city.geometry.scene import CityGeometry, geometry_plan
+from navverse.city.street_life.group_catalogue import GROUPS, REGIONS
+from navverse.city.street_life.groups import plan_groups
+from navverse.city.street_life.objects import BASE_FOOTPRINT, footprint, plan_street_objects
+from navverse.city.street_life.zones import ZoneSettings, street_zones
+from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
 
 
 def size_of(category: str) -> tuple[float, float, float]:

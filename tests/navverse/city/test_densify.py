@@ -9,12 +9,12 @@ import pytest
 import shapely
 from shapely.geometry import Point, Polygon
 
-from navverse.city.densify import DensifySettings, base_footprint, densify_neighbourhood
-from navverse.city.i2o import assemble_i2o
-from navverse.city.populate import PopulateSettings, populate_city
-from navverse.city.scene import CityGeometry, city_scene, geometry_plan
-from navverse.city.storefronts import StorefrontSettings
-from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.city.geometry.scene import CityGeometry, city_scene, geometry_plan
+from navverse.city.i2o.assembly import assemble_i2o
+from navverse.city.i2o.densify import DensifySettings, base_footprint, densify_neighbourhood
+from navverse.city.places.storefronts import StorefrontSettings
+from navverse.city.street_life.populate import PopulateSettings, populate_city
+from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
 from navverse.indoor.building import BuildingOptions, generate_building
 
 GEOMETRY = CityGeometry(junction_crosswalks=True)

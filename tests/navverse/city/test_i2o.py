@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from shapely.geometry import LineString, Point, Polygon
 
-from navverse.city.i2o import AssemblyError, AssemblySettings, assemble_i2o
-from navverse.city.scene import CityGeometry, city_scene, geometry_plan
-from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.city.geometry.scene import CityGeometry, city_scene, geometry_plan
+from navverse.city.i2o.assembly import AssemblyError, AssemblySettings, assemble_i2o
+from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
 from navverse.indoor.building import BuildingOptions, generate_building
 from navverse.nav import NavMeshSettings
 from navverse.nav.scene_navmesh import build_scene_navmesh, scene_settings
@@ -152,7 +152,7 @@ def test_the_same_inputs_give_byte_identical_scene_files(city, cafe, assembled, 
 
 
 def test_storefronts_are_added_near_the_exit_and_never_on_the_building(city, assembled) -> None:
-    from navverse.city.storefronts import StorefrontSettings, densify_storefronts
+    from navverse.city.places.storefronts import StorefrontSettings, densify_storefronts
 
     _, plan = city
     anchor = np.asarray(assembled.scene.annotations.indoor_anchor[:2])
@@ -192,7 +192,7 @@ def _corners(store) -> list[tuple[float, float]]:
 
 
 def test_a_building_generated_to_fit_joins_the_city(city) -> None:
-    from navverse.city.i2o import generate_i2o
+    from navverse.city.i2o.assembly import generate_i2o
     from navverse.indoor.floorplan import depth_range
     from navverse.indoor.programs import PROGRAMS
 

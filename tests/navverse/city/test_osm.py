@@ -14,8 +14,11 @@ from pyproj import Transformer
 from shapely.geometry import Polygon
 
 from navverse.city.map import CityMap, CityMapError, read_city_map, write_city_map
-from navverse.city.osm import OSM_ATTRIBUTION, read_osm
-from navverse.city.osm_classes import (
+from navverse.city.osm.files import PROLOG_LIMIT
+from navverse.city.osm.geometry import clip_polyline
+from navverse.city.osm.reader import OSM_ATTRIBUTION, read_osm
+from navverse.city.osm.window import utm_epsg
+from navverse.city.tag_tables import (
     drawn_storeys,
     kerb_of,
     land_class,
@@ -23,9 +26,6 @@ from navverse.city.osm_classes import (
     poi_of,
     walkway_kind,
 )
-from navverse.city.osm_files import PROLOG_LIMIT
-from navverse.city.osm_geometry import clip_polyline
-from navverse.city.osm_window import utm_epsg
 
 DATA = Path(__file__).parent / "data"
 T_JUNCTION = DATA / "t_junction.osm"
@@ -262,12 +262,12 @@ def test_truncated_pbf_and_gzip_are_refused(tmp_path: Path) -> None:
 
 
 def test_decompression_bombs_are_refused(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr("navverse.city.osm_files._RATIO_FREE", 0)  # the ratio applies from the first byte
+    monkeypatch.setattr("navverse.city.osm.files._RATIO_FREE", 0)  # the ratio applies from the first byte
     bomb = tmp_path / "bomb.osm.gz"
     bomb.write_bytes(gzip.compress(b"<?xml version='1.0'?>\n<osm>" + b" " * 2_000_000 + b"</osm>\n"))
     with pytest.raises(CityMapError, match="decompression bomb"):
         read_osm(bomb)
-    monkeypatch.setattr("navverse.city.osm_files.MAX_RATIO", 1)
+    monkeypatch.setattr("navverse.city.osm.files.MAX_RATIO", 1)
     pbf = _to_pbf(RAW / "west-oakland.osm", tmp_path / "w.osm.pbf")
     with pytest.raises(CityMapError, match="decompression bomb"):
         read_osm(pbf, center=(37.8076, -122.3004))
@@ -517,7 +517,7 @@ def test_unsorted_file_is_sorted_in_memory(tmp_path: Path) -> None:
 
 
 def test_unsorted_file_too_large_to_sort_says_how(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr("navverse.city.osm_read.MAX_SORT_BYTES", 0)
+    monkeypatch.setattr("navverse.city.osm.stream.MAX_SORT_BYTES", 0)
     path = _town(tmp_path / "nwot.osm", range(3), reverse=True)
     with pytest.raises(
         CityMapError, match=r"too large to sort in memory: sort it first, e\.g\. `osmium sort"
@@ -526,7 +526,7 @@ def test_unsorted_file_too_large_to_sort_says_how(tmp_path: Path, monkeypatch: p
 
 
 def test_large_files_keep_node_locations_on_disk(junction: CityMap, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr("navverse.city.osm_read.IN_MEMORY_INDEX_NODES", 0)
+    monkeypatch.setattr("navverse.city.osm.stream.IN_MEMORY_INDEX_NODES", 0)
     on_disk = read_osm(T_JUNCTION, center=(48.0, 11.0), size_m=(200.0, 200.0))
     assert on_disk == junction
 

@@ -7,9 +7,9 @@ from pathlib import Path
 
 import osmnx
 
-from navverse.city.osm import read_osm
-from navverse.city.osm_xml import write_osm
-from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.city.osm.reader import read_osm
+from navverse.city.osm.writer import write_osm
+from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
 
 CITY = synthetic_city(SyntheticCityParams(size=(300.0, 250.0)), seed=7)
 

@@ -9,10 +9,10 @@ import pytest
 from shapely.geometry import LineString, Point
 from shapely.strtree import STRtree
 
-from navverse.city.parking import lot_slots, slot_polygon, street_slots
-from navverse.city.scene import CityGeometry, geometry_plan
-from navverse.city.street_zones import street_zones
-from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.city.geometry.scene import CityGeometry, geometry_plan
+from navverse.city.street_life.parking import lot_slots, slot_polygon, street_slots
+from navverse.city.street_life.zones import street_zones
+from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
 
 
 @pytest.fixture(scope="module")

@@ -9,10 +9,10 @@ import pytest
 from shapely.geometry import LineString
 
 from navverse import nav
-from navverse.city.passability import sidewalk_passability
-from navverse.city.populate import PopulateSettings, populate_city
-from navverse.city.scene import CityGeometry, city_scene, geometry_plan
-from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.city.geometry.scene import CityGeometry, city_scene, geometry_plan
+from navverse.city.street_life.passability import sidewalk_passability
+from navverse.city.street_life.populate import PopulateSettings, populate_city
+from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
 from navverse.nav.scene_navmesh import build_scene_navmesh
 from navverse.scene.compose import ObjectPart, object_parts, replace_parts
 from navverse.scene.geometry import MeshData

@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 from shapely.geometry import Polygon
 
-from navverse.city.populate import CAR_TYPES, PopulateSettings, populate_city
-from navverse.city.scene import CityGeometry, city_scene, geometry_plan
-from navverse.city.street_objects import footprint
-from navverse.city.street_zones import street_zones
-from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.city.geometry.scene import CityGeometry, city_scene, geometry_plan
+from navverse.city.street_life.objects import footprint
+from navverse.city.street_life.populate import CAR_TYPES, PopulateSettings, populate_city
+from navverse.city.street_life.zones import street_zones
+from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
 from navverse.scene import read_annotations, write_scene_dir
 
 GEOMETRY = CityGeometry(junction_crosswalks=True)

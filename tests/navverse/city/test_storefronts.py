@@ -11,10 +11,10 @@ import pytest
 import trimesh
 from shapely.geometry import LineString, Point, Polygon
 
-from navverse.city.populate import PopulateSettings, populate_city
-from navverse.city.scene import CityGeometry, city_scene, geometry_plan
-from navverse.city.storefronts import STOREFRONT_CATEGORY, StorefrontSettings, place_storefronts
-from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.city.geometry.scene import CityGeometry, city_scene, geometry_plan
+from navverse.city.places.storefronts import STOREFRONT_CATEGORY, StorefrontSettings, place_storefronts
+from navverse.city.street_life.populate import PopulateSettings, populate_city
+from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
 from navverse.scene.heights import SurfaceHeights
 
 GEOMETRY = CityGeometry(junction_crosswalks=True)

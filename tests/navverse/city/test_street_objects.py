@@ -11,11 +11,11 @@ import pytest
 from shapely.geometry import LineString
 from shapely.strtree import STRtree
 
+from navverse.city.geometry.scene import CityGeometry, geometry_plan
 from navverse.city.map import StreetFurniture
-from navverse.city.scene import CityGeometry, geometry_plan
-from navverse.city.street_objects import MAPPED_CATEGORIES, fair_shares, footprint, plan_street_objects
-from navverse.city.street_zones import street_zones
-from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.city.street_life.objects import MAPPED_CATEGORIES, fair_shares, footprint, plan_street_objects
+from navverse.city.street_life.zones import street_zones
+from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
 
 # Stand-in sizes (width, depth, height): the planner only needs footprints.
 SIZES = {

@@ -6,10 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from navverse.city.osm import read_osm
-from navverse.city.scene import CityGeometry, geometry_plan
-from navverse.city.street_plan import load_street_plan, save_street_plan
-from navverse.city.surfaces import SURFACE_CLASSES
+from navverse.city.geometry.scene import CityGeometry, geometry_plan
+from navverse.city.geometry.street_plan import load_street_plan, save_street_plan
+from navverse.city.geometry.surfaces import SURFACE_CLASSES
+from navverse.city.osm.reader import read_osm
 from navverse.errors import NavverseError
 
 T_JUNCTION = Path(__file__).parent / "data" / "t_junction.osm"

@@ -6,9 +6,9 @@ from __future__ import annotations
 import pytest
 from shapely.geometry import LineString
 
-from navverse.city.scene import CityGeometry, geometry_plan
-from navverse.city.street_zones import StreetZones, ZoneSettings, street_zones, walkway_clearance
-from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.city.geometry.scene import CityGeometry, geometry_plan
+from navverse.city.street_life.zones import StreetZones, ZoneSettings, street_zones, walkway_clearance
+from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
 
 SETTINGS = ZoneSettings()
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 from shapely.geometry import Point, box
 
+from navverse.city.geometry.surfaces import CROSSWALK_WIDTH, CURB_WIDTH, SURFACE_CLASSES, plan_surfaces
 from navverse.city.map import Building, CityMap, Crossing, Frame, LandArea, Path2, Polygon2, Road, Source
-from navverse.city.surfaces import CROSSWALK_WIDTH, CURB_WIDTH, SURFACE_CLASSES, plan_surfaces
 
 
 def _t_junction() -> CityMap:

@@ -17,9 +17,9 @@ from pydantic import ValidationError
 from shapely.geometry import LineString, Point, Polygon
 
 from navverse.city.map import CityMap, write_city_map
-from navverse.city.osm_classes import FURNITURE, POI_AMENITIES
-from navverse.city.synthetic import SyntheticCityParams, synthetic_city
-from navverse.city.synthetic_pois import POI_TABLE
+from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
+from navverse.city.synthetic.pois import POI_TABLE
+from navverse.city.tag_tables import FURNITURE, POI_AMENITIES
 
 LAYOUTS = ("grid", "radial", "organic")
 SMALL = {layout: SyntheticCityParams(layout=layout, size=(400.0, 300.0)) for layout in LAYOUTS}

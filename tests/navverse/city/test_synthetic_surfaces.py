@@ -15,10 +15,10 @@ import pytest
 import shapely
 from shapely.geometry import LineString, Point, box
 
+from navverse.city.geometry.surfaces import CROSSWALK_WIDTH, CURB_WIDTH, _crosswalk, plan_surfaces
 from navverse.city.map import CityMap
-from navverse.city.osm_xml import write_osm
-from navverse.city.surfaces import CROSSWALK_WIDTH, CURB_WIDTH, _crosswalk, plan_surfaces
-from navverse.city.synthetic import SyntheticCityParams, synthetic_city
+from navverse.city.osm.writer import write_osm
+from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
 
 LAYOUTS = ("grid", "radial", "organic")
 

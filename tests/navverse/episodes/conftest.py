@@ -50,7 +50,8 @@ def verified_vln(apartment: Scene, scene_dirs: dict[str, Path]):
     finder = load_scene_navmesh(scene_dirs["apartment-s0"])
     goals = object_goals(apartment.annotations, categories=VLN_CATEGORIES)
     sample = sample_scene_episodes(
-        finder, apartment.annotations, goals, task="vln", count=14, rng=np.random.default_rng(11)
-    )
+        finder, apartment.annotations, goals, task="vln", count=14, rng=np.random.default_rng(11),
+        robot_radius=0.6, base_height=0.55,
+    )  # fmt: skip
     results = verify_episodes(sample.episodes, scene_dirs, embodiment="spot", jobs=1)
     return sample.episodes, results

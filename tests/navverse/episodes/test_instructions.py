@@ -202,14 +202,14 @@ def test_objects_hidden_behind_the_robot_or_far_away_are_not_landmarks():
         (2, "piano"),
         (3, "wardrobe"),
     ]
-    instruction, reason = _writer(scene, min_landmarks=0, max_distance=3.0).write(
+    instruction, reason = _writer(scene, min_landmarks=0, max_landmark_distance=3.0).write(
         l_episode(), walk([(0, 0, 0), (8, 0, 0), (8, 8, 0)]), np.random.default_rng(0)
     )
     assert reason is None
     ids = {lm.object_id for lm in instruction.landmarks}
     assert 2 not in ids  # never in front of the camera
     assert 3 in ids  # seen at the corner: the control that a landmark can be found here
-    instruction, _ = _writer(l_scene([BED, far]), min_landmarks=0, max_distance=0.5).write(
+    instruction, _ = _writer(l_scene([BED, far]), min_landmarks=0, max_landmark_distance=0.5).write(
         l_episode(), walk(L_PATH), np.random.default_rng(0)
     )
     assert instruction.landmarks == []

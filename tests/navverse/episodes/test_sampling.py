@@ -17,6 +17,14 @@ from navverse.scene.categories import CategoryRule
 CATEGORIES = ["bed", "sofa", "toilet", "fridge", "chair", "armchair", "sink", "desk"]
 
 
+def _draw(finder, annotations, goals, *, count: int, seed: int, settings: SamplingSettings | None = None):
+    """Objnav candidates for a Spot-sized robot (r_robot 0.6 m: success within 1.6 m of the base)."""
+    return sample_scene_episodes(
+        finder, annotations, goals, task="objnav", count=count, rng=np.random.default_rng(seed),
+        robot_radius=0.6, base_height=0.55, settings=settings,
+    )  # fmt: skip
+
+
 @pytest.fixture(scope="module")
 def sample(apartment: Scene, scene_dirs: dict[str, Path]):
     finder = load_scene_navmesh(scene_dirs["apartment-s0"])
@@ -24,9 +32,7 @@ def sample(apartment: Scene, scene_dirs: dict[str, Path]):
     return (
         finder,
         goals,
-        sample_scene_episodes(
-            finder, apartment.annotations, goals, task="objnav", count=25, rng=np.random.default_rng(4)
-        ),
+        _draw(finder, apartment.annotations, goals, count=25, seed=4),
     )
 
 
@@ -79,13 +85,9 @@ def test_episodes_keep_the_papers_rules(sample):
 
 def test_same_seed_same_episodes_and_other_seeds_others(sample, apartment: Scene):
     finder, goals, drawn = sample
-    again = sample_scene_episodes(
-        finder, apartment.annotations, goals, task="objnav", count=25, rng=np.random.default_rng(4)
-    )
+    again = _draw(finder, apartment.annotations, goals, count=25, seed=4)
     assert [e.model_dump() for e in again.episodes] == [e.model_dump() for e in drawn.episodes]
-    other = sample_scene_episodes(
-        finder, apartment.annotations, goals, task="objnav", count=25, rng=np.random.default_rng(5)
-    )
+    other = _draw(finder, apartment.annotations, goals, count=25, seed=5)
     assert [e.start_position for e in other.episodes] != [e.start_position for e in drawn.episodes]
 
 
@@ -96,29 +98,19 @@ def test_indoor_to_outdoor_scenes_start_inside_the_building(sample, apartment: S
     indoor = [Polygon(p) for p in apartment.annotations.indoor_polygons]
     assert indoor, "the apartment has an indoor region"
     settings = SamplingSettings(start_region="indoor")
-    drawn = sample_scene_episodes(
-        finder,
-        apartment.annotations,
-        goals,
-        task="objnav",
-        count=10,
-        rng=np.random.default_rng(1),
-        settings=settings,
-    )
+    drawn = _draw(finder, apartment.annotations, goals, count=10, seed=1, settings=settings)
     assert drawn.episodes
     assert all(any(p.contains(Point(e.start_position[:2])) for p in indoor) for e in drawn.episodes)
 
 
 def test_impossible_lengths_give_up_and_say_how_often(sample, apartment: Scene):
     finder, goals, _ = sample
-    settings = SamplingSettings(min_length=200.0, max_length=300.0, attempts=5)
-    drawn = sample_scene_episodes(
-        finder,
-        apartment.annotations,
-        goals,
-        task="objnav",
-        count=3,
-        rng=np.random.default_rng(0),
-        settings=settings,
-    )
+    settings = SamplingSettings(path_length=(200.0, 300.0), attempts=5)
+    assert (settings.min_length, settings.max_length) == (200.0, 300.0)
+    drawn = _draw(finder, apartment.annotations, goals, count=3, seed=0, settings=settings)
     assert drawn.episodes == [] and drawn.given_up == 3 and drawn.attempts == 15
+
+
+def test_path_lengths_are_shortest_then_longest():
+    with pytest.raises(ValueError, match=r"path_length must be \[shortest, longest\], got \[9.0, 3.0\]"):
+        SamplingSettings(path_length=(9.0, 3.0))

@@ -62,9 +62,9 @@ def test_each_unmet_condition_is_its_rejection_reason(candidate: Episode, scene_
     assert [r.reason for r in results] == list(cases)
     # Tight bounds: the same good episode fails on the bound that excludes it.
     for settings, reason in [
-        (VerificationSettings(max_traveled_m=3.0), "too_long_distance"),
-        (VerificationSettings(min_traveled_m=60.0, max_traveled_m=70.0), "too_short_distance"),
-        (VerificationSettings(timeout_s=2.0), "timeout"),
+        (VerificationSettings(traveled_m=(0.0, 3.0)), "too_long_distance"),
+        (VerificationSettings(traveled_m=(60.0, 70.0)), "too_short_distance"),
+        (VerificationSettings(duration_s=(1.0, 2.0)), "timeout"),
     ]:
         (result,) = verify_episodes([candidate], scene_dirs, embodiment="spot", settings=settings, jobs=1)
         assert result.reason == reason and not result.accepted
@@ -104,7 +104,7 @@ def test_results_do_not_depend_on_the_number_of_processes(scene_dirs: dict[str, 
         goals = object_goals(scene.annotations, categories=["bed", "sofa", "sink", "chair", "cafe_table"])
         episodes += sample_scene_episodes(
             load_scene_navmesh(path), scene.annotations, goals, task="objnav", count=3,
-            rng=np.random.default_rng(7),
+            rng=np.random.default_rng(7), robot_radius=0.6, base_height=0.55,
         ).episodes  # fmt: skip
     assert {e.scene_id for e in episodes} == set(scene_dirs)
     one = verify_episodes(episodes, scene_dirs, embodiment="turtlebot", jobs=1)
@@ -113,3 +113,8 @@ def test_results_do_not_depend_on_the_number_of_processes(scene_dirs: dict[str, 
     for a, b in zip(one, two, strict=True):
         assert a.reason == b.reason and a.verification == b.verification
         np.testing.assert_array_equal(a.trajectory, b.trajectory)
+
+
+def test_bounds_are_lowest_then_highest():
+    with pytest.raises(ValueError, match=r"duration_s must be \[lowest, highest\], got \[5.0, 2.0\]"):
+        VerificationSettings(duration_s=(5.0, 2.0))

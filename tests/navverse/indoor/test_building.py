@@ -99,13 +99,13 @@ def test_same_seed_same_bytes_other_seed_other_layout(tmp_path):
 
 
 def test_options_exclude_add_and_rename():
-    rules = (
+    rules = [
         CategoryRule(pattern=r"^(office_)?chair_", category="seat"),
         CategoryRule(pattern=r"^trash_can_"),
-    )
+    ]
     options = BuildingOptions(
-        exclude=("potted_plant",),
-        extra=(ExtraFurniture("corridor", "fire_extinguisher", 2),),
+        exclude_categories=["potted_plant"],
+        extra_furniture=[ExtraFurniture(room_type="corridor", category="fire_extinguisher", count=2)],
         category_rules=rules,
     )
     scene = generate_building("office", np.random.default_rng(1), scene_id="office-1", options=options)

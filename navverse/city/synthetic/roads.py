@@ -24,11 +24,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from navverse.city.geometry.surfaces import CROSSWALK_WIDTH, CURB_WIDTH
 from navverse.city.map import Crossing, Path2, Road
-from navverse.city.surfaces import CROSSWALK_WIDTH, CURB_WIDTH
-from navverse.city.synthetic_names import StreetNamer
-from navverse.city.synthetic_params import SyntheticCityParams
-from navverse.city.synthetic_streets import XY, Network, Window, node_pieces
+from navverse.city.synthetic.names import StreetNamer
+from navverse.city.synthetic.params import SyntheticCityParams
+from navverse.city.synthetic.streets import XY, Network, Window, node_pieces
 from navverse.city.tags import ROAD_CLASSES
 
 __all__ = ["Arm", "RoadStyle", "along", "crossings", "junction_arms", "road_records", "street_styles"]

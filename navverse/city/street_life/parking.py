@@ -5,7 +5,7 @@ Along a street (:func:`street_slots`) slots follow the band's middle line at the
 road, one car length plus a drawn gap apart, and face the traffic of their side (right-hand
 traffic: along the way on its right side, against it on the left; along it on a one-way street).
 A slot is kept only if its rectangle lies wholly inside the band, so slots never reach a
-crosswalk, a junction corner or a driveway (:mod:`navverse.city.street_zones` cut those out).
+crosswalk, a junction corner or a driveway (:mod:`navverse.city.street_life.zones` cut those out).
 In a parking lot (:func:`lot_slots`) stalls of ``stall`` size stand in double rows between
 ``aisle``-wide aisles, laid along the lot's longest side; a stall is kept if it lies inside the
 lot, away from its edge by ``edge_margin``.
@@ -21,9 +21,9 @@ from shapely.geometry import LineString, Polygon
 from shapely.geometry.base import BaseGeometry
 from shapely.prepared import prep
 
+from navverse.city.geometry.surfaces import SHARED_SURFACE_HIGHWAYS
 from navverse.city.map import CityMap
-from navverse.city.street_zones import StreetZones, ZoneSettings
-from navverse.city.surfaces import SHARED_SURFACE_HIGHWAYS
+from navverse.city.street_life.zones import StreetZones, ZoneSettings
 
 __all__ = ["Slot", "lot_slots", "slot_polygon", "street_slots"]
 

@@ -51,10 +51,10 @@ from navverse.assets.facade.storefronts import (
     place_category,
     storefront,
 )
+from navverse.city.geometry.street_plan import StreetPlan
+from navverse.city.geometry.surfaces import union_of
 from navverse.city.map import CityMap, Poi
-from navverse.city.street_plan import StreetPlan
-from navverse.city.surfaces import union_of
-from navverse.city.synthetic_pois import POI_TABLE
+from navverse.city.synthetic.pois import POI_TABLE
 from navverse.errors import SceneError
 from navverse.scene.annotations import (
     BuildingAnnotation,

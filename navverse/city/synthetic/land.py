@@ -3,7 +3,7 @@
 The river (:func:`river`) is a band ``river_width`` wide along a gently bending centre line (two
 sine waves of ``meander`` amplitude at most) that crosses the whole window, turned up to 20° from
 one of the axes and shifted up to a quarter of the window off its centre. Streets stop at its
-embankments except ``bridges`` of them (see :func:`~.synthetic_streets.cut_at_water`); the
+embankments except ``bridges`` of them (see :func:`~navverse.city.synthetic.streets.cut_at_water`); the
 embankments are green strips ``embankment`` wide along both banks, cut by the bridges.
 
 Each block is a park (``park_share``; a ``pond_share`` of parks hold an oval pond of at most
@@ -21,9 +21,9 @@ from shapely import affinity
 from shapely.geometry import LineString, Point, Polygon, box
 from shapely.geometry.base import BaseGeometry
 
-from navverse.city.synthetic_blocks import polygons_of
-from navverse.city.synthetic_params import SyntheticCityParams
-from navverse.city.synthetic_streets import XY, Window
+from navverse.city.synthetic.blocks import polygons_of
+from navverse.city.synthetic.params import SyntheticCityParams
+from navverse.city.synthetic.streets import XY, Window
 
 __all__ = ["banks", "block_uses", "embankments", "keepout", "pond", "river"]
 

@@ -1,7 +1,7 @@
 """The street plan: a city's 2-D surface classes as the geometry stage laid them, saved beside the scene.
 
 :func:`street_plan` is the one place a map becomes its ground plan (the mapped crossings plus, when
-asked, crosswalks on every junction arm; then :func:`~navverse.city.surfaces.plan_surfaces`). The
+asked, crosswalks on every junction arm; then :func:`~navverse.city.geometry.surfaces.plan_surfaces`). The
 city geometry stage builds the scene from it and writes it as ``street_plan.json`` next to
 ``scene.json``, so that later stages (population, storefronts) place things on exactly the
 sidewalks, curbs, crosswalks and roads the scene has, without redoing the plan or guessing it back
@@ -22,9 +22,9 @@ from pathlib import Path
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from navverse.city.crossings import junction_crossings
+from navverse.city.geometry.crossings import junction_crossings
+from navverse.city.geometry.surfaces import CURB_WIDTH, SURFACE_CLASSES, plan_surfaces
 from navverse.city.map import CityMap, Crossing
-from navverse.city.surfaces import CURB_WIDTH, SURFACE_CLASSES, plan_surfaces
 from navverse.errors import NavverseError, rebuild_hint
 from navverse.files import atomic_write
 
@@ -46,7 +46,7 @@ class StreetPlan:
     ----------
     classes : dict
         ``{surface class: (multi)polygon}`` for every class of
-        :data:`~navverse.city.surfaces.SURFACE_CLASSES`, pairwise disjoint, tiling the window.
+        :data:`~navverse.city.geometry.surfaces.SURFACE_CLASSES`, pairwise disjoint, tiling the window.
     crossings : tuple of Crossing
         Every crosswalk's crossing: the mapped ones and those added on junction arms.
     curb_width : float

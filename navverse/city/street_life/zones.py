@@ -37,15 +37,15 @@ from shapely.geometry.base import BaseGeometry
 from shapely.prepared import prep
 from shapely.strtree import STRtree
 
-from navverse.city.map import CityMap, Road
-from navverse.city.street_plan import StreetPlan
-from navverse.city.surfaces import (
+from navverse.city.geometry.street_plan import StreetPlan
+from navverse.city.geometry.surfaces import (
     QUAD_SEGMENTS,
     SHARED_SURFACE_HIGHWAYS,
     areal,
     carriageways,
     union_of,
 )
+from navverse.city.map import CityMap, Road
 from navverse.settings import Settings
 
 __all__ = [
@@ -72,7 +72,7 @@ RoadWidth = Annotated[float, Field(ge=0.0, le=40.0)]
 class ZoneSettings(Settings):
     """Widths of the sidewalk zones and the clearances around crossings and junctions (m; see the
     module docstring). The curb strip's width is the street plan's own
-    (:attr:`~navverse.city.street_plan.StreetPlan.curb_width`)."""
+    (:attr:`~navverse.city.geometry.street_plan.StreetPlan.curb_width`)."""
 
     clear_width: Annotated[float, Field(ge=0.8, le=5.0)] = 1.5
     """The walkway kept clear on sidewalks wide enough (the ADA/NACTO pedestrian through zone)."""
@@ -196,7 +196,7 @@ def street_zones(city: CityMap, plan: StreetPlan, settings: ZoneSettings | None 
     city : CityMap
         The map the plan was made from.
     plan : StreetPlan
-        Its ground plan (:func:`~navverse.city.street_plan.street_plan`).
+        Its ground plan (:func:`~navverse.city.geometry.street_plan.street_plan`).
     settings : ZoneSettings, optional
         Zone widths and clearances.
     """

@@ -43,7 +43,8 @@ areas          closed ways and multipolygons, the first matching row winning:
                Buildings are never areas; areas not at ground level are left out
 buildings      closed ways and multipolygons ``building=*`` (not ``no``; not ``roof``: open sides), at
                ground level; multipolygon inner rings are courtyards (holes). Height and base from
-               ``height`` / ``building:levels`` (+ roof) / ``min_height`` (:func:`~.tags.building_height`);
+               ``height`` / ``building:levels`` (+ roof) / ``min_height``
+               (:func:`~navverse.city.tags.building_height`);
                untagged, a whole number of 3 m storeys is drawn uniformly by ``building=*`` value:
                1 (garage, shed, hut, kiosk...), 1-2 (house, detached, terrace...), 2-3 (industrial,
                warehouse...), 2-5 (apartments, commercial, office, retail, hotel...), else 1-3, from
@@ -81,17 +82,17 @@ import os
 from pathlib import Path
 
 from navverse.city.map import CityMap, CityMapError, Frame, Source
-from navverse.city.osm_classes import FEATURE_KEYS
-from navverse.city.osm_features import Features, build_features
-from navverse.city.osm_files import (
+from navverse.city.osm.features import Features, build_features
+from navverse.city.osm.files import (
     Progress,
     check_osm_file,
     file_bounds,
     head_bounds,
     peek_osm_file,
 )
-from navverse.city.osm_read import read_extract
-from navverse.city.osm_window import OsmWindow, Window, box_text, make_window
+from navverse.city.osm.stream import read_extract
+from navverse.city.osm.window import OsmWindow, Window, box_text, make_window
+from navverse.city.tag_tables import FEATURE_KEYS
 from navverse.files import file_sha256
 
 __all__ = ["OSM_ATTRIBUTION", "check_window", "read_osm"]
@@ -118,7 +119,8 @@ def read_osm(
     center : (lat, lon), optional
         Centre of the window (the frame's origin); default: the centre of the file's declared bounds.
     size_m : (width, height), optional
-        Sides of a centred window (m), east-west and north-south; :class:`~.osm_window.OsmWindow`'s
+        Sides of a centred window (m), east-west and north-south;
+        :class:`~navverse.city.osm.window.OsmWindow`'s
         default (1 km square) when omitted.
     bbox : (min_lat, min_lon, max_lat, max_lon), optional
         The window as a lat/lon box instead of ``center``: the map covers the local rectangle around
@@ -137,7 +139,8 @@ def read_osm(
     Raises
     ------
     CityMapError
-        If the file cannot be read (see :func:`~.osm_files.check_osm_file`), the window is invalid or
+        If the file cannot be read (see :func:`~navverse.city.osm.files.check_osm_file`), the window is
+        invalid or
         misses the file's data, or the window holds no roads and no buildings.
     """
     path = Path(path)
@@ -173,7 +176,7 @@ def check_window(
 ) -> None:
     """Check, cheaply, that a file looks like OSM data and that a window lies on it.
 
-    Reads the file's first bytes (:func:`~.osm_files.peek_osm_file`) and its header: the centre
+    Reads the file's first bytes (:func:`~navverse.city.osm.files.peek_osm_file`) and its header: the centre
     given (or the bbox's) must lie inside the bounds the file declares, and the window must meet
     them. A file that declares no bounds is checked when it is read.
 

@@ -1,7 +1,7 @@
 """What stands on a city's sidewalks: mapped street furniture where it is tagged, then a zone grammar.
 
 :func:`plan_street_objects` returns :class:`Placement` records (category, position, heading, zone,
-source), never geometry; :mod:`navverse.city.populate` turns them into objects.
+source), never geometry; :mod:`navverse.city.street_life.populate` turns them into objects.
 
 1. **Mapped furniture** (``CityMap.furniture``: OSM nodes, or a synthetic city's own) is placed at
    its node, or up to ``snap`` (0.5 m) from it, where its footprint stands clear: off the road,
@@ -11,7 +11,7 @@ source), never geometry; :mod:`navverse.city.populate` turns them into objects.
    its light goes to the nearest furniture-zone point within ``signal_reach``. What cannot be
    placed is skipped and counted by reason.
 2. **The zone grammar** then walks every sidewalk's furniture zone and frontage zone
-   (:mod:`navverse.city.street_zones`) and proposes objects at the spacings of :data:`GRAMMAR`
+   (:mod:`navverse.city.street_life.zones`) and proposes objects at the spacings of :data:`GRAMMAR`
    (lamps every ~30 m, street trees every ~10 m on residential streets, a hydrant every ~90 m,
    parking meters and ticket machines along parking strips, bins, signs and bollards by the
    junctions; benches, planters and drinking fountains by the facades of main roads, recycling
@@ -46,11 +46,11 @@ from shapely.ops import nearest_points
 from shapely.prepared import prep
 from shapely.strtree import STRtree
 
+from navverse.city.geometry.street_plan import StreetPlan
+from navverse.city.geometry.surfaces import SHARED_SURFACE_HIGHWAYS
 from navverse.city.map import CityMap
 from navverse.city.shape_grid import ShapeGrid
-from navverse.city.street_plan import StreetPlan
-from navverse.city.street_zones import StreetZones, ZoneSettings, sidewalk_split
-from navverse.city.surfaces import SHARED_SURFACE_HIGHWAYS
+from navverse.city.street_life.zones import StreetZones, ZoneSettings, sidewalk_split
 
 __all__ = [
     "BASE_FOOTPRINT",

@@ -38,11 +38,11 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString, Polygon, box
 
+from navverse.city.geometry.surfaces import CROSSWALK_WIDTH, CURB_WIDTH
 from navverse.city.map import Road, StreetFurniture
-from navverse.city.surfaces import CROSSWALK_WIDTH, CURB_WIDTH
-from navverse.city.synthetic_params import SyntheticCityParams
-from navverse.city.synthetic_roads import Arm, along
-from navverse.city.synthetic_streets import XY, Window
+from navverse.city.synthetic.params import SyntheticCityParams
+from navverse.city.synthetic.roads import Arm, along
+from navverse.city.synthetic.streets import XY, Window
 
 __all__ = ["MIN_SPACING", "street_furniture"]
 
@@ -117,7 +117,7 @@ def street_furniture(
     roads : list of Road
         The city's roads.
     arms : list of Arm
-        Their ends at nodes (:func:`~.synthetic_roads.junction_arms`): clearances and crossings.
+        Their ends at nodes (:func:`~navverse.city.synthetic.roads.junction_arms`): clearances and crossings.
     water : shapely.Polygon or None
         The river, if any.
     window : tuple of float

@@ -1,6 +1,6 @@
 """Contextual object groups: small scenes of everyday street life, placed where they make sense.
 
-A group (:data:`~navverse.city.group_catalogue.GROUPS`, 30 of them) is a few objects in a fixed
+A group (:data:`~navverse.city.street_life.group_catalogue.GROUPS`, 30 of them) is a few objects in a fixed
 layout that tell a story together: a bench at a bus stop with a briefcase and an umbrella on its
 seat (``bus_stop_wait``), a bench in a park with a notebook and a coffee cup (``park_relaxing``),
 cones, a fence, a ladder and a toolbox by the road (``construction_repair``). :func:`plan_groups`
@@ -9,7 +9,8 @@ support), never geometry; the population stage builds the objects.
 
 Regions
 -------
-Each group names the **regions** it may stand in (:data:`~navverse.city.group_catalogue.REGIONS`). A
+Each group names the **regions** it may stand in
+(:data:`~navverse.city.street_life.group_catalogue.REGIONS`). A
 region is read from the street plan's surface classes, the sidewalk zones and the map's places and
 furniture:
 
@@ -37,7 +38,7 @@ region            anchors drawn in                                 members stand
 
 Nothing ever stands on the clear walkway, a road, a shared street, a curb, a crosswalk, in a
 building or in water, nor in a junction's corner clearance; every footprint of a group lies wholly in
-its region's land (footprints as :func:`~navverse.city.street_objects.footprint`).
+its region's land (footprints as :func:`~navverse.city.street_life.objects.footprint`).
 
 Anchors and rotation
 --------------------
@@ -84,7 +85,10 @@ from shapely.geometry.base import BaseGeometry
 from shapely.strtree import STRtree
 
 from navverse.assets.spec import SupportArea
-from navverse.city.group_catalogue import (
+from navverse.city.geometry.street_plan import StreetPlan
+from navverse.city.map import CityMap
+from navverse.city.shape_grid import ShapeGrid
+from navverse.city.street_life.group_catalogue import (
     BUS_STOP_CATEGORIES,
     CAFE_CATEGORIES,
     GROUPS,
@@ -94,11 +98,8 @@ from navverse.city.group_catalogue import (
     Member,
     RegionSpec,
 )
-from navverse.city.map import CityMap
-from navverse.city.shape_grid import ShapeGrid
-from navverse.city.street_objects import BASE_FOOTPRINT, Placement, footprint
-from navverse.city.street_plan import StreetPlan
-from navverse.city.street_zones import StreetZones
+from navverse.city.street_life.objects import BASE_FOOTPRINT, Placement, footprint
+from navverse.city.street_life.zones import StreetZones
 
 __all__ = ["GroupMember", "GroupPlan", "plan_groups"]
 
@@ -123,7 +124,7 @@ class GroupMember:
         ``z`` plus its support area's height when stacked.
     heading : float
         Direction its front faces (radians from +x), as in
-        :class:`~navverse.city.street_objects.Placement`: the object's yaw is ``heading - pi / 2``.
+        :class:`~navverse.city.street_life.objects.Placement`: the object's yaw is ``heading - pi / 2``.
     group : str
         Group instance (``bus_stop_wait-3``).
     zone : str
@@ -360,7 +361,7 @@ def plan_groups(
     city, plan, zones : CityMap, StreetPlan, StreetZones
         The map, its ground plan and its street zones.
     placed : sequence of Placement
-        Street objects already planned (:func:`~navverse.city.street_objects.plan_street_objects`);
+        Street objects already planned (:func:`~navverse.city.street_life.objects.plan_street_objects`);
         their footprints (with ``size_of``) are kept ``gap`` clear of.
     size_of : callable
         ``size_of(category) -> (width, depth, height)``: the size every member (and every placed

@@ -26,8 +26,8 @@ from shapely.geometry.base import BaseGeometry
 from shapely.geometry.polygon import orient
 
 from navverse.city.map import Polygon2, Road
-from navverse.city.synthetic_params import SyntheticCityParams
-from navverse.city.synthetic_streets import XY, Window
+from navverse.city.synthetic.params import SyntheticCityParams
+from navverse.city.synthetic.streets import XY, Window
 
 __all__ = [
     "FRONT_REACH",

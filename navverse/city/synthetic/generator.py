@@ -28,13 +28,13 @@ import numpy as np
 import shapely
 
 from navverse.city.map import Building, CityMap, Frame, LandArea, Polygon2, Source
-from navverse.city.synthetic_blocks import FRONT_REACH, block_polygons, frontage_lots, polygon2, street_shapes
-from navverse.city.synthetic_furniture import street_furniture
-from navverse.city.synthetic_land import banks, block_uses, embankments, keepout, pond, river
-from navverse.city.synthetic_params import Layout, SyntheticCityParams
-from navverse.city.synthetic_pois import PoiDraft, ground_floor_pois
-from navverse.city.synthetic_roads import crossings, junction_arms, rank_styles, road_records, street_styles
-from navverse.city.synthetic_streets import (
+from navverse.city.synthetic.blocks import FRONT_REACH, block_polygons, frontage_lots, polygon2, street_shapes
+from navverse.city.synthetic.furniture import street_furniture
+from navverse.city.synthetic.land import banks, block_uses, embankments, keepout, pond, river
+from navverse.city.synthetic.params import Layout, SyntheticCityParams
+from navverse.city.synthetic.pois import PoiDraft, ground_floor_pois
+from navverse.city.synthetic.roads import crossings, junction_arms, rank_styles, road_records, street_styles
+from navverse.city.synthetic.streets import (
     Network,
     Window,
     clip,

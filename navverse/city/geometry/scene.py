@@ -1,8 +1,9 @@
 """A city map as a scene: the ground plan in 3-D (roads depressed below curbs), buildings, annotations.
 
-:func:`city_scene` is what the city geometry stage runs: :func:`~navverse.city.surfaces.plan_surfaces`
-tiles the window with surface classes, :func:`~navverse.city.ground.ground_surfaces` gives them
-heights and vertical faces, :func:`~navverse.city.buildings.building_parts` extrudes the buildings,
+:func:`city_scene` is what the city geometry stage runs:
+:func:`~navverse.city.geometry.surfaces.plan_surfaces`
+tiles the window with surface classes, :func:`~navverse.city.geometry.ground.ground_surfaces` gives them
+heights and vertical faces, :func:`~navverse.city.geometry.buildings.building_parts` extrudes the buildings,
 and :func:`~navverse.scene.compose.assemble_scene` derives bounds and statistics. The scene records
 the map's frame (``geo``: EPSG code, latitude/longitude of the origin, source and attribution).
 """
@@ -15,12 +16,12 @@ import numpy as np
 from pydantic import Field
 from shapely.geometry import LineString, box
 
-from navverse.city.buildings import building_parts
-from navverse.city.ground import GroundSettings, ground_surfaces
+from navverse.city.geometry.buildings import building_parts
+from navverse.city.geometry.ground import GroundSettings, ground_surfaces
+from navverse.city.geometry.prisms import HeightFn
+from navverse.city.geometry.street_plan import StreetPlan, street_plan
+from navverse.city.geometry.surfaces import CROSSWALK_WIDTH, CURB_WIDTH, carriageways
 from navverse.city.map import CityMap
-from navverse.city.prisms import HeightFn
-from navverse.city.street_plan import StreetPlan, street_plan
-from navverse.city.surfaces import CROSSWALK_WIDTH, CURB_WIDTH, carriageways
 from navverse.scene.annotations import GeoReference, SceneSource
 from navverse.scene.compose import assemble_scene
 from navverse.scene.geometry import Scene
@@ -36,7 +37,8 @@ Friction = Annotated[float, Field(ge=0, le=5, description="Friction coefficient,
 
 
 class CityGeometry(GroundSettings):
-    """How a map becomes geometry: the ground's heights (:class:`~navverse.city.ground.GroundSettings`),
+    """How a map becomes geometry: the ground's heights
+    (:class:`~navverse.city.geometry.ground.GroundSettings`),
     the widths of curbs and crosswalks, junction crosswalks, the terrain's slope and friction."""
 
     curb_width: Annotated[float, Field(ge=0.05, le=1.0)] = CURB_WIDTH
@@ -45,7 +47,7 @@ class CityGeometry(GroundSettings):
     """Width of a crosswalk along its road (m)."""
     junction_crosswalks: bool = True
     """Add crosswalks across every arm of every junction of roads with sidewalks
-    (:func:`~navverse.city.crossings.junction_crossings`), besides the mapped ones. On by default:
+    (:func:`~navverse.city.geometry.crossings.junction_crossings`), besides the mapped ones. On by default:
     real junctions are crossed at every arm, mapped crossings or not, and without them a map that
     does not tag its crossings leaves the blocks as islands joined only by curb climbs."""
     slope: tuple[Grade, Grade] = (0.0, 0.0)

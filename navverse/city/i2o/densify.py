@@ -5,12 +5,14 @@ of an episode has things to find and to avoid. :func:`densify_neighbourhood` doe
 of a populated city scene:
 
 1. **Storefronts** on the road-facing facades of the region, until it holds the number asked
-   (:func:`~navverse.city.storefronts.densify_storefronts`; each clears the street in front of its door).
-2. **Street objects** from the zone grammar (:func:`~navverse.city.street_objects.plan_street_objects`
+   (:func:`~navverse.city.places.storefronts.densify_storefronts`; each clears the street in front of its
+   door).
+2. **Street objects** from the zone grammar (:func:`~navverse.city.street_life.objects.plan_street_objects`
    with the sidewalk zones clipped to the region; mapped furniture is already standing).
-3. **Parked cars** in the free street slots of the region (:func:`~navverse.city.parking.street_slots`).
+3. **Parked cars** in the free street slots of the region
+(:func:`~navverse.city.street_life.parking.street_slots`).
 
-A new object or car keeps the city's ``gap`` (:class:`~navverse.city.street_zones.ZoneSettings`)
+A new object or car keeps the city's ``gap`` (:class:`~navverse.city.street_life.zones.ZoneSettings`)
 from every object already in the scene, from the buildings, from
 the ``keep_clear`` areas the caller names (an exit's doorway, say) and from the approach of every
 storefront door. Of those that fit, ``objects_nearby`` and ``cars_nearby`` are drawn with the
@@ -32,13 +34,13 @@ from pydantic import Field
 from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 
+from navverse.city.geometry.street_plan import StreetPlan
 from navverse.city.map import CityMap
-from navverse.city.parking import Slot, slot_polygon, street_slots
-from navverse.city.populate import CAR_TYPES, PopulateSettings, stand_objects
-from navverse.city.storefronts import StorefrontSettings, densify_storefronts
-from navverse.city.street_objects import GRAMMAR, Placement, footprint, plan_street_objects
-from navverse.city.street_plan import StreetPlan
-from navverse.city.street_zones import StreetZones, street_zones
+from navverse.city.places.storefronts import StorefrontSettings, densify_storefronts
+from navverse.city.street_life.objects import GRAMMAR, Placement, footprint, plan_street_objects
+from navverse.city.street_life.parking import Slot, slot_polygon, street_slots
+from navverse.city.street_life.populate import CAR_TYPES, PopulateSettings, stand_objects
+from navverse.city.street_life.zones import StreetZones, street_zones
 from navverse.scene.annotations import ObjectAnnotation, StorefrontAnnotation
 from navverse.scene.compose import object_parts, replace_parts
 from navverse.scene.geometry import Scene
@@ -70,7 +72,7 @@ class DensifySettings(Settings):
 @dataclass(frozen=True)
 class Densified:
     """A densified scene and what was added (``objects`` and ``cars`` by category, ``storefronts``
-    as counted by :func:`~navverse.city.storefronts.densify_storefronts`, ``candidates``: the
+    as counted by :func:`~navverse.city.places.storefronts.densify_storefronts`, ``candidates``: the
     placements and slots that fitted before the draw)."""
 
     scene: Scene
@@ -91,7 +93,7 @@ def _clip(zones: StreetZones, region: BaseGeometry) -> StreetZones:
 
 def base_footprint(obj: ObjectAnnotation) -> Polygon:
     """Where a standing object meets the ground: its base (a tree's trunk, a lamp's post; see
-    :data:`~navverse.city.street_objects.BASE_FOOTPRINT`), else its box's footprint."""
+    :data:`~navverse.city.street_life.objects.BASE_FOOTPRINT`), else its box's footprint."""
     return footprint(obj.category, obj.size, obj.center[0], obj.center[1], obj.yaw + math.pi / 2.0)
 
 

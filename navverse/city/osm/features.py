@@ -1,6 +1,6 @@
 """From the OSM objects of a window to numbered city map features, clipped, repaired, counted.
 
-What each feature is made from is summed up in :mod:`navverse.city.osm` (the tag tables are in
+What each feature is made from is summed up in :mod:`navverse.city.osm.reader` (the tag tables are in
 :mod:`.osm_classes`). Every builder here counts what it leaves out or repairs in ``dropped``, by
 reason, and numbers features in the order (OSM type, OSM id, part), so the same input gives the
 same map.
@@ -28,7 +28,18 @@ from navverse.city.map import (
     StreetFurniture,
     Walkway,
 )
-from navverse.city.osm_classes import (
+from navverse.city.osm.geometry import (
+    DEGENERATE,
+    Rect,
+    as_line,
+    clip_line_pieces,
+    clip_polygon,
+    polygon2,
+    repaired,
+    ring_polygon,
+)
+from navverse.city.osm.stream import OsmExtract, OsmMultipolygon, OsmWay
+from navverse.city.tag_tables import (
     MAX_BUILDING_HEIGHT,
     ROAD_HIGHWAYS,
     TYPE_RANK,
@@ -46,17 +57,6 @@ from navverse.city.osm_classes import (
     text_value,
     walkway_kind,
 )
-from navverse.city.osm_geometry import (
-    DEGENERATE,
-    Rect,
-    as_line,
-    clip_line_pieces,
-    clip_polygon,
-    polygon2,
-    repaired,
-    ring_polygon,
-)
-from navverse.city.osm_read import OsmExtract, OsmMultipolygon, OsmWay
 from navverse.city.tags import (
     ROAD_CLASSES,
     STOREY_HEIGHT,

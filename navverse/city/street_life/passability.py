@@ -23,7 +23,7 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from navverse.city.street_plan import StreetPlan
+from navverse.city.geometry.street_plan import StreetPlan
 from navverse.nav import PathFinder
 
 __all__ = ["Passability", "sidewalk_passability"]

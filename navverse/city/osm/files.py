@@ -33,7 +33,7 @@ import osmium.io
 import osmium.osm
 
 from navverse.city.map import CityMapError
-from navverse.city.osm_window import LonLatBox
+from navverse.city.osm.window import LonLatBox
 from navverse.files import regular_file_problem
 
 __all__ = [

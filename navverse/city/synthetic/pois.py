@@ -6,7 +6,7 @@ building over 24 m wide holds a second one with probability 0.4. A place's categ
 :data:`POI_TABLE`, the ``amenity=*`` and ``shop=*`` values common in city centres with rough
 relative weights (rounded orders of magnitude of how often each value is mapped in OpenStreetMap,
 not measured from any one city); every ``amenity`` value is one the OSM reader keeps as a place
-(:data:`~navverse.city.osm_classes.POI_AMENITIES`). It stands just inside the street facade, 0.5 m
+(:data:`~navverse.city.tag_tables.POI_AMENITIES`). It stands just inside the street facade, 0.5 m
 behind a point drawn along its middle 60 %, and that facade point is the building's entrance. Its
 name comes from a word or family name and a label of its category (``Linden Pharmacy``,
 ``Parker's Bakery``).
@@ -20,8 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from navverse.city.map import Poi
-from navverse.city.synthetic_names import SURNAMES, WORDS, pick
-from navverse.city.synthetic_streets import XY
+from navverse.city.synthetic.names import SURNAMES, WORDS, pick
+from navverse.city.synthetic.streets import XY
 
 __all__ = ["POI_TABLE", "PoiDraft", "ground_floor_pois"]
 

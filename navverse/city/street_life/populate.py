@@ -1,8 +1,8 @@
 """Street life: a city scene with parked cars and street objects standing on it.
 
-:func:`populate_city` lays the street zones (:mod:`navverse.city.street_zones`), plans the street
-objects (:mod:`navverse.city.street_objects`: mapped furniture, then the zone grammar) within a
-budget of ``objects_per_km2``, picks parking slots (:mod:`navverse.city.parking`) for up to
+:func:`populate_city` lays the street zones (:mod:`navverse.city.street_life.zones`), plans the street
+objects (:mod:`navverse.city.street_life.objects`: mapped furniture, then the zone grammar) within a
+budget of ``objects_per_km2``, picks parking slots (:mod:`navverse.city.street_life.parking`) for up to
 ``cars_per_km2`` cars, builds every object from the object library, stands it on the scene's
 surface (a vertical ray cast at its position) and adds it to the scene with its zone and source.
 
@@ -25,12 +25,12 @@ import shapely
 from pydantic import AfterValidator, Field
 
 from navverse.assets.library import SupportArea, asset, make_object
-from navverse.city.context_groups import GroupPlan, plan_groups
+from navverse.city.geometry.street_plan import StreetPlan
 from navverse.city.map import CityMap
-from navverse.city.parking import Slot, lot_slots, slot_polygon, street_slots
-from navverse.city.street_objects import GRAMMAR, Placement, footprint, plan_street_objects
-from navverse.city.street_plan import StreetPlan
-from navverse.city.street_zones import StreetZones, ZoneSettings, street_zones, walkway_clearance
+from navverse.city.street_life.groups import GroupPlan, plan_groups
+from navverse.city.street_life.objects import GRAMMAR, Placement, footprint, plan_street_objects
+from navverse.city.street_life.parking import Slot, lot_slots, slot_polygon, street_slots
+from navverse.city.street_life.zones import StreetZones, ZoneSettings, street_zones, walkway_clearance
 from navverse.scene.compose import ObjectPart, object_parts, replace_parts
 from navverse.scene.geometry import Scene
 from navverse.scene.heights import SurfaceHeights
@@ -63,7 +63,7 @@ def _known_categories(names: list[str]) -> list[str]:
 def _known_groups(names: list[str] | None) -> list[str] | None:
     if names is None:
         return None
-    from navverse.city.group_catalogue import GROUPS
+    from navverse.city.street_life.group_catalogue import GROUPS
 
     known = {g.name for g in GROUPS}
     unknown = sorted(set(names) - known)
@@ -74,7 +74,7 @@ def _known_groups(names: list[str] | None) -> list[str] | None:
 
 class PopulateSettings(ZoneSettings):
     """How densely a city is populated, and with what: the densities and exclusions below and the
-    sidewalk zone widths of :class:`~navverse.city.street_zones.ZoneSettings` (``clear_width`` is the
+    sidewalk zone widths of :class:`~navverse.city.street_life.zones.ZoneSettings` (``clear_width`` is the
     walkway kept clear on sidewalks wide enough, else ``min_clear``, else the whole sidewalk)."""
 
     cars_per_km2: Annotated[float, Field(ge=0.0, le=5000.0)] = 200.0
@@ -89,7 +89,8 @@ class PopulateSettings(ZoneSettings):
     """Most objects of contextual groups (bus stop waits, picnics, roadworks...) per km², besides the
     street objects."""
     groups: Annotated[list[str] | None, AfterValidator(_known_groups)] = None
-    """The contextual groups to place (:data:`~navverse.city.group_catalogue.GROUPS` names); None: all."""
+    """The contextual groups to place (:data:`~navverse.city.street_life.group_catalogue.GROUPS` names);
+    None: all."""
     group_spacing: Annotated[float, Field(ge=0.0, le=500.0)] = 8.0
     """Least distance between two groups (m)."""
 
@@ -111,7 +112,7 @@ class Population:
         ``cars`` by zone, ``objects`` by category, ``zones`` (objects by zone), ``sources`` (by what
         placed them), ``skipped`` (mapped furniture not placed, by reason), ``walkway_clearance_m``
         (``min``, ``median`` and ``transects`` of the clear walkway width measured across every
-        sidewalk with the objects standing: :func:`~navverse.city.street_zones.walkway_clearance`).
+        sidewalk with the objects standing: :func:`~navverse.city.street_life.zones.walkway_clearance`).
     """
 
     scene: Scene

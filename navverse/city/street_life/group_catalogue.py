@@ -5,7 +5,7 @@ Each group (:data:`GROUPS`) is a few objects in a fixed layout (:class:`Member`:
 and turn in the group's frame, the member it stands on) that tell a story together; each names the
 regions (:data:`REGIONS`) it may stand in. The table is checked when the module loads (unique
 names, known regions, supports before what they carry). Placing groups in a city is
-:mod:`navverse.city.context_groups`; this module is data and imports nothing of the placement.
+:mod:`navverse.city.street_life.groups`; this module is data and imports nothing of the placement.
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ window's local frame:
 
 Memory: the Python side holds only those objects. Osmium keeps the location of every node of the
 file in its location index, to give ways their geometry: in memory (``flex_mem``, about 16 bytes a
-node) when the file's decompressed size (:class:`~.osm_files.OsmFile`) leaves room for at most
+node) when the file's decompressed size (:class:`~navverse.city.osm.files.OsmFile`) leaves room for at most
 :data:`IN_MEMORY_INDEX_NODES` nodes (a node takes at least 30 bytes of XML, 3 of a PBF block), else
 in a sparse index file in a temporary directory (``sparse_file_array``, 16 bytes a node on disk,
 paged in by the OS; ``TMPDIR`` chooses the disk). The area assembler
@@ -50,8 +50,8 @@ import osmium.osm
 import shapely
 
 from navverse.city.map import CityMapError
-from navverse.city.osm_files import OSMIUM_ERRORS, OsmFile, Progress, osmium_failure
-from navverse.city.osm_window import LonLatBox, Window
+from navverse.city.osm.files import OSMIUM_ERRORS, OsmFile, Progress, osmium_failure
+from navverse.city.osm.window import LonLatBox, Window
 
 __all__ = [
     "DUPLICATE",
@@ -431,7 +431,7 @@ def read_extract(
     Parameters
     ----------
     osm_file : OsmFile
-        A file checked by :func:`~.osm_files.check_osm_file`.
+        A file checked by :func:`~navverse.city.osm.files.check_osm_file`.
     window : Window
         What to keep.
     keys : tuple of str

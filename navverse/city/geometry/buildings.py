@@ -19,8 +19,8 @@ import shapely
 from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 
+from navverse.city.geometry.prisms import HeightFn, polygon_prism, polygons_of
 from navverse.city.map import Building, CityMap
-from navverse.city.prisms import HeightFn, polygon_prism, polygons_of
 from navverse.scene.annotations import BuildingAnnotation, ExitAnnotation, FacadeAnnotation
 from navverse.scene.geometry import MeshData, Surface
 
@@ -108,7 +108,7 @@ def building_parts(
     city : CityMap
         The map.
     carriageways : mapping
-        Each road's carriageway polygon by road id (:func:`~navverse.city.surfaces.carriageways`).
+        Each road's carriageway polygon by road id (:func:`~navverse.city.geometry.surfaces.carriageways`).
     terrain : callable
         Height of the terrain at xy points.
 

@@ -19,7 +19,7 @@ parking
 water           ``-water_depth`` (not navigable)
 ==============  ===========================================================================================
 
-Each region is a prism (:func:`~navverse.city.prisms.polygon_prism`, open at the bottom) whose walls
+Each region is a prism (:func:`~navverse.city.geometry.prisms.polygon_prism`, open at the bottom) whose walls
 reach below every neighbour, so wherever two regions of different heights meet there is a vertical
 face and no gap: the curb face between road and curb, the ramp's sides, the bank of a pond.
 """
@@ -35,10 +35,10 @@ from shapely.geometry import Polygon, box
 from shapely.geometry.base import BaseGeometry
 from shapely.strtree import STRtree
 
+from navverse.city.geometry.prisms import HeightFn, polygon_prism, polygons_of
+from navverse.city.geometry.surfaces import crosswalk_polygons
 from navverse.city.map import CityMap
-from navverse.city.prisms import HeightFn, polygon_prism, polygons_of
 from navverse.city.shape_grid import ShapeGrid
-from navverse.city.surfaces import crosswalk_polygons
 from navverse.scene.geometry import MeshData, Surface
 from navverse.settings import Settings
 
@@ -190,7 +190,7 @@ def ground_surfaces(
     Parameters
     ----------
     plan : dict
-        :func:`~navverse.city.surfaces.plan_surfaces` of ``city``.
+        :func:`~navverse.city.geometry.surfaces.plan_surfaces` of ``city``.
     city : CityMap
         The map (its crossings' kerbs shape the ramps).
     settings : GroundSettings

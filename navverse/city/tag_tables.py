@@ -2,7 +2,7 @@
 
 The tables here (land classes, places, street furniture, parking strips, the drawn heights of
 untagged buildings) and the road and walkway classes of :data:`~navverse.city.tags.ROAD_CLASSES`
-are summed up in :mod:`navverse.city.osm`. Functions take a way's or node's tags and never raise;
+are summed up in :mod:`navverse.city.osm.reader`. Functions take a way's or node's tags and never raise;
 those that meet a value they cannot use count it in a ``dropped`` counter, by reason.
 """
 
