@@ -7,12 +7,17 @@ from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from rich.table import Table
 
 from navverse.dataset import Dataset, Episode
 from navverse.scene_types import SCENE_TYPES
+
+if TYPE_CHECKING:
+    from navverse.episodes.sampling import SamplingSettings
+    from navverse.episodes.verification import VerificationSettings
 
 __all__ = ["ReplayReport", "category_table", "check_bounds", "counts_table", "draw_episode", "replay"]
 
@@ -133,9 +138,25 @@ class ReplayReport:
     bound_violations: list[tuple[str, str]] = field(default_factory=list)
 
 
-def check_bounds(episode: Episode, *, path_length: tuple[float, float] = (5.0, 50.0),
-                 duration_s: tuple[float, float] = (5.0, 100.0)) -> str | None:  # fmt: skip
-    """Why an episode breaks the dataset's distance or duration bounds, None if it keeps them."""
+def check_bounds(
+    episode: Episode,
+    *,
+    sampling: SamplingSettings | None = None,
+    verification: VerificationSettings | None = None,
+) -> str | None:
+    """Why an episode breaks the dataset's distance or duration bounds, None if it keeps them.
+
+    The bounds are those of the settings the dataset was sampled and verified with: the geodesic
+    distance within ``sampling.path_length``, the rollout's duration within
+    ``verification.duration_s`` and its length within ``verification.traveled_m`` (the settings'
+    defaults when not given).
+    """
+    from navverse.episodes.sampling import SamplingSettings
+    from navverse.episodes.verification import VerificationSettings
+
+    path_length = (sampling or SamplingSettings()).path_length
+    verification = verification or VerificationSettings()
+    duration_s, traveled_m = verification.duration_s, verification.traveled_m
     info = episode.info
     if not path_length[0] <= info.geodesic_distance <= path_length[1]:
         return f"geodesic distance {info.geodesic_distance} m outside {list(path_length)}"
@@ -144,8 +165,8 @@ def check_bounds(episode: Episode, *, path_length: tuple[float, float] = (5.0, 5
         return "no verification"
     if not duration_s[0] < v.duration_s <= duration_s[1]:
         return f"duration {v.duration_s} s outside ({duration_s[0]}, {duration_s[1]}]"
-    if not path_length[0] < v.traveled_m < path_length[1]:
-        return f"traveled {v.traveled_m} m outside ({path_length[0]}, {path_length[1]})"
+    if not traveled_m[0] < v.traveled_m < traveled_m[1]:
+        return f"traveled {v.traveled_m} m outside ({traveled_m[0]}, {traveled_m[1]})"
     if not 0.0 <= v.oracle_success_time_s <= v.duration_s:
         return "no oracle success during the rollout"
     return None
