@@ -15,8 +15,8 @@ Everything the command line does with recipes and datasets, from Python::
     town = nv.generate_city(seed=0, size=(300, 300))            # a synthetic city's map and scene
 
 :func:`build` runs the engine on the workspace, with its cache, lock and store, through
-:func:`navverse.cli.build.build_targets`, the code of ``navverse build``: :mod:`navverse.cli` stays the
-one navverse package that imports the engine and the stages. The other functions need no
+:func:`navverse.cli.build_targets`, the code of ``navverse build``: :mod:`navverse.cli` stays the
+one navverse module that imports the engine and the stages. The other functions need no
 workspace. (The API is not re-exported from ``navverse`` itself: every stage's cache key covers the
 package's ``__init__`` and all it imports.)
 """
@@ -157,7 +157,7 @@ def build(
     """
     from rich.console import Console
 
-    from navverse.cli.build import build_targets, workspace_built_dir
+    from navverse.cli import build_targets, workspace_built_dir
 
     root = Path(root) if root is not None else None
     extra: list[Path] = []
@@ -223,7 +223,7 @@ def load_scene(
 
 def _workspace_built_dir() -> Path:
     """The build store of the workspace here (the last place of the scene search path)."""
-    from navverse.cli.build import workspace_built_dir
+    from navverse.cli import workspace_built_dir
 
     return workspace_built_dir()
 

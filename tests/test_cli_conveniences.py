@@ -18,8 +18,8 @@ import pytest
 from rich.console import Console
 
 from navverse import __version__, cli
-from navverse.cli import evaluate
-from navverse.cli.progress import PlainProgress, show_progress
+from navverse.commands import evaluate
+from navverse.commands.progress import PlainProgress, show_progress
 
 REPO = Path(__file__).resolve().parents[1]
 NAVVERSE = str(Path(sys.executable).parent / "navverse")
@@ -248,7 +248,7 @@ def test_run_agent_prints_progress_lines_when_its_output_is_piped(monkeypatch, c
     monkeypatch.setattr(navverse.dataset, "Dataset", lambda root: fake_dataset)
     monkeypatch.setattr(navverse.eval.runner, "run_agent", fake_run)
     monkeypatch.setattr(evaluate, "dataset_scene_dirs", lambda *args: {"corridor": Path("corridor")})
-    monkeypatch.setattr("navverse.cli.progress.PLAIN_PROGRESS_SECONDS", 0.0)
+    monkeypatch.setattr("navverse.commands.progress.PLAIN_PROGRESS_SECONDS", 0.0)
     code = cli.main(["run-agent", "--dataset", "episodes/x/v1.0", "--agent", "oracle", "--out", "o.jsonl"])
     captured = capsys.readouterr()
     assert code == 0, captured.err

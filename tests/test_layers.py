@@ -58,11 +58,11 @@ def test_the_tree_keeps_its_layers() -> None:
             "from pipeline.store import ArtifactStore",
             "navverse.cli_support -> pipeline.store",
         ),
-        # Within navverse.cli, only the package module and the build commands reach the engine.
+        # The data commands beside it do not reach the engine either.
         (
-            "navverse/cli/evaluate.py",
+            "navverse/commands/evaluate.py",
             "from pipeline.store import ArtifactStore",
-            "navverse.cli.evaluate -> pipeline.store",
+            "navverse.commands.evaluate -> pipeline.store",
         ),
         (
             "navverse/sim/spot.py",

@@ -20,7 +20,7 @@ from rich.console import Console
 from navverse.errors import NavverseError
 
 if TYPE_CHECKING:
-    from navverse.cli.common import Shared, Subparsers
+    from navverse.commands.common import Shared, Subparsers
 
 __all__ = ["cmd_review", "open_review", "register"]
 
@@ -113,7 +113,7 @@ def open_review(
 def register(sub: Subparsers, shared: Shared) -> None:
     """Add ``navverse review DATASET`` to ``sub``: the local page where a person accepts or rejects
     episodes. (:mod:`navverse.cli` is imported here, so the review server does not load it.)"""
-    from navverse.cli.common import MINI, command
+    from navverse.commands.common import MINI, command
 
     review = command(
         sub, "review", parents=[shared.scene_options],

@@ -19,9 +19,8 @@ DRIVER = """\
 import sys
 
 import navverse.cli as cli
-from navverse.cli import build
 
-build.STAGES_PACKAGE = "tests.pipeline.cli_stages"
+cli.STAGES_PACKAGE = "tests.pipeline.cli_stages"
 if __name__ == "__main__":  # workers are spawned: they import this file without running it
     sys.exit(cli.main())
 """

@@ -136,7 +136,7 @@ def test_status_verify_names_the_file_and_exits_1(tmp_path, monkeypatch, capsys)
     (root / "recipes").mkdir(parents=True)
     (root / "recipes" / "slow.yaml").write_text("stages:\n  toy_slow: {parts: 2, delay_s: 0}\n")
     monkeypatch.setenv("NAVVERSE_ROOT", str(root))
-    monkeypatch.setattr("navverse.cli.build.STAGES_PACKAGE", "tests.pipeline.cli_stages")
+    monkeypatch.setattr("navverse.cli.STAGES_PACKAGE", "tests.pipeline.cli_stages")
     assert cli.main(["build", "-j", "0"]) == 0
     part = root / "data" / "built" / "targets" / "slow" / "numbers" / "part_001.npy"
     part.write_bytes(part.read_bytes()[:-1] + b"!")  # same size

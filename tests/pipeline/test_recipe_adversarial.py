@@ -354,7 +354,7 @@ def test_a_broken_file_is_known_by_the_id_its_text_gives(workspace, stages):
 
 
 def test_a_link_to_nothing_but_a_broken_file_names_it(workspace, stages, capsys):
-    from navverse.cli.build import _graph_over
+    from navverse.cli import _graph_over
 
     _break_beta(workspace)
     write(workspace.recipes_dir / "only-beta.yaml", "stages: {ex_gather: {}}\nlinks: {total: [beta]}\n")

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from navverse.cli import build_parser
-from navverse.cli.evaluate import _read_for_eval
+from navverse.commands.evaluate import _read_for_eval
 from navverse.dataset import (
     Dataset,
     Episode,

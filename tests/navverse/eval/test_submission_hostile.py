@@ -19,8 +19,8 @@ import pytest
 from rich.console import Console
 
 from navverse.cli import build_parser, main
-from navverse.cli.evaluate import cmd_eval
-from navverse.cli.validate import cmd_validate_submission
+from navverse.commands.evaluate import cmd_eval
+from navverse.commands.validate import cmd_validate_submission
 from navverse.eval.measures import EpisodeTarget, Robot, measure
 from navverse.eval.metrics import compute_metrics
 from navverse.eval.submission import (

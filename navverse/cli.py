@@ -1,33 +1,57 @@
-"""The build commands of ``navverse``: build, status, clean and validate recipe, each beside its
-parser; the commands that reach into the build engine (``pipeline``, ``stages``).
+"""The ``navverse`` command: the composition root, the one navverse module that imports ``pipeline``
+and ``stages``.
 
-:func:`build_targets` is ``navverse build`` for :func:`navverse.api.build`, and
-:func:`workspace_built_dir` finds the build store that :func:`navverse.cli.build_parser` hands the data
-commands. The engine is imported inside the functions, so the command line starts quickly.
+:func:`build_parser` assembles the parser from :data:`COMMANDS`, the ``register`` of each command
+group in the order of ``navverse --help``: the build commands here (build, status, clean, validate
+recipe: the ones that reach into the engine), the data commands in :mod:`navverse.commands`, each
+declaring its commands' arguments beside their handlers. The data commands are handed the build
+store (:func:`workspace_built_dir`, through :class:`~navverse.commands.common.Shared`) so they never
+import the engine. :func:`build_targets` is ``navverse build`` for :func:`navverse.api.build`.
+:func:`main` runs the chosen command's ``func``. The engine is imported inside the functions, so the
+command line starts quickly.
 """
 
 from __future__ import annotations
 
 import argparse
+import errno
 import shutil
-from collections.abc import Iterator, Sequence
+import signal
+import sys
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from functools import partial
 from pathlib import Path
 
 from rich.console import Console
 
-from navverse.cli.common import Shared, Subparsers, command, validate_commands
+from navverse.commands import evaluate, export, listing, show, validate
+from navverse.commands.common import (
+    MINI,
+    HelpFormatter,
+    Shared,
+    Subparsers,
+    VersionAction,
+    command,
+    examples_epilog,
+    recipe_options,
+    scene_options,
+    validate_commands,
+)
 from navverse.errors import NavverseError
+from navverse.review import cli as review
 from pipeline.errors import PipelineError
 
 __all__ = [
+    "COMMANDS",
     "STAGES_PACKAGE",
+    "build_parser",
     "build_targets",
     "cmd_build",
     "cmd_clean",
     "cmd_status",
     "cmd_validate_recipe",
+    "main",
     "register",
     "workspace_built_dir",
 ]
@@ -428,3 +452,82 @@ def _recipe_path(workspace, name: str) -> Path:
         if os.path.lexists(path):
             return path
     return Path(name)
+
+
+COMMANDS: tuple[Callable[[Subparsers, Shared], None], ...] = (
+    register,
+    validate.register,
+    evaluate.register,
+    show.register,
+    export.register,
+    review.register,
+    listing.register,
+)
+"""The ``register`` of every command group, in the order ``navverse --help`` lists their commands."""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of every sub-command."""
+    parser = argparse.ArgumentParser(
+        prog="navverse",
+        description="Build navigation scenes and episode datasets from recipes, and evaluate agents.",
+        epilog=examples_epilog(
+            "navverse build office-s1",
+            f"navverse run-agent --dataset {MINI} --agent oracle --out run.jsonl",
+            f"navverse eval --dataset {MINI} --submission run.jsonl",
+        ),
+        formatter_class=HelpFormatter,
+    )
+    parser.add_argument(
+        "--version",
+        action=VersionAction,
+        help="print the version and the dataset and scene formats, and exit",
+    )
+    sub = parser.add_subparsers(
+        dest="command", required=True, metavar="COMMAND", help="what to do (navverse COMMAND --help)"
+    )
+    shared = Shared(
+        recipe_options=recipe_options(), scene_options=scene_options(), built_dir=workspace_built_dir
+    )
+    for add in COMMANDS:
+        add(sub, shared)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``navverse`` command; returns the exit code.
+
+    Exit codes: 0 success; 1 an error (a message, never a traceback; for ``build`` a failed stage,
+    for ``status`` a corrupt artifact); 2 bad arguments; 130 interrupted by Ctrl-C (SIGINT), 143
+    by SIGTERM (a build ends its workers first and says how many stage runs are left).
+    """
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    console = Console(stderr=False)
+    errors = Console(stderr=True, highlight=False, soft_wrap=True)
+    from pipeline.params import allow_reading
+
+    try:
+        with allow_reading(args.allow_read if "allow_read" in args else ()):
+            return int(args.func(args, console))
+    except (NavverseError, PipelineError) as exc:
+        errors.print(f"error: {exc}", style="red", markup=False)
+        return 1
+    except KeyboardInterrupt as exc:  # a build's BuildInterrupted says how many stage runs are left
+        errors.print(str(exc) if hasattr(exc, "unfinished") else "interrupted", markup=False)
+        return 128 + int(getattr(exc, "signum", signal.SIGINT))
+    except OSError as exc:
+        if exc.errno not in (errno.ENOSPC, errno.EDQUOT):
+            raise
+        where = exc.filename or "the workspace"
+        errors.print(
+            f"error: no space left on device while writing {where}; free space and run the same "
+            "command to resume",
+            style="red",
+            markup=False,
+        )
+        return 1
+
+
+if __name__ == "__main__":  # python -m navverse.cli
+    sys.exit(main())

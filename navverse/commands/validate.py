@@ -1,6 +1,6 @@
 """``navverse validate dataset`` and ``validate submission``, each beside its parser: check a dataset
 version or a submission without building (``validate recipe`` is a build command,
-:mod:`navverse.cli.build`). Each command returns the exit code; its imports are inside it, so the
+:mod:`navverse.cli`). Each command returns the exit code; its imports are inside it, so the
 command line starts quickly."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from pathlib import Path
 
 from rich.console import Console
 
-from navverse.cli.common import (
+from navverse.commands.common import (
     DATASET_HELP,
     JOBS_HELP,
     MINI,
@@ -22,8 +22,8 @@ from navverse.cli.common import (
     command,
     validate_commands,
 )
-from navverse.cli.datasets import dataset_scene_dirs, print_problems, problem_count, split_of
-from navverse.cli.progress import show_progress
+from navverse.commands.datasets import dataset_scene_dirs, print_problems, problem_count, split_of
+from navverse.commands.progress import show_progress
 
 __all__ = ["cmd_validate_dataset", "cmd_validate_submission", "register"]
 

@@ -11,8 +11,8 @@ from pathlib import Path
 
 from rich.console import Console
 
-from navverse.cli.common import DATASET_HELP, MINI, OUTDOOR, Shared, Subparsers, command
-from navverse.cli.datasets import dataset_scene_dirs
+from navverse.commands.common import DATASET_HELP, MINI, OUTDOOR, Shared, Subparsers, command
+from navverse.commands.datasets import dataset_scene_dirs
 
 __all__ = ["cmd_show_dataset", "cmd_show_episode", "cmd_show_presets", "cmd_show_scene", "register"]
 

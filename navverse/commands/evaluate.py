@@ -12,9 +12,9 @@ from pathlib import Path
 
 from rich.console import Console
 
-from navverse.cli.common import DATASET_VERSION_HELP, MINI, OUTDOOR, Shared, Subparsers, command
-from navverse.cli.datasets import dataset_scene_dirs, problem_count, split_of
-from navverse.cli.progress import show_progress
+from navverse.commands.common import DATASET_VERSION_HELP, MINI, OUTDOOR, Shared, Subparsers, command
+from navverse.commands.datasets import dataset_scene_dirs, problem_count, split_of
+from navverse.commands.progress import show_progress
 
 __all__ = ["cmd_eval", "cmd_run_agent", "register"]
 

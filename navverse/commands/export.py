@@ -11,8 +11,16 @@ from pathlib import Path
 
 from rich.console import Console
 
-from navverse.cli.common import DATASET_HELP, DATASET_VERSION_HELP, MINI, OUTDOOR, Shared, Subparsers, command
-from navverse.cli.datasets import dataset_scene_dirs
+from navverse.commands.common import (
+    DATASET_HELP,
+    DATASET_VERSION_HELP,
+    MINI,
+    OUTDOOR,
+    Shared,
+    Subparsers,
+    command,
+)
+from navverse.commands.datasets import dataset_scene_dirs
 
 __all__ = ["cmd_export_habitat", "cmd_export_scenes", "register"]
 

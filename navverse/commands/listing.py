@@ -19,7 +19,7 @@ from typing import Any
 
 from rich.console import Console
 
-from navverse.cli.common import Shared, Subparsers, command
+from navverse.commands.common import Shared, Subparsers, command
 
 __all__ = ["CATEGORY_KINDS", "LIST_KINDS", "Column", "Listing", "cmd_list", "listings", "register"]
 
