@@ -1,12 +1,13 @@
 """Checks of an OpenStreetMap file before a parser opens it, and what osmium's errors mean.
 
-:func:`check_osm_file` makes sure a file is a regular file of at most :data:`MAX_OSM_BYTES` whose
-content matches its name (``.osm`` OSM XML, ``.osm.gz`` gzipped OSM XML, ``.osm.pbf`` PBF), and
-measures how much data it holds once decompressed, without parsing it:
+:func:`check_osm_file` makes sure a file is a regular file of at most :data:`MAX_OSM_BYTES` holding
+OSM XML, gzipped or bzip2-compressed OSM XML, or PBF, recognised by its first bytes whatever its name
+(``.osm.xml.gz`` as Overpass names it, a link named anything), and measures how much data it holds
+once decompressed, without parsing it. osmium is then told the format (:func:`osmium_file`):
 
 - XML: an XML file whose prolog holds a ``<!DOCTYPE`` (where entity declarations live, which can
   expand without bound) is refused, and one that does not end with ``</osm>`` is truncated;
-- gzip: the file is decompressed once as a stream (constant memory) to check the same of the XML it
+- gzip and bzip2: the file is decompressed once as a stream (constant memory) to check the same of the XML it
   holds, to find a truncated stream, and to refuse a decompression bomb (more than
   :data:`MAX_OSM_BYTES` of XML, or more than :data:`MAX_RATIO` times the file's size);
 - PBF: the blob headers are walked (no decompression) to find a truncated or malformed file and
@@ -18,6 +19,7 @@ becomes a :class:`~navverse.city.map.CityMapError` naming the file (:func:`osmiu
 
 from __future__ import annotations
 
+import bz2
 import io
 import math
 import os
@@ -37,15 +39,18 @@ from navverse.city.osm.window import LonLatBox
 from navverse.files import regular_file_problem
 
 __all__ = [
+    "ACCEPTED",
     "MAX_OSM_BYTES",
     "MAX_RATIO",
     "OSMIUM_ERRORS",
+    "OSMIUM_FORMATS",
     "PROLOG_LIMIT",
     "OsmFile",
     "Progress",
     "check_osm_file",
     "file_bounds",
     "osmium_failure",
+    "osmium_file",
 ]
 
 MAX_OSM_BYTES = 16 * 1024**3
@@ -73,15 +78,15 @@ OSMIUM_ERRORS: tuple[type[Exception], ...] = (
 """What osmium raises on bad input (libosmium's io, xml and pbf errors, ``illegal id: 'abc'``,
 unreadable coordinates): each is turned into a :class:`CityMapError` naming the file."""
 
-_SUFFIXES = ((".osm.pbf", "pbf"), (".osm.gz", "xml.gz"), (".osm", "xml"))
-_CONTENT_NAMES = {
-    "pbf": "PBF data (name it .osm.pbf)",
-    "gzip": "gzip data (name it .osm.gz if it is gzipped OSM XML)",
-    "xml": "XML (name it .osm if it is OSM XML)",
-    "bzip2": "bzip2 data (unpack it with bunzip2 and read the .osm)",
-}
-_EXPECTED = {"pbf": "pbf", "xml.gz": "gzip", "xml": "xml"}
-_NAMES = {"pbf": ".osm.pbf", "xml.gz": ".osm.gz", "xml": ".osm"}
+_FORMATS = {"pbf": "pbf", "gzip": "xml.gz", "bzip2": "xml.bz2", "xml": "xml"}
+"""The format of an OSM file by the kind of its first bytes: its name does not decide."""
+OSMIUM_FORMATS = {"pbf": "pbf", "xml": "osm", "xml.gz": "osm.gz", "xml.bz2": "osm.bz2"}
+"""The format osmium is told for each format, so that it never guesses from the file's name (a link
+or a download may be named anything)."""
+ACCEPTED = (
+    "OSM XML (.osm, .osm.xml), gzipped or bzip2-compressed OSM XML (.osm.gz, .osm.bz2) or PBF (.osm.pbf)"
+)
+"""What :func:`check_osm_file` reads, as its messages name it."""
 
 
 def _content_kind(head: bytes) -> str:
@@ -97,16 +102,6 @@ def _content_kind(head: bytes) -> str:
     if head.removeprefix(b"\xef\xbb\xbf").lstrip(b" \t\r\n")[:1] == b"<":
         return "xml"
     return "unknown"
-
-
-def _osm_format(path: Path) -> str:
-    name = path.name.lower()
-    for suffix, fmt in _SUFFIXES:
-        if name.endswith(suffix):
-            return fmt
-    raise CityMapError(
-        f"{path} is not named as an OSM file: use .osm (OSM XML), .osm.gz (gzipped OSM XML) or .osm.pbf"
-    )
 
 
 def _check_prolog(head: bytes, path: Path, *, complete: bool) -> None:
@@ -166,20 +161,32 @@ def _bomb(path: Path, size: int, compressed: int) -> CityMapError | None:
     return None
 
 
-def _gzip_scan(path: Path) -> tuple[bytes, bytes, int]:
-    """The first :data:`PROLOG_LIMIT` bytes, the last bytes and the size of what a gzip file holds,
-    decompressed as a stream (members one after the other, as ``gzip`` writes them)."""
+def _decompressor(fmt: str):
+    """A fresh stream decompressor for one member of a ``xml.gz`` or ``xml.bz2`` file."""
+    return zlib.decompressobj(zlib.MAX_WBITS | 16) if fmt == "xml.gz" else bz2.BZ2Decompressor()
+
+
+_MAGIC = {"xml.gz": b"\x1f\x8b", "xml.bz2": b"BZh"}
+_COMPRESSION = {"xml.gz": "gzip", "xml.bz2": "bzip2"}
+
+
+def _compressed_scan(path: Path, fmt: str) -> tuple[bytes, bytes, int]:
+    """The first :data:`PROLOG_LIMIT` bytes, the last bytes and the size of what a gzip or bzip2 file
+    holds, decompressed as a stream (members one after the other, as ``gzip`` and ``pbzip2`` write
+    them)."""
     compressed = os.path.getsize(path)
     head, tail, size = bytearray(), b"", 0
-    decompressor, fed = zlib.decompressobj(zlib.MAX_WBITS | 16), False
+    decompressor, fed = _decompressor(fmt), False
     with open(path, "rb") as handle:
         while chunk := handle.read(_CHUNK):
-            pending = chunk
-            while pending:
+            pending: bytes | None = chunk
+            while pending is not None:
                 try:
                     out = decompressor.decompress(pending, _CHUNK)
-                except zlib.error as exc:
-                    raise CityMapError(f"{path} is a damaged gzip file ({exc}); fetch it again") from None
+                except (zlib.error, OSError, EOFError) as exc:
+                    raise CityMapError(
+                        f"{path} is a damaged {_COMPRESSION[fmt]} file ({exc}); fetch it again"
+                    ) from None
                 fed = True
                 size += len(out)
                 if len(head) < PROLOG_LIMIT:
@@ -188,15 +195,25 @@ def _gzip_scan(path: Path) -> tuple[bytes, bytes, int]:
                 if (error := _bomb(path, size, compressed)) is not None:
                     raise error
                 if decompressor.eof:
-                    pending = decompressor.unused_data
-                    decompressor, fed = zlib.decompressobj(zlib.MAX_WBITS | 16), False
-                    if pending and not pending.startswith(b"\x1f\x8b"):
-                        pending = b""  # trailing bytes after the last member, as gzip ignores them
+                    rest = decompressor.unused_data
+                    decompressor, fed = _decompressor(fmt), False
+                    # the next member, or trailing bytes after the last one (ignored, as gzip does)
+                    pending = rest if rest.startswith(_MAGIC[fmt]) else None
                 else:
-                    pending = decompressor.unconsumed_tail
+                    pending = _held_back(decompressor)
     if fed:
-        raise CityMapError(f"{path} ends inside its gzip stream: the file is truncated; fetch it again")
+        raise CityMapError(
+            f"{path} ends inside its {_COMPRESSION[fmt]} stream: the file is truncated; fetch it again"
+        )
     return bytes(head), tail, size
+
+
+def _held_back(decompressor) -> bytes | None:
+    """What to feed a decompressor that stopped at its output limit, or None when it wants the next
+    chunk: zlib hands the unread input back, bz2 keeps it and is called again with nothing."""
+    if isinstance(decompressor, bz2.BZ2Decompressor):
+        return None if decompressor.needs_input else b""
+    return decompressor.unconsumed_tail or None
 
 
 def _truncated_pbf(path: Path) -> CityMapError:
@@ -281,7 +298,7 @@ class OsmFile:
     path : Path
         The file.
     format : str
-        ``"xml"``, ``"xml.gz"`` or ``"pbf"``.
+        ``"xml"``, ``"xml.gz"``, ``"xml.bz2"`` or ``"pbf"``.
     data_bytes : int
         What it holds decompressed: the XML text, or the sum of the PBF blocks.
     """
@@ -292,20 +309,26 @@ class OsmFile:
 
 
 def _raw_head(path: Path) -> tuple[str, bytes]:
-    """The format a file's name gives and its first raw bytes, once both are checked to agree."""
+    """The format of a file, from its first bytes (whatever its name), and those raw bytes."""
     problem = regular_file_problem(path, max_bytes=MAX_OSM_BYTES, what="OSM file")
     if problem:
         raise CityMapError(problem)
-    fmt = _osm_format(path)
     with open(path, "rb") as handle:
         head = handle.read(PROLOG_LIMIT)
     kind = _content_kind(head)
     if kind == "empty":
-        raise CityMapError(f"{path} is empty")
-    if kind != _EXPECTED[fmt]:
-        found = _CONTENT_NAMES.get(kind, "something that is neither OSM XML, gzip nor PBF")
-        raise CityMapError(f"{path} is named {_NAMES[fmt]} but holds {found}")
-    return fmt, head
+        raise CityMapError(f"{path} is empty: give {ACCEPTED}")
+    if kind not in _FORMATS:
+        raise CityMapError(
+            f"{path} is not an OSM file (it is neither XML, gzip, bzip2 nor PBF data): give {ACCEPTED}"
+        )
+    return _FORMATS[kind], head
+
+
+def _holds_xml(head: bytes, path: Path, fmt: str) -> None:
+    """Refuse a compressed file that does not hold XML."""
+    if _content_kind(head) != "xml":
+        raise CityMapError(f"{path} is {_COMPRESSION[fmt]} but does not hold OSM XML: give {ACCEPTED}")
 
 
 def check_osm_file(path: str | os.PathLike[str]) -> OsmFile:
@@ -314,7 +337,7 @@ def check_osm_file(path: str | os.PathLike[str]) -> OsmFile:
     Parameters
     ----------
     path : path
-        A ``.osm``, ``.osm.gz`` or ``.osm.pbf`` file.
+        An OSM file (XML, gzipped or bzip2-compressed XML, or PBF; its name does not matter).
 
     Returns
     -------
@@ -324,8 +347,8 @@ def check_osm_file(path: str | os.PathLike[str]) -> OsmFile:
     Raises
     ------
     CityMapError
-        If the file is missing, not a regular file, too large, empty, named for one format and holding
-        another, truncated, a decompression bomb, or XML with a DOCTYPE or a root other than ``<osm>``.
+        If the file is missing, not a regular file, too large, empty, not OSM data, truncated, a
+        decompression bomb, or XML with a DOCTYPE or a root other than ``<osm>``.
     """
     path = Path(path)
     fmt, head = _raw_head(path)
@@ -337,9 +360,8 @@ def check_osm_file(path: str | os.PathLike[str]) -> OsmFile:
             handle.seek(max(0, size - _TAIL))
             tail = handle.read()
     else:
-        head, tail, size = _gzip_scan(path)
-        if _content_kind(head) != "xml":
-            raise CityMapError(f"{path} is gzip, but what it holds is not OSM XML")
+        head, tail, size = _compressed_scan(path, fmt)
+        _holds_xml(head, path, fmt)
     _check_prolog(head, path, complete=len(head) < PROLOG_LIMIT)
     _check_xml_tail(tail, path)
     return OsmFile(path, fmt, size)
@@ -355,7 +377,7 @@ def peek_osm_file(path: str | os.PathLike[str]) -> tuple[str, bytes]:
     Returns
     -------
     format : str
-        ``"xml"``, ``"xml.gz"`` or ``"pbf"``.
+        ``"xml"``, ``"xml.gz"``, ``"xml.bz2"`` or ``"pbf"``.
     head : bytes
         The first bytes of the (decompressed) XML; empty for PBF.
 
@@ -368,15 +390,13 @@ def peek_osm_file(path: str | os.PathLike[str]) -> tuple[str, bytes]:
     fmt, head = _raw_head(path)
     if fmt == "pbf":
         return fmt, b""
-    if fmt == "xml.gz":
-        inflate = zlib.decompressobj(wbits=31)
+    if fmt in _COMPRESSION:
         with open(path, "rb") as handle:
             try:
-                head = inflate.decompress(handle.read(_CHUNK), PROLOG_LIMIT)
-            except zlib.error as exc:
-                raise CityMapError(f"{path} is not readable gzip: {exc}") from None
-        if _content_kind(head) != "xml":
-            raise CityMapError(f"{path} is gzip, but what it holds is not OSM XML")
+                head = _decompressor(fmt).decompress(handle.read(_CHUNK), PROLOG_LIMIT)
+            except (zlib.error, OSError, EOFError) as exc:
+                raise CityMapError(f"{path} is not readable {_COMPRESSION[fmt]}: {exc}") from None
+        _holds_xml(head, path, fmt)
     _check_prolog(head, path, complete=len(head) < PROLOG_LIMIT)
     return fmt, head
 
@@ -415,7 +435,7 @@ def osmium_failure(path: Path, fmt: str, exc: Exception) -> CityMapError:
     message = str(exc)
     lowered = message.lower()
     ends = ("eof", "truncated", "no element found", "unclosed token", "gzip error", "read close failed")
-    what = {"pbf": "OSM PBF", "xml": "OSM XML", "xml.gz": "gzipped OSM XML"}[fmt]
+    what = {"pbf": "OSM PBF", "xml": "OSM XML", "xml.gz": "gzipped OSM XML", "xml.bz2": "bzip2 OSM XML"}[fmt]
     if any(word in lowered for word in ends):
         return CityMapError(
             f"{path} ends early or is damaged ({message}): the file is truncated or corrupt; "
@@ -424,10 +444,15 @@ def osmium_failure(path: Path, fmt: str, exc: Exception) -> CityMapError:
     return CityMapError(f"{path} cannot be read as {what} ({message}): fix the file or export it again")
 
 
+def osmium_file(path: str | os.PathLike[str], fmt: str) -> osmium.io.File:
+    """``path`` for osmium, with its format (one of :class:`OsmFile`'s) given, never guessed from the name."""
+    return osmium.io.File(str(path), OSMIUM_FORMATS[fmt])
+
+
 def file_bounds(path: str | os.PathLike[str], fmt: str) -> LonLatBox | None:
     """The data bounds the file's header declares (``<bounds>``, the PBF header bbox), or None."""
     try:
-        reader = osmium.io.Reader(str(path), osmium.osm.NOTHING)
+        reader = osmium.io.Reader(osmium_file(path, fmt), osmium.osm.NOTHING)
         try:
             box = reader.header().box()
         finally:

@@ -50,7 +50,14 @@ import osmium.osm
 import shapely
 
 from navverse.city.map import CityMapError
-from navverse.city.osm.files import OSMIUM_ERRORS, OsmFile, Progress, osmium_failure
+from navverse.city.osm.files import (
+    OSMIUM_ERRORS,
+    OSMIUM_FORMATS,
+    OsmFile,
+    Progress,
+    osmium_failure,
+    osmium_file,
+)
 from navverse.city.osm.window import LonLatBox, Window
 
 __all__ = [
@@ -67,7 +74,7 @@ __all__ = [
 IN_MEMORY_INDEX_NODES = 4_000_000
 """Files that can hold at most this many nodes keep osmium's node location index in memory (at most
 64 MB); larger ones on disk."""
-_FEWEST_BYTES_PER_NODE = {"xml": 30, "xml.gz": 30, "pbf": 3}
+_FEWEST_BYTES_PER_NODE = {"xml": 30, "xml.gz": 30, "xml.bz2": 30, "pbf": 3}
 MAX_SORT_BYTES = 128 * 1024**2
 """Largest unsorted file (or one holding an object twice) sorted in memory before reading."""
 DUPLICATE = "duplicate OSM object (one copy kept)"
@@ -371,7 +378,7 @@ def _stream(
     handlers = {"n": collector.node, "w": collector.way, "r": collector.relation, "a": collector.area}
     with _location_index(most_nodes) as index:
         processor = (
-            osmium.FileProcessor(str(path))
+            osmium.FileProcessor(osmium_file(path, fmt))
             .with_locations(index)
             .with_areas(area_filter, collector.members)
             .with_filter(main_filter)
@@ -403,12 +410,14 @@ def _sorted_copy(path: Path, fmt: str, target: Path) -> frozenset[tuple[str, int
     seen = {kind: _Ids() for kind in "nwr"}
     duplicates: set[tuple[str, int]] = set()
     try:
-        for obj in osmium.FileProcessor(str(path)):  # a plain read: nothing here needs order
+        for obj in osmium.FileProcessor(osmium_file(path, fmt)):  # a plain read: nothing here needs order
             kind = obj.type_str()
             if kind in seen and seen[kind].add(obj.id):
                 duplicates.add((kind, obj.id))
         merger = osmium.MergeInputReader()
-        merger.add_file(str(path))
+        named = target.with_name(f"input.{OSMIUM_FORMATS[fmt]}")  # this reader guesses by the name
+        named.symlink_to(path.resolve())
+        merger.add_file(str(named))
         writer = osmium.SimpleWriter(str(target))
         try:
             merger.apply(writer, simplify=True)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import bz2
 import gzip
 import math
 import os
@@ -305,22 +306,38 @@ def test_entity_expansion_is_refused_before_parsing(tmp_path: Path) -> None:
         read_osm(gz)
 
 
-def test_content_that_does_not_match_the_name_is_refused(tmp_path: Path) -> None:
-    xml_as_pbf = tmp_path / "x.osm.pbf"
-    xml_as_pbf.write_bytes(T_JUNCTION.read_bytes())
-    with pytest.raises(CityMapError, match=r"named \.osm\.pbf but holds XML"):
-        read_osm(xml_as_pbf)
-    pbf_as_xml = tmp_path / "y.osm"
-    pbf_as_xml.write_bytes(_to_pbf(T_JUNCTION, tmp_path / "t.osm.pbf").read_bytes())
-    with pytest.raises(CityMapError, match=r"named \.osm but holds PBF data"):
-        read_osm(pbf_as_xml)
-    plain_as_gz = tmp_path / "z.osm.gz"
-    plain_as_gz.write_bytes(T_JUNCTION.read_bytes())
-    with pytest.raises(CityMapError, match=r"named \.osm\.gz but holds XML"):
-        read_osm(plain_as_gz)
-    other = _write(tmp_path / "map.xml", "<osm/>")
-    with pytest.raises(CityMapError, match="not named as an OSM file"):
-        read_osm(other)
+def test_files_are_read_by_their_content_whatever_their_name(tmp_path: Path) -> None:
+    """Overpass's ``.osm.xml.gz``, bzip2, a wrong suffix and a link named anything read the same map."""
+    center = (48.0, 11.0)  # PBF written by osmium keeps no <bounds>
+    expected = read_osm(T_JUNCTION, center=center)
+    xml = T_JUNCTION.read_bytes()
+    pbf = _to_pbf(T_JUNCTION, tmp_path / "t.osm.pbf").read_bytes()
+    files = {
+        "overpass.osm.xml.gz": gzip.compress(xml, mtime=0),
+        "two-members.osm.gz": gzip.compress(xml[:100], mtime=0) + gzip.compress(xml[100:], mtime=0),
+        "map.osm.bz2": bz2.compress(xml),
+        "x.osm.pbf": xml,  # XML under a PBF name
+        "y.osm": pbf,  # PBF under an XML name
+        "export.xml": xml,
+        "data": gzip.compress(xml, mtime=0),
+    }
+    for name, content in files.items():
+        path = tmp_path / name
+        path.write_bytes(content)
+        city = read_osm(path, center=center)
+        assert [r.centerline for r in city.roads] == [r.centerline for r in expected.roads], name
+    link = tmp_path / "link.osm.gz"
+    link.symlink_to(tmp_path / "data")
+    assert len(read_osm(link, center=center).roads) == len(expected.roads)
+    with pytest.raises(CityMapError, match=r"not an OSM file .*give OSM XML"):
+        read_osm(_write(tmp_path / "notes.osm", "just words\n"))
+    with pytest.raises(CityMapError, match="gzip but does not hold OSM XML"):
+        (tmp_path / "words.osm.gz").write_bytes(gzip.compress(b"just words"))
+        read_osm(tmp_path / "words.osm.gz")
+    truncated = tmp_path / "cut.osm.bz2"
+    truncated.write_bytes(bz2.compress(xml)[:-40])
+    with pytest.raises(CityMapError, match=r"truncated|damaged"):
+        read_osm(truncated)
     not_osm = _write(tmp_path / "page.osm", "<html><body/></html>\n")
     with pytest.raises(CityMapError, match="root element is <html>"):
         read_osm(not_osm)
