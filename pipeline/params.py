@@ -48,10 +48,18 @@ class Params(BaseModel):
 
     Unknown keys are errors, instances are immutable, non-finite floats (``inf``, ``nan``) are
     refused, and defaults are validated, so a params object is a complete, hashable description
-    of what a stage will do.
+    of what a stage will do. A field's docstring (the string literal under it) is its description,
+    which the documentation's parameter reference shows; descriptions are not part of a cache key
+    (the key hashes the field values, :meth:`~pydantic.BaseModel.model_dump`).
     """
 
-    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True, allow_inf_nan=False)
+    model_config = ConfigDict(
+        extra="forbid",
+        frozen=True,
+        validate_default=True,
+        allow_inf_nan=False,
+        use_attribute_docstrings=True,
+    )
 
     def dependency_files(self) -> Mapping[str, Path]:
         """Files the stage reads besides those its ``Path`` fields name (e.g. USD sublayers).

@@ -27,10 +27,12 @@ from typing import Literal
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
+from rich.text import Text
 
 from pipeline.dag import ArtifactRef, Graph, Node
 from pipeline.executors import Executor
 from pipeline.store import ArtifactStore, Corruption, VerifyLevel
+from pipeline.summary import describe_stats
 from pipeline.worker import StageTask, TaskOutput, TaskResult
 
 NodeState = Literal["cached", "build"]
@@ -218,14 +220,10 @@ def describe_plan(graph: Graph, states: dict[str, NodeState], console: Console) 
     targets = sorted({n.target.id for n in graph.nodes.values()})
     console.print(
         f"[bold]Build graph[/]: {len(targets)} targets, {len(graph.nodes)} stage runs "
-        f"({counts['cached']} cached, {counts['build']} to build)"
+        f"({counts['cached']} cached, {counts['build']} to build)",
+        soft_wrap=True,
     )
-    table = Table(show_edge=False, pad_edge=False, box=None)
-    for column in ("#", "target", "stage", "reads", "writes", "state", "key"):
-        # Target ids and stage names are shown whole: they are what the user types next.
-        whole = column in ("target", "stage")
-        width = max((len(t) for t in targets), default=6) if column == "target" else None
-        table.add_column(column, no_wrap=whole, min_width=width, overflow="fold" if not whole else "ellipsis")
+    table = _table("#", "target", "stage", "reads", "writes", "state", "key")
     for index, node_id in enumerate(graph.order, 1):
         node = graph.nodes[node_id]
         reads = ", ".join(
@@ -246,7 +244,18 @@ def describe_plan(graph: Graph, states: dict[str, NodeState], console: Console) 
     for run, outputs in graph.skipped.items():
         target = run.partition(":")[0]
         stands = ", ".join(f"{out} = {_ref_label(ref, '', target)}" for out, ref in outputs.items())
-        console.print(f"skipped {run}: {stands}")
+        console.print(f"skipped {run}: {stands}", highlight=False, soft_wrap=True)
+
+
+def _table(*columns: str) -> Table:
+    """A borderless table whose cells are never cut: on a console too narrow for a cell, its text
+    wraps, and a word longer than its column (a target id, a stage name) folds onto the next line.
+    Nothing is truncated or given a width, so a wide console (output that is not a terminal) shows
+    every cell whole on one line."""
+    table = Table(show_edge=False, pad_edge=False, box=None)
+    for column in columns:
+        table.add_column(column, overflow="fold")
+    return table
 
 
 def _ref_label(ref: ArtifactRef, input_name: str, target: str) -> str:
@@ -365,7 +374,7 @@ def run_build(
         return report
     _Schedule(graph, store, report, todo, replace=forced | set(corrupt)).run(executor_factory(), console)
     report.seconds = time.perf_counter() - started
-    _summary(report, console)
+    _summary(report, graph, store, console)
     return report
 
 
@@ -469,11 +478,13 @@ def _drain_progress(executor: Executor, progress: Progress, bars: dict[str, int]
             progress.update(bars[node_id], completed=done, total=total or None, description=label)
 
 
-def _summary(report: BuildReport, console: Console) -> None:
+def _summary(report: BuildReport, graph: Graph, store: ArtifactStore, console: Console) -> None:
     console.print(
         f"[bold]Build finished[/] in {report.seconds:.1f} s: {len(report.built)} built, "
-        f"{len(report.cached)} cached, {len(report.failed)} failed, {len(report.skipped)} skipped."
+        f"{len(report.cached)} cached, {len(report.failed)} failed, {len(report.skipped)} skipped.",
+        soft_wrap=True,
     )
+    console.print(runs_table(graph, store, report))
     for node_id, result in sorted(report.built.items()):
         for message in result.warnings:
             console.print(f"  [yellow]warning[/] {node_id}: {message}", highlight=False, soft_wrap=True)
@@ -481,4 +492,57 @@ def _summary(report: BuildReport, console: Console) -> None:
         where = f"\n         log: {result.log_path}" if result.log_path else ""
         console.print(f"  [red]FAILED[/] {node_id}: {result.error}{where}", highlight=False, soft_wrap=True)
     for node_id, reason in sorted(report.skipped.items()):
-        console.print(f"  [yellow]skipped[/] {node_id}: {reason}")
+        console.print(f"  [yellow]skipped[/] {node_id}: {reason}", highlight=False, soft_wrap=True)
+
+
+def runs_table(graph: Graph, store: ArtifactStore, report: BuildReport) -> Table:
+    """The build summary's table: per target, each stage run with its time (or ``cached``, ``failed``,
+    ``skipped``) and what it made (:func:`run_made`).
+
+    Parameters
+    ----------
+    graph : Graph
+        The graph built.
+    store : ArtifactStore
+        Where the reused artifacts' manifests are read.
+    report : BuildReport
+        What the build did.
+
+    Returns
+    -------
+    rich.table.Table
+        Columns ``target``, ``stage``, ``time``, ``made``; rows by target, then in execution order.
+    """
+    table = _table("target", "stage", "time", "made")
+    position = {node_id: index for index, node_id in enumerate(graph.order)}
+    cached = set(report.cached)
+    for node_id in sorted(graph.order, key=lambda n: (graph.nodes[n].target.id, position[n])):
+        node, made = graph.nodes[node_id], ""
+        if node_id in report.built:
+            time_text = f"{report.built[node_id].wall_s:.1f} s"
+            made = run_made(node, store, report.built[node_id])
+        elif node_id in cached:
+            time_text = "[green]cached[/]"
+            made = run_made(node, store)
+        elif node_id in report.failed:
+            time_text = "[red]failed[/]"
+        else:
+            time_text = "[yellow]skipped[/]" if node_id in report.skipped else "-"
+        table.add_row(node.target.id, node.stage, time_text, Text(made))
+    return table
+
+
+def run_made(node: Node, store: ArtifactStore, result: TaskResult | None = None) -> str:
+    """What a stage run made, in one line (:func:`pipeline.summary.describe_stats`): the figures its
+    stage declares (``@stage(..., summary=...)``), from the stats of ``result`` when it ran in this
+    build, otherwise from the manifest of its committed artifact; empty when it has none."""
+    fields = node.call.spec.summary
+    if not fields:
+        return ""
+    if result is not None:
+        return describe_stats(result.stats, fields)
+    for out, key in node.artifact_keys.items():
+        manifest = store.read_manifest(store.artifact_path(node.stage, out, key))
+        if manifest is not None and isinstance(manifest.get("stats"), dict):
+            return describe_stats(manifest["stats"], fields)
+    return ""

@@ -82,6 +82,10 @@ class StageSpec:
     passthrough : dict
         ``{output: input name}``: what each output is when a recipe skips the stage
         (``skip: true``); empty when the stage cannot be skipped.
+    summary : tuple of (str, str)
+        ``(label, key)`` pairs: the figures of the stats the stage records (``ctx.record``, kept in
+        its artifacts' manifests) that the build summary shows for each of its runs, in this order
+        (see :mod:`pipeline.summary`); a key may be a dotted path into nested stats.
     """
 
     name: str
@@ -92,6 +96,7 @@ class StageSpec:
     version: str
     doc: str
     passthrough: Mapping[str, str] = field(default_factory=dict)
+    summary: tuple[tuple[str, str], ...] = ()
 
     @property
     def skippable(self) -> bool:
@@ -128,6 +133,7 @@ def stage(
     params: type[Params] | None = None,
     version: str = "1",
     passthrough: Mapping[str, str] | None = None,
+    summary: Mapping[str, str] | Iterable[str] = (),
 ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Register a stage function.
 
@@ -147,6 +153,11 @@ def stage(
         ``{output: input name}`` for a stage that is optional in a chain: a recipe may skip it
         (``skip: true``), and each output is then the artifact its input reads, unchanged. Every
         output needs one, and the inputs must be single (not ``many``).
+    summary : mapping or iterable of str, optional
+        What the build summary says a run made: keys of the stats the stage records with
+        ``ctx.record`` (a dotted path reaches into a nested dict), shown under their own names, or
+        ``{label: key}`` to show them under a label. A dict of counts is shown as its total and its
+        largest entries (``dropped 3 (not a closed ring 2, degenerate geometry 1)``).
 
     Returns
     -------
@@ -186,6 +197,7 @@ def stage(
                     f"stage {name!r}: passthrough must map every output {list(declared_outputs)} "
                     f"to one of its single inputs {sorted(single)}, got {through}"
                 )
+        figures = _summary_fields(name, summary)
         doc = inspect.getdoc(fn) or ""
         if not doc:
             raise TypeError(f"stage {name!r} needs a one-line docstring saying what it produces")
@@ -198,6 +210,7 @@ def stage(
             version=version,
             doc=doc.splitlines()[0],
             passthrough=MappingProxyType(through),
+            summary=figures,
         )
         existing = _REGISTRY.get(name)
         if existing is not None and (existing.module, existing.fn.__qualname__) != (
@@ -209,6 +222,17 @@ def stage(
         return fn
 
     return register
+
+
+def _summary_fields(name: str, summary: Mapping[str, str] | Iterable[str]) -> tuple[tuple[str, str], ...]:
+    """``summary`` of :func:`stage` as ``(label, key)`` pairs; a TypeError if a label or key is empty."""
+    if isinstance(summary, str):
+        raise TypeError(f"stage {name!r}: summary must be a list of stats keys or a {{label: key}} mapping")
+    pairs = tuple(summary.items()) if isinstance(summary, Mapping) else tuple((key, key) for key in summary)
+    for label, key in pairs:
+        if not (isinstance(label, str) and label.strip() and isinstance(key, str)) or not all(key.split(".")):
+            raise TypeError(f"stage {name!r}: summary entry {label!r}: {key!r} needs a label and a stats key")
+    return pairs
 
 
 def _params_annotation(fn: Callable[..., Any]) -> Any:

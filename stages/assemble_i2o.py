@@ -20,6 +20,19 @@ def _building_type(name: str) -> str:
     return name
 
 
+_I2O_SUMMARY = {
+    "city": "city",
+    "building": "building",
+    "facade": "facade",
+    "placements fit": "candidates",
+    "refused": "refused",
+    "storefronts nearby": "densified.storefronts.placed",
+    "objects nearby": "densified.objects",
+    "cars nearby": "densified.cars",
+}
+"""What the build summary says an i2o scene was made of (its stats: :func:`_finish`)."""
+
+
 class AssembleI2OParams(Params, AssemblySettings, DensifySettings):
     """Parameters of :func:`assemble_i2o`: those of :class:`navverse.city.i2o.assembly.AssemblySettings` and
     :class:`navverse.city.i2o.densify.DensifySettings`.
@@ -43,6 +56,7 @@ class AssembleI2OParams(Params, AssemblySettings, DensifySettings):
     name="assemble_i2o",
     inputs=[Input("city", artifact="geometry", many=True), Input("building", artifact="geometry", many=True)],
     outputs=["geometry"],
+    summary=_I2O_SUMMARY,
 )
 def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
     """An i2o scene: the linked building set into the linked city at a road-facing facade."""
@@ -61,9 +75,16 @@ class GenerateI2OParams(AssembleI2OParams):
     the procedural building generated to fit the city (``exit`` and ``facade`` are chosen with it)."""
 
     building_type: Annotated[str, AfterValidator(_building_type)]
+    """Program of the generated building: a building type of :data:`navverse.indoor.programs.PROGRAMS`
+    (e.g. ``apartment``, ``office``, ``cafe``); its footprint ranges decide the road-facing facade."""
 
 
-@stage(name="generate_i2o", inputs=[Input("city", artifact="geometry", many=True)], outputs=["geometry"])
+@stage(
+    name="generate_i2o",
+    inputs=[Input("city", artifact="geometry", many=True)],
+    outputs=["geometry"],
+    summary=_I2O_SUMMARY,
+)
 def generate_i2o(ctx: StageContext, params: GenerateI2OParams) -> None:
     """An i2o scene: a procedural building sized to a road-facing city building, set in its place."""
     from navverse.city.i2o.assembly import generate_i2o as generate

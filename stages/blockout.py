@@ -55,10 +55,14 @@ class Solid(Params):
     """
 
     center: Vec3
+    """World position ``[x, y, z]`` of the solid's bounding-box centre (m, z up)."""
     yaw_deg: Annotated[float, Field(ge=-360.0, le=360.0, description="Degrees, -360 to 360.")] = 0.0
     box: Size3 | None = None
+    """A box: its sides ``[x, y, z]`` along the solid's own axes (m)."""
     ramp: RampShape | None = None
+    """A wedge rising along the solid's own +x (its ``length``, ``width`` and ``height``, m)."""
     cylinder: CylinderShape | None = None
+    """An upright cylinder (its ``radius`` and ``height``, m)."""
 
     @model_validator(mode="after")
     def _one_shape(self) -> Solid:
@@ -89,13 +93,17 @@ class SurfaceSolid(Solid):
     """Static geometry of one terrain class (floor, wall, road, curb...)."""
 
     name: Annotated[str, Field(pattern=r"^[A-Za-z_][A-Za-z0-9_]*$")]
+    """Name of the surface, unique in the blockout (letters, digits and underscores)."""
     terrain: TerrainName
+    """Terrain class of the surface (``floor``, ``wall``, ``road``, ``curb``...), a class of the default
+    terrain table; it sets the surface's friction."""
 
 
 class ObjectSolid(Solid):
     """An annotated object (a goal candidate) of a semantic category."""
 
     category: Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*$")]
+    """Semantic category of the object (lower_snake_case): what an agent is asked to find."""
 
 
 class BlockoutParams(Params, SceneTypeSettings):
@@ -103,8 +111,12 @@ class BlockoutParams(Params, SceneTypeSettings):
     ``friction`` per terrain class used, the ``surfaces`` and the ``objects``."""
 
     friction: dict[str, Annotated[float, Field(ge=0, le=5, description="Friction coefficient, 0 to 5.")]] = {}
+    """Friction coefficient (dimensionless) by terrain class, replacing the class's own; only classes
+    the surfaces use."""
     surfaces: Annotated[list[SurfaceSolid], Field(min_length=1, max_length=MAX_SOLIDS)]
+    """The static geometry: solids of a terrain class each, with unique names."""
     objects: Annotated[list[ObjectSolid], Field(max_length=MAX_SOLIDS)] = []
+    """The annotated objects (goal candidates): solids of a semantic category each."""
 
     @model_validator(mode="after")
     def _consistent(self) -> BlockoutParams:
@@ -118,7 +130,7 @@ class BlockoutParams(Params, SceneTypeSettings):
         return self
 
 
-@stage(name="blockout", outputs=["geometry"])
+@stage(name="blockout", outputs=["geometry"], summary=("surfaces", "objects", "faces"))
 def blockout(ctx: StageContext, params: BlockoutParams) -> None:
     """A scene directory (scene.usdc, scene.json, bev.png) built from the recipe's primitive solids."""
     import navverse

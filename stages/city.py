@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING
 
-from pydantic import AfterValidator, model_validator
+from pydantic import model_validator
 
 from navverse.city.geometry.scene import CityGeometry
 from navverse.city.osm.window import OsmWindow
@@ -19,24 +18,28 @@ if TYPE_CHECKING:
 CITY_MAP_FILE = "city_map.json"
 """The file of a ``city_map`` artifact."""
 
-
-def _osm_name(path: Path) -> Path:
-    if not path.name.lower().endswith((".osm", ".osm.gz", ".osm.pbf")):
-        raise ValueError(f"{path.name} is not an OSM file: give a .osm, .osm.gz or .osm.pbf file")
-    return path
+_MAP_SUMMARY = {
+    "buildings": "buildings",
+    "roads": "roads",
+    "road km": "road_km",
+    "pois": "pois",
+    "dropped": "dropped",
+}
+"""What the build summary says a city map holds (its stats: :func:`_record_map`)."""
 
 
 class OsmCityParams(Params, OsmWindow):
-    """Parameters of :func:`osm_city`.
+    """Parameters of :func:`osm_city`: the OSM file (``source``) and the window of it to read.
 
-    ``source`` is a local ``.osm``, ``.osm.gz`` or ``.osm.pbf`` file. The window is ``center``
-    ``[lat, lon]`` with ``size_m`` ``[east-west, north-south]`` (default 1000 m × 1000 m), or
-    ``bbox`` ``[min_lat, min_lon, max_lat, max_lon]``; with neither, the centre of the file's
-    declared bounds. Validation reads the file's header: the centre must lie inside the bounds it
-    declares.
+    The window is ``center`` ``[lat, lon]`` with ``size_m`` ``[east-west, north-south]`` (default
+    1000 m × 1000 m), or ``bbox`` ``[min_lat, min_lon, max_lat, max_lon]``; with neither, the centre of
+    the file's declared bounds. Validation reads the file's header: the centre must lie inside the
+    bounds it declares.
     """
 
-    source: Annotated[SourceFile, AfterValidator(_osm_name)]
+    source: SourceFile
+    """The local OSM file: OSM XML, gzipped or bzip2-compressed OSM XML, or PBF, recognised by its
+    content (``.osm``, ``.osm.xml.gz``, ``.osm.bz2``, ``.osm.pbf``, a link named anything)."""
 
     @model_validator(mode="after")
     def _window_on_the_data(self) -> OsmCityParams:
@@ -50,7 +53,7 @@ class OsmCityParams(Params, OsmWindow):
         return self
 
 
-@stage(name="osm_city", outputs=["city_map"])
+@stage(name="osm_city", outputs=["city_map"], summary=_MAP_SUMMARY)
 def osm_city(ctx: StageContext, params: OsmCityParams) -> None:
     """city_map.json: roads, walkways, crossings, areas, buildings, POIs and furniture of an OSM window."""
     from navverse.city.map import write_city_map
@@ -73,12 +76,13 @@ def osm_city(ctx: StageContext, params: OsmCityParams) -> None:
 
 class SyntheticCityStageParams(Params, SyntheticCityParams):
     """Parameters of :func:`synthetic_city` (:class:`navverse.city.synthetic.generator.SyntheticCityParams`),
-    plus ``write_osm``: also write the map as ``city.osm`` (OSM XML that osmnx and JOSM read)."""
+    plus ``write_osm``."""
 
     write_osm: bool = False
+    """Also write the map as ``city.osm`` in the artifact: OSM XML that osmnx and JOSM read."""
 
 
-@stage(name="synthetic_city", outputs=["city_map"])
+@stage(name="synthetic_city", outputs=["city_map"], summary=_MAP_SUMMARY)
 def synthetic_city(ctx: StageContext, params: SyntheticCityStageParams) -> None:
     """city_map.json (and city.osm if asked): a city drawn from the target's seed, as a real one's records."""
     from navverse.city.map import write_city_map
@@ -121,7 +125,12 @@ class CityGeometryParams(Params, CityGeometry):
     analytic ``slope`` every surface follows, and ``friction`` per terrain class."""
 
 
-@stage(name="city_geometry", inputs=["city_map"], outputs=["street_geometry"])
+@stage(
+    name="city_geometry",
+    inputs=["city_map"],
+    outputs=["street_geometry"],
+    summary={"buildings": "buildings", "dropped": "dropped", "road km": "road_km", "faces": "faces"},
+)
 def city_geometry(ctx: StageContext, params: CityGeometryParams) -> None:
     """A scene (roads below curbs, crosswalks, sidewalks, land, buildings), its street plan and settings."""
     import navverse

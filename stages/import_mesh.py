@@ -59,20 +59,24 @@ for it and for every USD layer it brings in."""
 class NodeRule(Params):
     """What the nodes matching a pattern become: exactly one of ``object`` (an annotated object of
     that category), ``surface`` (static geometry of that terrain class) or ``drop: true``.
-
-    ``pattern`` is a Python regular expression searched in the node's ``name`` (trimesh node name,
-    OBJ object/group/material name, USD prim name) or ``path`` (``/parent/.../name``; the USD prim
-    path). ``split: components`` makes one object (or surface) per connected piece of the node,
-    pieces whose bounding boxes come within ``join_gap`` meters of each other counting as one
-    (e.g. a lantern's stacked stones).
     """
 
     pattern: str
+    """Python regular expression searched (``re.search``, not anchored) in the node's name or path."""
     on: Literal["name", "path"] = "name"
+    """What ``pattern`` is searched in: ``name`` (trimesh node name, OBJ object/group/material name, USD
+    prim name) or ``path`` (``/parent/.../name``; the USD prim path)."""
     object: str | None = None
+    """Make the matching nodes annotated objects (goal candidates) of this category (lower_snake_case,
+    e.g. ``stone_lantern``)."""
     surface: TerrainName | None = None
+    """Make the matching nodes static geometry of this terrain class (``floor``, ``wall``, ``road``...)."""
     drop: bool = False
+    """Leave the matching nodes out of the scene."""
     split: Literal["none", "components"] = "none"
+    """``none``: one object (or surface) per node; ``components``: one per connected piece of the node,
+    pieces whose bounding boxes come within ``join_gap`` of each other counting as one (e.g. a
+    lantern's stacked stones)."""
     join_gap: Annotated[float, Field(ge=0.0, le=10.0, description="Meters, 0 to 10.")] = 0.05
 
     @field_validator("pattern")
@@ -111,28 +115,38 @@ class NodeRule(Params):
 
 
 class ImportMeshParams(Params, SceneTypeSettings):
-    """Parameters of :func:`import_mesh`.
+    """Parameters of :func:`import_mesh`: the mesh file, its units and up axis, and the rules that
+    label its nodes (each node takes the first matching rule, unmatched nodes become ``default``).
 
-    ``units`` (meters per file unit, or a unit name) and ``up_axis`` (the file's up axis) default
-    to what the file declares: a USD stage's ``metersPerUnit`` and ``upAxis``, glTF's meters and +y;
-    OBJ and PLY files declare no up axis, so their recipes must give it. Nodes take the first
-    matching rule; unmatched nodes become ``default`` (a terrain class, or ``drop``). ``friction``
-    overrides the friction of terrain classes the rules use. ``subdivide`` splits every triangle
-    into four that many times (same shape, 4^n faces: dense test meshes for ``decimate``).
+    ``subdivide`` splits every triangle into four that many times (same shape, 4^n faces: dense test
+    meshes for ``decimate``).
     """
 
     source: MeshSource
+    """The mesh file (OBJ, glTF/GLB, PLY or USD); a USD file's sublayers, references, payloads and clips
+    are read (and hashed into the cache key) with it."""
     units: (
         Annotated[float, Field(ge=1e-6, le=1e3, description="Meters per file unit: 1e-6 (µm) to 1000 (km).")]
         | str
         | None
     ) = None
+    """Meters per file unit, as a number or a unit name (``meters``, ``centimeters``, ``millimeters``,
+    ``inches``, ``feet``); null: what the file declares (a USD stage's ``metersPerUnit``, glTF's
+    meters), else 1."""
     up_axis: Literal["y", "z"] | None = None
+    """The file's up axis (the scene is turned to +z up); null: what the file declares (a USD stage's
+    ``upAxis``, glTF's +y). OBJ and PLY files declare none, so their recipes must give it."""
     rules: list[NodeRule] = []
+    """What the nodes become (object, surface or dropped), tried in order: a node takes the first rule
+    whose pattern it matches."""
     default: str = "obstacle"
+    """What a node no rule matches becomes: static geometry of this terrain class, or ``drop`` (left
+    out)."""
     friction: dict[
         TerrainName, Annotated[float, Field(ge=0, le=5, description="Friction coefficient, 0 to 5.")]
     ] = {}
+    """Friction coefficient (dimensionless) by terrain class, replacing the class's own; only classes
+    the rules or ``default`` use."""
     subdivide: Annotated[int, Field(ge=0, le=3, description="Subdivisions, 0 to 3 (4^n faces).")] = 0
 
     def dependency_files(self) -> dict[str, Path]:
@@ -220,7 +234,17 @@ def _roles(params: ImportMeshParams, nodes: list[MeshNode]) -> tuple[list[NodeRo
     return roles, hits
 
 
-@stage(name="import_mesh", outputs=["raw_geometry"])
+@stage(
+    name="import_mesh",
+    outputs=["raw_geometry"],
+    summary={
+        "nodes": "nodes",
+        "dropped nodes": "dropped_nodes",
+        "surfaces": "surfaces",
+        "objects": "objects",
+        "faces": "faces",
+    },
+)
 def import_mesh(ctx: StageContext, params: ImportMeshParams) -> None:
     """A scene directory (scene.usdc, scene.json, bev.png) of a mesh file's nodes as objects and surfaces."""
     import navverse

@@ -12,7 +12,18 @@ class IndoorLayoutParams(Params, BuildingSettings):
     furniture and its goal categories."""
 
 
-@stage(name="indoor_layout", outputs=["raw_geometry"])
+@stage(
+    name="indoor_layout",
+    outputs=["raw_geometry"],
+    summary={
+        "building": "building_type",
+        "rooms": "rooms_per_type",
+        "doors": "doors",
+        "exits": "exits",
+        "objects": "objects",
+        "faces": "faces",
+    },
+)
 def indoor_layout(ctx: StageContext, params: IndoorLayoutParams) -> None:
     """A furnished procedural building: scene.usdc, scene.json (rooms, doorways, exits, objects), bev.png."""
     import navverse

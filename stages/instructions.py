@@ -18,9 +18,8 @@ class InstructionsParams(Params, InstructionSettings):
     aligned to its rollout) and a rewrite naming landmarks, objects seen by the robot's camera near each
     turn, by colour and category, without distances. Episodes naming fewer than ``min_landmarks``
     landmarks are dropped. ``max_landmark_distance`` bounds how far (m) a landmark may be from the
-    camera and from its turn. ``refiner`` (``"package.module:function"``) names an optional callable,
-    for instance wrapping a vision-language model, that receives the keyframes, the template, the
-    landmark text and the episode and returns the final text (None drops the episode).
+    camera and from its turn. An optional ``refiner`` (for instance wrapping a vision-language model)
+    writes the final text.
 
     Each verified PlaceNav episode gets its three instruction types: ``category`` ("Find a bank."),
     ``route`` (the same machinery along its reference path, naming the place, and telling the
@@ -29,9 +28,17 @@ class InstructionsParams(Params, InstructionSettings):
     """
 
     refiner: Annotated[str, Field(pattern=r"^[A-Za-z_][\w.]*:[A-Za-z_][\w.]*$")] | None = None
+    """A callable named ``"package.module:function"`` (the attribute may be dotted) that receives the
+    keyframes (camera images at each directive), the template text, the landmark text and the episode,
+    and returns the final instruction text, or None to drop the episode. Null: the landmark text is kept."""
 
 
-@stage(name="instructions", inputs=["verified", Input("scene", many=True)], outputs=["instructions"])
+@stage(
+    name="instructions",
+    inputs=["verified", Input("scene", many=True)],
+    outputs=["instructions"],
+    summary={"episodes": "episodes", "written": "written", "dropped": "dropped_by_reason"},
+)
 def instructions(ctx: StageContext, params: InstructionsParams) -> None:
     """instructions.json.gz (per VLN episode id its instruction, per PlaceNav one {type: instruction}) and
     dropped.json.gz (episode id -> reason)."""

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pipeline import Input, StageContext, stage
-from stages._review_step import ReleaseParams, apply_review
+from stages._review_step import RELEASE_SUMMARY, ReleaseParams, apply_review, release_stats
 
 
 class MergeDatasetsParams(ReleaseParams):
@@ -16,7 +16,12 @@ class MergeDatasetsParams(ReleaseParams):
     """
 
 
-@stage(name="merge_datasets", inputs=[Input("parts", artifact="dataset", many=True)], outputs=["dataset"])
+@stage(
+    name="merge_datasets",
+    inputs=[Input("parts", artifact="dataset", many=True)],
+    outputs=["dataset"],
+    summary=RELEASE_SUMMARY,
+)
 def merge_datasets(ctx: StageContext, params: MergeDatasetsParams) -> None:
     """<name>/v<version>/: the linked datasets' episodes and rollouts packaged as one dataset."""
     from navverse import __version__
@@ -51,6 +56,7 @@ def merge_datasets(ctx: StageContext, params: MergeDatasetsParams) -> None:
         episodes=len(episodes),
         counts=manifest.counts,
         difficulty_thresholds={k: list(v) for k, v in manifest.difficulty_thresholds.items()},
+        **release_stats(manifest.name, manifest.version, manifest.counts),
     )
     ctx.log.info(
         "dataset %s v%s: %d episodes from %s",

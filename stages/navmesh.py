@@ -36,18 +36,23 @@ def _known_preset(name: str) -> str:
 
 
 class NavmeshParams(Params):
-    """Parameters of :func:`navmesh`.
-
-    ``preset: auto`` takes the preset of the scene type's profile (:mod:`navverse.scene_types`); a
-    name picks one of :data:`navverse.nav.PRESETS`; ``settings`` replaces single fields of it.
-    ``area_costs`` (cost per meter, >= 1) and ``excluded_classes`` name terrain classes; classes a
-    scene does not have are ignored, so a preset can serve many scenes.
+    """Parameters of :func:`navmesh`: the settings (a preset, single fields replaced) and how path
+    queries treat terrain classes. Classes a scene does not have are ignored, so one recipe section can
+    serve many scenes.
     """
 
     preset: Annotated[str, AfterValidator(_known_preset)] = "auto"
+    """The navmesh settings to start from: ``auto`` (the preset of the scene type's profile,
+    :mod:`navverse.scene_types`) or a preset of :data:`navverse.nav.PRESETS` (``indoor``, ``outdoor``,
+    ``i2o``)."""
     settings: NavMeshOverrides = Field(default_factory=NavMeshOverrides)
+    """Single fields of the navmesh settings replacing the preset's (cell size, agent radius...);
+    fields left out keep the preset's value."""
     area_costs: dict[TerrainName, Annotated[float, Field(ge=1.0, le=1000.0)]] = {}
+    """Path cost per meter by navigable terrain class (other classes cost 1 per meter): path queries
+    go round a costly class where the detour costs less than crossing it."""
     excluded_classes: list[TerrainName] = []
+    """Navigable terrain classes that path queries never enter."""
 
 
 def _link_or_copy(source: Path, target: Path) -> None:
@@ -58,7 +63,18 @@ def _link_or_copy(source: Path, target: Path) -> None:
         shutil.copy2(source, target)
 
 
-@stage(name="navmesh", inputs=["geometry"], outputs=["scene"])
+@stage(
+    name="navmesh",
+    inputs=["geometry"],
+    outputs=["scene"],
+    summary={
+        "navigable m2": "navigable_area_m2",
+        "islands": "islands",
+        "largest island m2": "largest_island_m2",
+        "polygons": "polygons",
+        "preset": "preset",
+    },
+)
 def navmesh(ctx: StageContext, params: NavmeshParams) -> None:
     """The complete scene directory: geometry files, navmesh.bin, navmesh.json, bev.png with the navmesh."""
     from navverse.nav import NavMeshSettings

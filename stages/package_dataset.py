@@ -7,30 +7,21 @@ from typing import Annotated, Literal
 from pydantic import Field, field_validator
 
 from pipeline import Input, StageContext, stage
-from stages._review_step import ReleaseParams, apply_review
+from stages._review_step import RELEASE_SUMMARY, ReleaseParams, apply_review, release_stats
 
 
 class PackageDatasetParams(ReleaseParams):
-    """Parameters of :func:`package_dataset`.
+    """Parameters of :func:`package_dataset`: the version published and the review applied
+    (:class:`~stages._review_step.ReleaseParams`), the scene-disjoint ``splits`` and the ``quota``.
 
-    ``version`` (``MAJOR.MINOR``) names the published directory ``episodes/<name>/v<version>``; a
-    published version never changes, so bump it when the content changes. ``name`` defaults to the
-    target id. ``splits`` maps split names to glob patterns over scene ids; every scene must fall in
-    exactly one split (splits are scene-disjoint).
-
-    ``review`` names the decisions file of ``navverse review`` (``<name>.review.yml`` beside the
-    recipe, :mod:`navverse.review.decisions`): the episodes rejected there are left out, and when any
-    is, the version published is ``version``'s major with its minor bumped past the reviewed version
-    (reviewed 1.1 publishes 1.2). Its content is part of the cache key, so a new decision rebuilds the
-    dataset.
-
-    ``quota`` caps the episodes of each split and task (``{train: {objnav: 2200}, eval: {objnav:
-    150}}``): a recipe samples more candidates than it needs, from measured acceptance rates, and the
-    quota keeps that many, spread evenly over the split's scenes (:func:`~navverse.episodes.packaging.
-    apply_quota`). A split and task left short of its quota is a warning in the build summary.
+    A recipe samples more candidates than it needs, from measured acceptance rates, and the quota
+    keeps that many (:func:`~navverse.episodes.packaging.apply_quota`).
     """
 
     splits: dict[Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*$")], list[str]]
+    """Glob patterns over scene ids (``fnmatch``, case-sensitive) by split name (lower_snake_case),
+    e.g. ``{train: ['*-s0'], eval: ['*-s1']}``; every scene must fall in exactly one split, and every
+    split get a scene."""
     quota: (
         dict[
             Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*$")],
@@ -38,6 +29,9 @@ class PackageDatasetParams(ReleaseParams):
         ]
         | None
     ) = None
+    """Most episodes kept per split and task, e.g. ``{train: {objnav: 2200}, eval: {objnav: 150}}``,
+    spread evenly over the split's scenes; a split and task left short of its quota is a warning.
+    Null, or a split or task left out: every episode is kept."""
 
     @field_validator("splits")
     @classmethod
@@ -53,6 +47,7 @@ class PackageDatasetParams(ReleaseParams):
     name="package_dataset",
     inputs=["verified", "instructions", Input("scene", many=True)],
     outputs=["dataset"],
+    summary=RELEASE_SUMMARY,
 )
 def package_dataset(ctx: StageContext, params: PackageDatasetParams) -> None:
     """<name>/v<version>/: <split>/<task>.json.gz, the rollouts beside them, and manifest.json."""
@@ -112,6 +107,7 @@ def package_dataset(ctx: StageContext, params: PackageDatasetParams) -> None:
         counts=manifest.counts,
         quota=quota_report,
         difficulty_thresholds={k: list(v) for k, v in manifest.difficulty_thresholds.items()},
+        **release_stats(manifest.name, manifest.version, manifest.counts),
     )
     ctx.log.info(
         "dataset %s v%s: %d episodes in %s", manifest.name, manifest.version, len(episodes), ", ".join(splits)

@@ -25,6 +25,12 @@ class PopulateParams(Params, PopulateSettings):
     inputs=["city_map", "street_geometry"],
     outputs=["populated_geometry"],
     passthrough={"populated_geometry": "street_geometry"},
+    summary={
+        "objects": "objects",
+        "by source": "sources",
+        "groups": "groups",
+        "map objects skipped": "skipped",
+    },
 )
 def populate(ctx: StageContext, params: PopulateParams) -> None:
     """The city scene with parked cars, mapped street furniture, sidewalk objects by zone and groups."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import zlib
+from collections import Counter
 from typing import Annotated, Literal
 
 from pydantic import AfterValidator, Field, model_validator
@@ -27,26 +28,36 @@ class TaskParams(Params):
     """How many candidates of a task to draw per scene."""
 
     episodes_per_scene: Annotated[int, Field(ge=0, le=10_000)]
+    """Candidates of the task drawn in each scene (fewer where goals or attempts run out: a warning)."""
 
 
 class SampleEpisodesParams(Params, SamplingSettings):
     """Parameters of :func:`sample_episodes`: those of :class:`navverse.episodes.sampling.SamplingSettings`
     and the tasks, goals and robot.
 
-    ``tasks`` maps ``objnav``, ``vln`` and ``placenav`` to the candidates wanted per scene. Object goals
-    are the objects whose category (after ``goal_rules``: regular expressions over prim names or paths,
-    the first match wins, ``category: null`` drops the object) is in ``categories`` (all when omitted);
-    PlaceNav goals are storefronts of ``place_categories``. ``embodiment`` fixes r_robot and so the
-    success distance (1.0 + r_robot); the verification stage uses the same robot. Paths to a goal
-    instance must be ``path_length`` long (m); the start faces the path, turned by up to
-    ``yaw_jitter_deg``. ``start_region: auto`` starts indoor-to-outdoor episodes inside the building.
+    Object goals (ObjectNav, VLN) are the objects whose category, after ``goal_rules``, is in
+    ``categories``; PlaceNav goals are storefronts of ``place_categories``. Paths to a goal instance
+    must be ``path_length`` long (m); the start faces the path, turned by up to ``yaw_jitter_deg``.
+    ``start_region: auto`` starts indoor-to-outdoor episodes inside the building.
     """
 
     tasks: dict[Literal["objnav", "vln", "placenav"], TaskParams]
+    """The tasks sampled (``objnav``, ``vln``, ``placenav``; at least one) and the candidates of each
+    drawn per scene."""
     categories: list[Annotated[str, Field(pattern=CATEGORY_PATTERN)]] | None = None
+    """Object categories (lower_snake_case) that are goals of ObjectNav and VLN episodes; null: every
+    category. A category with no instance in any scene is a warning."""
     place_categories: list[str] | None = None
+    """Place categories of the storefronts that are goals of PlaceNav episodes; null: every category.
+    A category with no storefront in any scene is a warning."""
     goal_rules: list[CategoryRule] = []
+    """Rules that rename objects before goals are chosen: tried in order on each object's prim name (or
+    path), the first match gives its category (``category: null`` drops the object); unmatched objects
+    keep their own. A rule that matches no object is a warning."""
     embodiment: Annotated[str, AfterValidator(_known_embodiment)] = "spot"
+    """The robot (``spot`` or ``turtlebot``): its radius r_robot sets the success distance (the scene
+    type's success margin + r_robot), and goal distances are measured from its standing base height;
+    the verification stage uses the same robot."""
 
     @model_validator(mode="after")
     def _some_task(self) -> SampleEpisodesParams:
@@ -55,7 +66,12 @@ class SampleEpisodesParams(Params, SamplingSettings):
         return self
 
 
-@stage(name="sample_episodes", inputs=[Input("scene", many=True)], outputs=["candidates"])
+@stage(
+    name="sample_episodes",
+    inputs=[Input("scene", many=True)],
+    outputs=["candidates"],
+    summary={"candidates": "per_task", "scenes": "scenes"},
+)
 def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
     """candidates.json.gz: episode candidates of every task in every linked scene, with their statistics."""
     from navverse.dataset import write_json_gz
@@ -101,7 +117,13 @@ def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
         },
         ctx.output / files.CANDIDATES,
     )
-    ctx.record(candidates=len(episodes), scenes=len(scenes), per_scene=per_scene)
+    per_task = Counter(e.task for e in episodes)
+    ctx.record(
+        candidates=len(episodes),
+        scenes=len(scenes),
+        per_scene=per_scene,
+        per_task=dict(sorted(per_task.items())),
+    )
     ctx.log.info("%d candidates in %d scenes", len(episodes), len(scenes))
 
 

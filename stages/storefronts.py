@@ -16,6 +16,13 @@ class StorefrontsParams(Params, StorefrontSettings):
     inputs=["city_map", "populated_geometry"],
     outputs=["geometry"],
     passthrough={"geometry": "populated_geometry"},
+    summary={
+        "storefronts": "categories",
+        "map places": "places",
+        "fill tries": "filled",
+        "rejected": "rejected",
+        "objects cleared": "objects_cleared",
+    },
 )
 def storefronts(ctx: StageContext, params: StorefrontsParams) -> None:
     """The city scene with storefronts carved into its facades at the map's places (scene.json records)."""

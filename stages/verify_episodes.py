@@ -13,7 +13,12 @@ class VerifyEpisodesParams(Params, VerificationSettings):
     along each accepted one and kept (0: none)."""
 
 
-@stage(name="verify_episodes", inputs=["candidates", Input("scene", many=True)], outputs=["verified"])
+@stage(
+    name="verify_episodes",
+    inputs=["candidates", Input("scene", many=True)],
+    outputs=["verified"],
+    summary={"candidates": "candidates", "accepted": "accepted_by_task", "rejected": "rejected_by_reason"},
+)
 def verify_episodes(ctx: StageContext, params: VerifyEpisodesParams) -> None:
     """episodes.json.gz (accepted, with their verification), rollouts, rejections with reasons, keyframes."""
     from collections import Counter

@@ -24,24 +24,16 @@ CATEGORY_PATTERN = r"^[a-z][a-z0-9_]*$"
 
 
 class CategoryRule(BaseModel):
-    """One rule: objects whose name (or path) matches ``pattern`` get ``category``.
+    """One rule: objects whose name (or path) matches ``pattern`` get ``category``."""
 
-    Parameters
-    ----------
-    pattern : str
-        A Python regular expression, searched (``re.search``) in the name or the path.
-    on : {"name", "path"}
-        What the pattern is matched against: the prim/node name or its full path.
-    category : str or None
-        The category to assign (lower_snake_case); None drops matching objects from the
-        annotations.
-    """
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, use_attribute_docstrings=True)
 
     pattern: str
+    """A Python regular expression, searched (``re.search``, not anchored) in the name or the path."""
     on: Literal["name", "path"] = "name"
+    """What ``pattern`` is searched in: the prim (or node) ``name``, or its full ``path``."""
     category: str | None = Field(default=None, pattern=CATEGORY_PATTERN)
+    """The category the matching objects get (lower_snake_case); null: they get none (they are dropped)."""
 
     @field_validator("pattern")
     @classmethod

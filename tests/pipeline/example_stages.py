@@ -17,7 +17,7 @@ class NumbersParams(Params):
     scale: float = 1.0
 
 
-@stage(name="ex_numbers", outputs=["numbers"])
+@stage(name="ex_numbers", outputs=["numbers"], summary={"numbers": "count"})
 def ex_numbers(ctx: StageContext, params: NumbersParams) -> None:
     """Random numbers drawn from the stage's generator (``numbers.npy``)."""
     values = ctx.rng.random(params.count) * params.scale

@@ -69,16 +69,16 @@ EMPTY_OF_FEATURES = (
         ("bomb.osm", BOMB, None, "DOCTYPE"),
         ("nothing.osm", EMPTY_OF_FEATURES, None, "no roads or buildings"),
         ("t_junction.osm", JUNCTION, "[40.0, 11.0]", "move it onto the data"),
-        ("mismatch.osm.pbf", JUNCTION, None, "is named .osm.pbf"),
-        ("mismatch.osm", gzip.compress(JUNCTION.encode(), mtime=0), None, "holds gzip"),
+        ("notes.osm", "some words, not a map\n", None, "is not an OSM file"),
+        ("words.osm.gz", gzip.compress(b"some words", mtime=0), None, "does not hold OSM XML"),
     ],
     ids=[
         "truncated",
         "entity-bomb",
         "no-roads-or-buildings",
         "centre-outside",
-        "pbf-holding-xml",
-        "xml-holding-gzip",
+        "not-osm",
+        "gzip-not-holding-osm",
     ],
 )
 def test_bad_osm_input_is_a_clear_error_and_builds_nothing(

@@ -14,8 +14,10 @@ from navverse.dataset import FORMAT_VERSION, Dataset, DatasetError, built_versio
 from navverse.episodes import files
 from navverse.episodes.inspect import check_bounds, replay
 from navverse.episodes.verification import REASONS
+from pipeline.dag import build_graph
 from pipeline.errors import RecipeError
 from pipeline.recipes import RecipeLoader
+from pipeline.runner import run_made
 from pipeline.stage import discover
 from tests.stages.conftest import (
     DATASET,
@@ -85,6 +87,33 @@ def test_vln_episodes_carry_grounded_instructions(built: Built, dataset: Dataset
         assert instruction.directive_times == sorted(instruction.directive_times)
         assert instruction.directive_times[0] >= 0.0 and instruction.directive_times[-1] <= duration + 1e-6
     assert all(e.instruction is None for e in dataset.episodes() if e.task == "objnav")
+
+
+def test_the_build_summary_says_what_the_scene_and_dataset_stages_made(built: Built, dataset: Dataset):
+    graph = build_graph(RecipeLoader(built.workspace, stages=discover("stages")).load())
+    made = {node_id: run_made(node, built.store) for node_id, node in graph.nodes.items()}  # from manifests
+    stats = {node_id: built.manifest(node.target.id, next(iter(node.artifact_keys)))["stats"]
+             for node_id, node in graph.nodes.items()}  # fmt: skip
+    layout = stats["apartment-s0:indoor_layout"]
+    assert made["apartment-s0:indoor_layout"].startswith(f"building apartment, rooms {layout['rooms']} (")
+    assert f", objects {layout['objects']}, faces " in made["apartment-s0:indoor_layout"]
+    assert re.match(r"faces before \d+, faces after \d+$", made["apartment-s0:decimate"])
+    navmesh = r"navigable m2 [\d.]+, islands \d+, largest island m2 [\d.]+, polygons \d+, preset indoor"
+    assert re.fullmatch(navmesh, made["apartment-s1:navmesh"])
+    sampled = stats["tiny:sample_episodes"]["per_task"]
+    assert made["tiny:sample_episodes"].startswith(f"candidates {sum(sampled.values())} (")
+    assert made["tiny:sample_episodes"].endswith("), scenes 2")
+    assert all(f"{task} {n}" in made["tiny:sample_episodes"] for task, n in sampled.items())
+    verified = stats["tiny:verify_episodes"]
+    assert made["tiny:verify_episodes"].startswith(
+        f"candidates {verified['candidates']}, accepted {verified['accepted']} ("
+    )
+    assert "rejected " in made["tiny:verify_episodes"] and "dropped " in made["tiny:instructions"]
+    counts = {split: sum(n for types in tasks.values() for n in types.values())
+              for split, tasks in dataset.manifest.counts.items()}  # fmt: skip
+    assert made["tiny:package_dataset"].startswith(f"dataset tiny v1.0, episodes {sum(counts.values())} (")
+    for split, count in counts.items():
+        assert f"{split} {count}" in made["tiny:package_dataset"].split("by task")[0]
 
 
 def test_every_episode_keeps_the_bounds_and_a_sample_replays_to_the_goal(built: Built, dataset: Dataset):
