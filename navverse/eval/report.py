@@ -5,9 +5,13 @@
 :mod:`navverse.eval.figures`, as base64 ``data:image/png`` URIs). It shows
 
 * a header: dataset name and version, split, embodiment, submission file, episodes and invalid ones;
-* the headline numbers (overall SR, SPL, SoftSPL, OS, NE, CR, ADO, NSR, CE; nDTW and SDTW for VLN);
-* every table of :data:`navverse.eval.tables.TABLES` (so tables added there appear here too), the
-  difficulty thresholds and the submission's problems;
+* the headline numbers (overall SR, SPL, SoftSPL, OS, NE, CR, ADO, NSR, CE; nDTW and SDTW for VLN), each
+  with its full name and its n (the episodes it is a mean over);
+* every table of :data:`navverse.eval.tables.TABLES` (so tables added there appear here too; a cell over
+  fewer episodes than its row's shows its own n), the difficulty thresholds;
+* the metrics glossary: abbreviation, full name and one-line definition of every metric shown, from
+  their declarations in :mod:`navverse.eval.metrics`; the scored episode ids (collapsed); the
+  submission's problems;
 * a summary picture: termination label shares per task (stacked bars) and SR per task × scene type;
 * one card per episode, failures first, grouped by termination label: a small bird's-eye view of the
   submitted trajectory against the episode's reference path, the start, and each goal with its success
@@ -40,11 +44,20 @@ from navverse.eval.figures import (
     png_data_uri,
     summary_figure,
 )
-from navverse.eval.metrics import LABELS
+from navverse.eval.metrics import LABELS, definition
 from navverse.eval.protocol import describe
 from navverse.eval.scoring import EvalResult, robot_for
 from navverse.eval.submission import Submission
-from navverse.eval.tables import HEADERS, PERCENT, TABLES, cell_text, scope_text, table_rows
+from navverse.eval.tables import (
+    HEADERS,
+    TABLES,
+    cell_text,
+    glossary,
+    scope_text,
+    scored_episode_groups,
+    shown_columns,
+    table_rows,
+)
 from navverse.files import atomic_write
 
 __all__ = ["REPORT_HTML", "write_report"]
@@ -68,8 +81,9 @@ TABLE_TITLES = {
     "transition": "Indoor-to-outdoor transition per task",
 }
 """Headings of the tables; a table missing here is headed by its name."""
-_MORE_HEADERS = {"ndtw": "nDTW (%)", "sdtw": "SDTW (%)"}
-"""Names of headline metrics that no table shows (:data:`navverse.eval.tables.HEADERS` names the others)."""
+GROUP_TITLE = "the row's group of episodes"
+ROW_N_TITLE = "the row's number of episodes: the n of its values (a value over fewer shows its own n)"
+"""Tooltips of the tables' first two columns (the others show their metric's full name)."""
 _MAX_CARD_PROBLEMS = 5
 _MAX_PROBLEMS = 200
 
@@ -78,14 +92,15 @@ def _e(value: object) -> str:
     return html.escape(str(value), quote=True)
 
 
-def _metric_name(name: str) -> str:
-    if name in HEADERS or name in _MORE_HEADERS:
-        return HEADERS.get(name) or _MORE_HEADERS[name]
-    return f"{name.upper()} (%)" if name in PERCENT else name
-
-
-def _table_html(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
-    head = "".join(f"<th>{_e(h)}</th>" for h in header)
+def _table_html(
+    header: Sequence[str], rows: Sequence[Sequence[str]], titles: Sequence[str] | None = None
+) -> str:
+    """An HTML table; `titles` are the columns' tooltips (their full names)."""
+    tips = titles or [""] * len(header)
+    head = "".join(
+        f'<th title="{_e(tip)}">{_e(h)}</th>' if tip else f"<th>{_e(h)}</th>"
+        for h, tip in zip(header, tips, strict=True)
+    )
     body = []
     for row in rows:
         css = ' class="total"' if row[0] == "all" else ""  # the overall row ``table_rows`` ends with
@@ -97,27 +112,73 @@ def _tables_html(result: EvalResult) -> str:
     if not result.groups.get("overall"):
         return "<p>No episode was scored.</p>"
     parts = []
-    for name, (grouping, _) in TABLES.items():
+    for name, (grouping, columns) in TABLES.items():
         if not result.groups.get(grouping):
             continue
         header, rows = table_rows(result, name)
+        titles = [GROUP_TITLE, ROW_N_TITLE, *(definition(c).title for c in columns)]
         title = TABLE_TITLES.get(name, name.replace("_", " "))
-        parts.append(
-            f'<section id="table-{_e(name)}"><h3>{_e(title)}</h3>{_table_html(header, rows)}</section>'
-        )
+        table = _table_html(header, rows, titles)
+        parts.append(f'<section id="table-{_e(name)}"><h3>{_e(title)}</h3>{table}</section>')
     return '<div class="tables">' + "".join(parts) + "</div>"
 
 
+def _headline_names(result: EvalResult) -> list[str]:
+    """The headline metrics the result defines (:data:`HEADLINE`)."""
+    overall = result.groups.get("overall", {}).get("all", {})
+    return [name for name in HEADLINE if overall.get(name) is not None]
+
+
 def _headline_html(result: EvalResult) -> str:
+    """One tile per headline metric: value, column name, full name and n (its definition on hover)."""
     overall = result.groups.get("overall", {}).get("all", {})
     tiles = []
-    for name in HEADLINE:
-        value = overall.get(name)
-        if value is None:
-            continue
-        tiles.append(f'<div class="tile"><div class="v">{_e(cell_text(name, value))}</div>'
-                     f'<div class="k">{_e(_metric_name(name))}</div></div>')  # fmt: skip
+    for name in _headline_names(result):
+        spec = definition(name)
+        n = overall.get(f"{name}_n", overall.get("episodes", 0))
+        tiles.append(
+            f'<div class="tile" id="headline-{_e(name)}" title="{_e(spec.title)}: {_e(spec.description)}">'
+            f'<div class="v">{_e(cell_text(name, overall[name]))}</div>'
+            f'<div class="k">{_e(HEADERS.get(name, name))}</div><div class="t">{_e(spec.title)}</div>'
+            f'<div class="n">n = {_e(n)}</div></div>'
+        )
     return '<div class="tiles">' + "".join(tiles) + "</div>" if tiles else ""
+
+
+def _glossary_html(names: Sequence[str]) -> str:
+    """The ``Metrics`` section: abbreviation, full name and one-line definition of each metric shown."""
+    if not names:
+        return ""
+    rows = [[e["column"], e["title"], e["description"], e["better"], e["name"]] for e in glossary(names)]
+    note = (
+        "Every number above is the mean over its n episodes (a tile's n; a table row's <code>episodes</code>,"
+        " or a cell's own (n=…)) of the per-episode value defined here, except the counts (#); rates in %."
+    )
+    table = _table_html(["column", "full name", "definition", "better", "key"], rows)
+    return f'<h2 id="metrics">Metrics</h2><p>{note}</p><div class="glossary">{table}</div>'
+
+
+def _ids_html(ids: Sequence[str]) -> str:
+    links = ", ".join(f'<a href="#ep-{_e(i)}">{_e(i)}</a>' for i in ids)
+    return f'<p class="ids">{links}</p>'
+
+
+def _scored_html(result: EvalResult) -> str:
+    """The scored episode ids by task / scene type, in a collapsed ``<details>``, each a link to its card."""
+    if not result.episodes:
+        return ""
+    parts = [f"<h4>{_e(key.replace('/', ' / '))} ({len(ids)})</h4>{_ids_html(ids)}"
+             for key, ids in scored_episode_groups(result)]  # fmt: skip
+    invalid = sorted(str(r["episode_id"]) for r in result.episodes if r["label"] == "invalid")
+    if invalid:
+        parts.append(
+            f"<h4>without a valid record, scored as failures ({len(invalid)})</h4>{_ids_html(invalid)}"
+        )
+    count = len(result.episodes)
+    return (
+        f'<h2 id="scored">Scored episodes ({count})</h2><details class="scored"><summary>The {count} '
+        f"episode ids in the means, by task / scene type</summary>{''.join(parts)}</details>"
+    )
 
 
 def _thresholds_html(result: EvalResult) -> str:
@@ -148,14 +209,11 @@ def _value(row: Mapping[str, object], name: str, *, unit: str = "") -> str:
     return "–" if value is None else cell_text(name, float(value)) + unit
 
 
-_CARD_FACTS = {"success": ("SR", ""), "spl": ("SPL", ""), "ne": ("NE", " m"), "path_length": ("P", " m"),
-               "ndtw": ("nDTW", ""), "sdtw": ("SDTW", "")}  # fmt: skip
-
-
 def _fact(row: Mapping[str, object], name: str) -> str:
-    """``name value unit`` of a card, kept on one line (no-break spaces)."""
-    short, unit = _CARD_FACTS[name]
-    return f"{short} {_value(row, name)}{unit}".replace(" ", "\u00a0")
+    """``abbreviation value unit`` of a card, kept on one line (no-break spaces)."""
+    spec = definition(name)
+    unit = {"": "", "%": "%"}.get(spec.unit, f" {spec.unit}") if row.get(name) is not None else ""
+    return f"{spec.abbreviation} {_value(row, name)}{unit}".replace(" ", "\u00a0")
 
 
 def _card_html(
@@ -363,6 +421,8 @@ def write_report(
             "<h2>Tables</h2>",
             _tables_html(result),
             _thresholds_html(result),
+            _glossary_html(list(dict.fromkeys([*_headline_names(result), *shown_columns(result)]))),
+            _scored_html(result),
             _problems_html(result.problems),
             f'<h2 id="episodes">Episodes ({len(result.episodes)})</h2>',
             f'<div class="legend">{legend}</div>',

@@ -22,7 +22,7 @@ import numpy as np
 
 from navverse.dataset import Dataset, Episode
 from navverse.eval.measures import MEASURES, TRANSITION_SCENE_TYPES, EpisodeTarget, Robot, measure
-from navverse.eval.metrics import LABELS, METRICS, compute_metrics
+from navverse.eval.metrics import METRICS, STATISTICS, compute_metrics
 from navverse.eval.protocol import UNSPECIFIED, describe
 from navverse.eval.submission import Submission, SubmissionError
 from navverse.scene.fields import SceneFields, load_scene_fields
@@ -375,10 +375,11 @@ def _group_order(key: str) -> tuple:
 
 def group_means(rows: Sequence[dict]) -> dict[str, dict[str, dict[str, float]]]:
     """Means of every metric (over the episodes where it is defined; ``<metric>_n`` is how many) and
-    label shares, per grouping.
+    the group statistics, per grouping.
 
-    Each group also counts its ``failures`` and its ``post_exit_failures`` (failed episodes that reached
-    outdoors: the episodes the ``post_exit_*`` shares are over).
+    The statistics are those of :data:`~navverse.eval.metrics.STATISTICS`: the share of each label, the
+    ``failures`` and the ``post_exit_failures`` (failed episodes that reached outdoors: the episodes the
+    ``post_exit_*`` shares are over), each over all the group's episodes.
     """
     out: dict[str, dict[str, dict[str, float]]] = {}
     names = [n for n in METRICS if not n.startswith("_")]
@@ -395,10 +396,8 @@ def group_means(rows: Sequence[dict]) -> dict[str, dict[str, dict[str, float]]]:
                 defined = [m[name] for m in members if m[name] is not None]
                 entry[name] = round(float(np.mean(defined)), 6) if defined else None
                 entry[f"{name}_n"] = len(defined)
-            for label in LABELS:
-                entry[f"{label}_share"] = round(sum(m["label"] == label for m in members) / len(members), 6)
-            entry["failures"] = sum(m["label"] != "success" for m in members)
-            entry["post_exit_failures"] = sum(m.get("post_exit_timeout") is not None for m in members)
+            for name, spec in STATISTICS.items():
+                entry[name] = round(spec.function(members), 6)
             table[group] = entry
         out[grouping] = table
     return out

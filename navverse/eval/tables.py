@@ -4,12 +4,19 @@ Tables (Markdown in ``tables.md``, each also as ``<name>.csv``):
 
 * ``task_scene`` — SR / SPL / SoftSPL / OS / NE per task × scene type (the paper's Table 2);
 * ``safety_efficiency`` — CR, ADO, NSR, CE per scene type (Table 3);
-* ``failures`` — #Fail and the shares of wrong goal, fall and timeout (and invalid) per task (Table 4);
-* ``difficulty`` — SR / SPL per task × difficulty, with the thresholds (Table 5);
+* ``failures`` — #Fail and the shares of wrong goal, fall and timeout (and invalid) per task (Table 5;
+  here over all the row's episodes);
+* ``difficulty`` — SR / SPL per task × difficulty, with the thresholds (Table 6);
 * ``transition`` — per task over the indoor-to-outdoor episodes: Ind-Only, Reach-Out, CE before and
   after the exit, and the post-exit failures' shares of wrong goal, fall and timeout (the paper's
-  stage-wise transition table); written only when the split has indoor-to-outdoor episodes;
+  stage-wise transition table, Table 4); written only when the split has indoor-to-outdoor episodes;
 * ``episodes.csv`` — one row per episode.
+
+Every value carries its n, the number of episodes it is over: the ``episodes`` column is the row's, and
+a metric defined on fewer of them shows its own, as ``(n=...)`` in Markdown or an ``N`` column in CSV.
+After the tables, ``tables.md`` defines every column they show (:func:`glossary_markdown`, from the
+declarations of :mod:`navverse.eval.metrics`) and lists the scored episode ids
+(:func:`scored_episode_groups`).
 
 ``instruction_types.md`` and ``.csv`` (and the ``instruction_types`` key of ``metrics.json``) hold the
 paper's PlaceNav instruction-type table: SR and SPL over all, outdoor and indoor-to-outdoor PlaceNav
@@ -26,30 +33,35 @@ import csv
 import io
 import json
 import os
-from collections.abc import Sequence
+import textwrap
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 from navverse.dataset import INSTRUCTION_TYPES
-from navverse.eval.metrics import METRICS
+from navverse.eval.metrics import METRICS, STATISTICS, Metric, Statistic, definition
 from navverse.eval.protocol import describe
 from navverse.eval.scoring import EvalResult
 from navverse.files import atomic_write
 
 __all__ = [
+    "HEADERS",
     "INSTRUCTION_TYPE_NAMES",
+    "PERCENT",
     "TABLES",
     "cell_text",
+    "glossary",
+    "glossary_markdown",
     "has_table",
     "instruction_type_entries",
     "instruction_type_table",
     "provenance_lines",
     "scope_text",
+    "scored_episode_groups",
+    "shown_columns",
     "table_rows",
     "write_outputs",
 ]
 
-PERCENT = {"success", "spl", "soft_success", "soft_spl", "os", "cr", "nsr", "sdtw", "ndtw", "ind_only",
-           "reach_out", "post_exit_wrong_goal", "post_exit_fall", "post_exit_timeout"}  # fmt: skip
 TABLES = {
     "task_scene": ("task_scene_type", ("success", "spl", "soft_spl", "os", "ne")),
     "safety_efficiency": ("scene_type", ("cr", "ado", "nsr", "ce")),
@@ -62,15 +74,28 @@ TOTALS = {"i2o_task": ("scene_type", "i2o")}
 """The group of the ``all`` row of a grouping's table, when not the overall one."""
 GROUP_NAMES = {"task_scene_type": "task / scene", "scene_type": "scene type", "task": "task",
                "task_difficulty": "task / difficulty", "i2o_task": "task (i2o)"}  # fmt: skip
-HEADERS = {
-    "success": "SR (%)", "spl": "SPL (%)", "soft_spl": "SoftSPL (%)", "os": "OS (%)", "ne": "NE (m)",
-    "cr": "CR (%)", "ado": "ADO (m)", "nsr": "NSR (%)", "ce": "CE (cells/m)", "failures": "#Fail",
-    "wrong_goal_share": "wrong goal (%)", "fall_share": "fall (%)", "timeout_share": "timeout (%)",
-    "invalid_share": "invalid (%)", "ind_only": "Ind-Only (%)", "reach_out": "Reach-Out (%)",
-    "ce_pre_exit": "CE pre-exit (cells/m)", "ce_post_exit": "CE post-exit (cells/m)",
-    "post_exit_failures": "#post-exit fail", "post_exit_wrong_goal": "post-exit wrong goal (%)",
-    "post_exit_fall": "post-exit fall (%)", "post_exit_timeout": "post-exit timeout (%)",
-}  # fmt: skip
+DEFINED: dict[str, Metric | Statistic] = {
+    **{name: spec for name, spec in METRICS.items() if not name.startswith("_")},
+    **STATISTICS,
+}
+"""Every value a table can show, by name: the public metrics and the group statistics."""
+
+
+def _header(spec: Metric | Statistic) -> str:
+    """A column's name: the abbreviation, with the unit in parentheses when it has one."""
+    return f"{spec.abbreviation} ({spec.unit})" if spec.unit else spec.abbreviation
+
+
+HEADERS = {name: _header(spec) for name, spec in DEFINED.items()}
+"""Column name of each metric and statistic (``SR (%)``), from its declaration."""
+PERCENT = frozenset(name for name, spec in DEFINED.items() if spec.unit == "%")
+"""The rates: shown in %."""
+COUNTS = frozenset(name for name, spec in STATISTICS.items() if not spec.unit)
+"""The counts of episodes: shown as integers."""
+ROW_N = "episodes"
+"""The column holding a row's n (its number of episodes)."""
+WRAP = 100
+"""Width of the lists of episode ids in ``tables.md``."""
 
 
 INSTRUCTION_TYPE_NAMES = {"category": "Store Category", "route": "VLN Instruction",
@@ -90,9 +115,9 @@ def cell_text(name: str, value: float | None) -> str:
     """A metric value as a table shows it: percentages for rates, counts as integers, "–" if undefined."""
     if value is None:
         return "–"
-    if name in PERCENT or name.endswith("_share"):
+    if name in PERCENT:
         return f"{100.0 * value:.1f}"
-    if name in ("failures", "post_exit_failures"):
+    if name in COUNTS:
         return str(int(value))
     return f"{value:.2f}"
 
@@ -111,7 +136,7 @@ def table_rows(
     with `n_columns` (for CSV files a program reads), as an ``N`` column after every metric.
     """
     grouping, columns = TABLES[table]
-    header = [GROUP_NAMES[grouping], "episodes"]
+    header = [GROUP_NAMES[grouping], ROW_N]
     for c in columns:
         header += [HEADERS.get(c, c), *([f"{HEADERS.get(c, c)} N"] if n_columns and _has_n(c) else [])]
     rows = []
@@ -143,6 +168,120 @@ def _cell(name: str, entry: dict) -> str:
     return text if n is None or n == entry["episodes"] or entry.get(name) is None else f"{text} (n={n})"
 
 
+def shown_columns(result: EvalResult) -> list[str]:
+    """The metrics and statistics the tables of `result` show, each once, in table order (tables without
+    groups left out, as :func:`write_outputs` leaves them out)."""
+    names: dict[str, None] = {}
+    for table, (_, columns) in TABLES.items():
+        if has_table(result, table):
+            names.update(dict.fromkeys(columns))
+    return list(names)
+
+
+def glossary(names: Iterable[str]) -> list[dict[str, str]]:
+    """The definitions of the named metrics and statistics, each once, in the order given.
+
+    Returns
+    -------
+    list of dict
+        ``name`` (the key in ``metrics.json``), ``column`` (the name in the tables, :data:`HEADERS`),
+        ``title`` (the full name), ``description`` (one line) and ``better`` (``higher`` or ``lower``).
+
+    Raises
+    ------
+    KeyError
+        If a name is neither a registered metric nor a group statistic.
+    """
+    entries = []
+    for name in dict.fromkeys(names):
+        spec = definition(name)
+        entries.append(
+            {
+                "name": name,
+                "column": HEADERS[name],
+                "title": spec.title,
+                "description": spec.description,
+                "better": "higher" if spec.higher_is_better else "lower",
+            }
+        )
+    return entries
+
+
+def glossary_markdown(names: Iterable[str]) -> str:
+    """A Markdown table defining the named metrics and statistics (:func:`glossary`): column, full name,
+    definition, which way is better, and the key in ``metrics.json`` and ``episodes.csv``."""
+    lines = ["| column | full name | definition | better | key |", "|---|---|---|---|---|"]
+    for e in glossary(names):
+        cells = [e["column"], e["title"], e["description"], e["better"]]
+        lines.append("| " + " | ".join(_md_cell(c) for c in cells) + f" | `{e['name']}` |")
+    return "\n".join(lines)
+
+
+def _md_cell(text: str) -> str:
+    """Text for a Markdown table cell: on one line, pipes escaped."""
+    return " ".join(text.split()).replace("|", "\\|")
+
+
+def scored_episode_groups(result: EvalResult) -> list[tuple[str, list[str]]]:
+    """The ids of the scored episodes by task / scene type, in the order of the ``task_scene`` table.
+
+    Returns
+    -------
+    list of (str, list of str)
+        The group (``objnav/indoor``) and its episode ids, sorted.
+    """
+    groups: dict[str, list[str]] = {}
+    for row in result.episodes:
+        groups.setdefault(f"{row['task']}/{row['scene_type']}", []).append(str(row["episode_id"]))
+    order = list(result.groups.get("task_scene_type", {}))
+    keys = [k for k in order if k in groups] + sorted(set(groups) - set(order))
+    return [(key, sorted(groups[key])) for key in keys]
+
+
+def _id_block(ids: Sequence[str]) -> list[str]:
+    """Episode ids as a fenced block of comma-separated lines (ids are never split)."""
+    text = textwrap.fill(", ".join(ids), width=WRAP, break_long_words=False, break_on_hyphens=False)
+    return ["```text", text, "```"]
+
+
+def _scored_markdown(result: EvalResult) -> list[str]:
+    """The ``Scored episodes`` section of ``tables.md``: every scored id, by task / scene type, and
+    those without a valid record again on their own."""
+    count = len(result.episodes)
+    split = result.scope.get("split")
+    where = f" of split {split}" if split else ""
+    parts = [
+        "## Scored episodes",
+        "",
+        f"The {count} episodes{where} in the means above, by task / scene type (ids sorted).",
+        "",
+    ]
+    for key, ids in scored_episode_groups(result):
+        parts += [f"### {key.replace('/', ' / ')} ({len(ids)})", "", *_id_block(ids), ""]
+    invalid = sorted(str(r["episode_id"]) for r in result.episodes if r["label"] == "invalid")
+    if invalid:
+        parts += [
+            f"### without a valid record, scored as failures ({len(invalid)})",
+            "",
+            *_id_block(invalid),
+            "",
+        ]
+    return parts
+
+
+def _definition_json(spec: Metric | Statistic) -> dict:
+    """A metric's or statistic's declaration as ``metrics.json`` holds it."""
+    return {
+        "title": spec.title,
+        "abbreviation": spec.abbreviation,
+        "description": spec.description,
+        "formula": spec.formula,
+        "unit": spec.unit,
+        "reference": spec.reference,
+        "higher_is_better": spec.higher_is_better,
+    }
+
+
 def scope_text(result: EvalResult) -> str:
     """What a result's numbers are over, in one sentence (partial scoring said as such)."""
     scope = result.scope
@@ -164,8 +303,9 @@ def provenance_lines(result: EvalResult) -> list[str]:
     lines = [scope_text(result)] if result.scope else []
     lines.append(f"Track: {describe(result.track)}.")
     lines.append(
-        "N: `episodes` is the row's episode count; a metric defined on fewer of them (trajectory measures "
-        "need a valid record, exit metrics a start indoors) shows its own as (n=...)."
+        "n: `episodes` is the row's episode count, the n of every value in the row; a metric defined on "
+        "fewer of them (trajectory measures need a valid record, exit metrics a start indoors) shows its "
+        "own as (n=...). Every column is defined under Metrics, after the tables."
     )
     return lines
 
@@ -221,6 +361,12 @@ def instruction_type_table(entries: Sequence[dict]) -> tuple[list[str], list[lis
     return header, rows
 
 
+_GLOSSARY_NOTE = (
+    "Each column of the tables above. A value is the mean over its n episodes (`episodes`, or its own "
+    "(n=...)) of the per-episode value defined here, except the counts (#); rates are in %."
+)
+
+
 def _markdown(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
     lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
     lines += ["| " + " | ".join(row) + " |" for row in rows]
@@ -254,6 +400,7 @@ def _write_instruction_types(out: Path, entries: Sequence[dict]) -> None:
         f"- {e['name']} ({e['instruction_type']}): {e['submission'] or 'unknown'}, track {e['track']}"
         for e in entries
     ]
+    parts += ["", "## Metrics", "", glossary_markdown(INSTRUCTION_TYPE_METRICS)]
     _write_text(out / "instruction_types.md", "\n".join(parts) + "\n")
 
 
@@ -274,7 +421,8 @@ def write_outputs(
         "meta": meta,
         "scope": result.scope,
         "track": result.track,
-        "definitions": {n: m.description for n, m in METRICS.items() if not n.startswith("_")},
+        "definitions": {n: _definition_json(m) for n, m in METRICS.items() if not n.startswith("_")},
+        "statistic_definitions": {n: _definition_json(s) for n, s in STATISTICS.items()},
         "overall": result.groups["overall"]["all"],
         **{k: v for k, v in result.groups.items() if k != "overall"},
         "difficulty_thresholds": {k: list(v) for k, v in result.difficulty_thresholds.items()},
@@ -299,7 +447,12 @@ def write_outputs(
                 for t, (a, b) in sorted(result.difficulty_thresholds.items())
             )
         )
-    _write_text(out / "tables.md", "\n".join(parts) + "\n")
+        parts.append("")
+    shown = shown_columns(result)
+    if shown:
+        parts += ["## Metrics", "", _GLOSSARY_NOTE, "", glossary_markdown(shown), ""]
+    parts += _scored_markdown(result)
+    _write_text(out / "tables.md", "\n".join(parts).rstrip("\n") + "\n")
     _write_instruction_types(out, entries)
     if result.episodes:
         names = list(result.episodes[0])

@@ -23,11 +23,12 @@ from navverse.dataset import (
     Episode,
 )
 from navverse.eval import figures, screenshot
-from navverse.eval.report import write_report
+from navverse.eval.metrics import METRICS, STATISTICS
+from navverse.eval.report import HEADLINE, write_report
 from navverse.eval.scoring import EvalResult, score
 from navverse.eval.screenshot import ScreenshotError, find_browser, screenshot_report
 from navverse.eval.submission import Submission, read_submission
-from navverse.eval.tables import TABLES, table_rows
+from navverse.eval.tables import HEADERS, TABLES, table_rows
 from navverse.scene import write_scene_dir
 from tests.navverse.eval.toy_dataset import write_toy_dataset
 from tests.navverse.scene.conftest import build_scene
@@ -153,7 +154,7 @@ def test_the_report_holds_the_header_tables_and_one_card_per_episode(scored):
     for name in shown:
         header, _ = table_rows(result, name)
         for cell in header:
-            assert f"<th>{html.escape(cell)}</th>" in text, (name, cell)
+            assert re.search(rf'<th( title="[^"]+")?>{re.escape(html.escape(cell))}</th>', text), (name, cell)
     assert "objnav: easy &lt; 4.00 m" in text  # the difficulty thresholds
     assert "Submission problems (1)" in text and "holds NaN or infinity" in text
     # One card per episode, failures first; the invalid ones say why, without a picture.
@@ -164,6 +165,68 @@ def test_the_report_holds_the_header_tables_and_one_card_per_episode(scored):
     assert "no record in the submission" in missing and "<img" not in missing
     broken = text[text.index('id="ep-room-vln-0001"') :].split('<div class="card"')[0]
     assert "holds NaN" in broken and "<img" not in broken
+
+
+def _between(text: str, start: str, end: str) -> str:
+    return text[text.index(start) : text.index(end, text.index(start))]
+
+
+def test_every_headline_card_names_its_metric_in_full_with_its_n(scored):
+    result, *_, out = scored
+    text = out.read_text(encoding="utf-8")
+    tiles = re.findall(
+        r'<div class="tile" id="headline-([^"]+)" title="([^"]+)"><div class="v">([^<]+)</div>'
+        r'<div class="k">([^<]+)</div><div class="t">([^<]+)</div><div class="n">n = (\d+)</div></div>',
+        text,
+    )
+    overall = result.groups["overall"]["all"]
+    assert [t[0] for t in tiles] == [n for n in HEADLINE if overall.get(n) is not None]
+    assert {"success", "ne", "ndtw"} <= {t[0] for t in tiles}
+    for name, tip, _, column, title, n in tiles:
+        spec = METRICS[name]
+        assert (html.unescape(tip), column, html.unescape(title)) == (
+            f"{spec.title}: {spec.description}", HEADERS[name], spec.title)  # fmt: skip
+        assert int(n) == overall[f"{name}_n"], name
+    n_of = {t[0]: int(t[5]) for t in tiles}
+    # SR is over all 6 episodes; NE needs a valid trajectory (4); nDTW is over the one valid VLN episode.
+    assert (n_of["success"], n_of["ne"], n_of["ndtw"]) == (6, 4, 1)
+    # So is a table cell over fewer episodes than its row's: the "all" row of the task / scene table.
+    task_scene = _between(text, 'id="table-task_scene"', "</section>")
+    assert "<td>all</td><td>6</td><td>16.7</td>" in task_scene and "<td>2.81 (n=4)</td>" in task_scene
+
+
+def test_every_metric_the_report_shows_is_defined_in_its_glossary(scored):
+    text = scored[4].read_text(encoding="utf-8")
+    glossary = _between(text, '<h2 id="metrics">', "</table>")
+    rows = re.findall(r"<tr><td>([^<]+)</td><td>([^<]+)</td><td>([^<]+)</td><td>(higher|lower)</td>"
+                      r"<td>([^<]+)</td></tr>", glossary)  # fmt: skip
+    defined = {html.unescape(column): (key, html.unescape(title), html.unescape(what))
+               for column, title, what, _, key in rows}  # fmt: skip
+    tiles = re.findall(r'<div class="k">([^<]+)</div>', text)
+    headers = {
+        html.unescape(h)
+        for section in re.findall(r'<section id="table-[^"]+">.*?</section>', text)
+        for h in re.findall(r"<th[^>]*>([^<]+)</th>", section)[2:]  # after the group and its n
+    }
+    assert len(tiles) == 11 and len(headers) == 22
+    assert set(defined) == {html.unescape(t) for t in tiles} | headers  # everything shown, nothing else
+    for column, (key, title, what) in defined.items():
+        spec = METRICS.get(key) or STATISTICS[key]
+        assert (column, title, what) == (HEADERS[key], spec.title, spec.description)
+    assert defined["ADO (m)"][1] == "Average Distance to Obstacles"
+    assert defined["OS (%)"][1] == "Oracle Success"
+
+
+def test_the_report_lists_the_scored_episode_ids(scored):
+    text = scored[4].read_text(encoding="utf-8")
+    listed = _between(text, '<details class="scored">', "</details>")
+    groups = re.findall(r"<h4>([^<]+)</h4><p class=\"ids\">(.*?)</p>", listed)
+    ids = {title: re.findall(r'<a href="#ep-([^"]+)">\1</a>', body) for title, body in groups}
+    invalid = ids.pop("without a valid record, scored as failures (2)")
+    assert sorted(i for group in ids.values() for i in group) == sorted(LABELS)  # each once
+    assert ids["objnav / indoor (2)"] == ["room-objnav-0002", "room-objnav-0003"]
+    assert invalid == [e for e, label in sorted(LABELS.items()) if label == "invalid"]
+    assert all(f'id="ep-{e}"' in text for e in LABELS)  # the links lead to the cards
 
 
 def test_the_report_is_self_contained(scored):
