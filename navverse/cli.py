@@ -25,7 +25,7 @@ from pathlib import Path
 
 from rich.console import Console
 
-from navverse.commands import evaluate, export, listing, show, validate
+from navverse.commands import evaluate, export, listing, show, validate, workspace
 from navverse.commands.common import (
     MINI,
     HelpFormatter,
@@ -37,6 +37,9 @@ from navverse.commands.common import (
     recipe_options,
     scene_options,
     validate_commands,
+)
+from navverse.commands.common import (
+    console as terminal_console,
 )
 from navverse.errors import NavverseError
 from navverse.review import cli as review
@@ -90,7 +93,7 @@ def _loader(workspace):
 
 
 def _warn(warnings: Sequence[str]) -> None:
-    console = Console(stderr=True)
+    console = terminal_console(stderr=True)
     for text in warnings:
         console.print(f"warning: {text}", style="yellow", highlight=False, markup=False, soft_wrap=True)
 
@@ -284,7 +287,7 @@ def _locked(store, *, wait: bool) -> Iterator[None]:
     from pipeline.runner import sigterm_interrupts
 
     def waiting(holder: str) -> None:
-        Console(stderr=True).print(
+        terminal_console(stderr=True).print(
             f"{holder} holds the workspace; waiting… — Ctrl-C to stop", highlight=False
         )
 
@@ -455,6 +458,7 @@ def _recipe_path(workspace, name: str) -> Path:
 
 
 COMMANDS: tuple[Callable[[Subparsers, Shared], None], ...] = (
+    workspace.register,
     register,
     validate.register,
     evaluate.register,
@@ -503,8 +507,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     """
     parser = build_parser()
     args = parser.parse_args(argv)
-    console = Console(stderr=False)
-    errors = Console(stderr=True, highlight=False, soft_wrap=True)
+    console = terminal_console()
+    errors = terminal_console(stderr=True, highlight=False, soft_wrap=True)
     from pipeline.params import allow_reading
 
     try:

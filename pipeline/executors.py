@@ -136,7 +136,7 @@ class LocalProcessExecutor:
         # Started here, not inside the block: starting it unblocks SIGINT instead of restoring the mask.
         resource_tracker.ensure_running()
         try:
-            with _sigint_blocked():  # the child starts with SIGINT blocked until it ignores it
+            with _sigint_blocked(), _main_script_hidden():  # the child blocks SIGINT until it ignores it
                 process.start()
                 with self._lock:
                     self._jobs.append(_Job(task, process, reader, future))
@@ -230,6 +230,35 @@ def _death(exitcode: int | None) -> str:
             name = f"signal {-exitcode}"
         return f"died ({name}: killed, or out of memory)"
     return f"exited with code {exitcode} before reporting a result"
+
+
+_MAIN_LOCK = threading.Lock()
+
+
+@contextlib.contextmanager
+def _main_script_hidden() -> Iterator[None]:
+    """Start processes that do not run the caller's ``__main__`` again.
+
+    A spawned process imports the parent's main script or module before its target runs, so a script
+    that builds (``navverse.api.build``) without an ``if __name__ == "__main__":`` guard would run again
+    in every worker, and wait there for the workspace lock its parent holds. Workers need only the stage
+    modules (imported by name), so the main module's file and spec are hidden while a process starts.
+    """
+    import sys
+
+    main = sys.modules.get("__main__")
+    if main is None:
+        yield
+        return
+    with _MAIN_LOCK:
+        saved = {name: main.__dict__[name] for name in ("__file__", "__spec__") if name in main.__dict__}
+        main.__dict__.pop("__file__", None)
+        main.__spec__ = None  # multiprocessing reads it: present, but naming no module
+        try:
+            yield
+        finally:
+            main.__dict__.pop("__spec__", None)
+            main.__dict__.update(saved)
 
 
 @contextlib.contextmanager

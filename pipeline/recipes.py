@@ -339,7 +339,13 @@ class RecipeLoader:
             )
         if not os.path.lexists(parent):
             known = sorted(p.stem for p in self.workspace.presets_dir.glob("*.yaml"))
-            return f"cannot extend {name!r}: {parent} does not exist (presets: {', '.join(known)})"
+            if known:
+                return f"cannot extend {name!r}: {parent} does not exist; presets here: {', '.join(known)}"
+            return (
+                f"cannot extend {name!r}: this workspace ({self.workspace.root}) has no presets in "
+                f"{self.workspace.presets_dir}: make a workspace with the shipped ones with `navverse init "
+                "DIR`, or copy the project's recipes/presets/ here"
+            )
         return None
 
     def _validate_params(

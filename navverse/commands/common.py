@@ -31,6 +31,8 @@ __all__ = [
     "Subparsers",
     "VersionAction",
     "command",
+    "console",
+    "console_table",
     "examples_epilog",
     "existing_path",
     "recipe_options",
@@ -40,6 +42,33 @@ __all__ = [
 ]
 
 Subparsers: TypeAlias = "argparse._SubParsersAction[argparse.ArgumentParser]"
+
+PIPE_WIDTH = 100_000
+"""Columns of a console writing to a pipe or a file: lines and tables are never wrapped or cut there."""
+
+
+def console(*, stderr: bool = False, **options: Any):
+    """A rich console on stdout (or stderr): a terminal's own width, but wide without limit when the
+    stream is a pipe or a file (rich would assume 80 columns and wrap or cut tables) unless
+    ``COLUMNS`` says otherwise. ``options`` go to :class:`rich.console.Console`."""
+    from rich.console import Console
+
+    stream = sys.stderr if stderr else sys.stdout
+    piped = not (hasattr(stream, "isatty") and stream.isatty()) and not os.environ.get("COLUMNS")
+    return Console(stderr=stderr, width=PIPE_WIDTH if piped else None, **options)
+
+
+def console_table(console, **options: Any):
+    """A rich table for ``console``: boxed at a terminal; a Markdown table (title on the left) in a pipe
+    or a file, for logs, grep and pasting. ``options`` go to :class:`rich.table.Table`."""
+    from rich import box
+    from rich.table import Table
+
+    if not console.is_terminal:
+        options = {**options, "box": box.MARKDOWN, "title_justify": "left"}
+    return Table(**options)
+
+
 """The sub-parsers action of a parser (``parser.add_subparsers()``), to which commands are added."""
 
 MINI = "episodes/navverse-mini/v2.0"

@@ -16,12 +16,14 @@ from pathlib import Path
 
 from rich.console import Console
 
+from navverse.commands.common import console as terminal_console
+
 __all__ = ["dataset_scene_dirs", "print_problems", "problem_count", "split_of"]
 
 
 def _warn(text: str) -> None:
     """Print a warning on stderr."""
-    Console(stderr=True).print(
+    terminal_console(stderr=True).print(
         f"warning: {text}", style="yellow", highlight=False, markup=False, soft_wrap=True
     )
 

@@ -12,7 +12,15 @@ from pathlib import Path
 
 from rich.console import Console
 
-from navverse.commands.common import DATASET_VERSION_HELP, MINI, OUTDOOR, Shared, Subparsers, command
+from navverse.commands.common import (
+    DATASET_VERSION_HELP,
+    MINI,
+    OUTDOOR,
+    Shared,
+    Subparsers,
+    command,
+    console_table,
+)
 from navverse.commands.datasets import dataset_scene_dirs, problem_count, split_of
 from navverse.commands.progress import show_progress
 
@@ -137,9 +145,7 @@ def _score_for_eval(args: argparse.Namespace, console: Console, dataset, submiss
 
 
 def _print_table(console: Console, header: list[str], rows: list[list[str]], title: str) -> None:
-    from rich.table import Table
-
-    table = Table(title=title)
+    table = console_table(console, title=title)
     for column in header:
         table.add_column(column, justify="left" if column == header[0] else "right")
     for row in rows:
@@ -334,11 +340,28 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
         markup=False,
         soft_wrap=True,
     )
+    hint = eval_hint(args, summary.out, partial=summary.episodes < len(split_of(dataset, args.split)))
     console.print(
-        f"wrote {summary.out}; score it with: navverse eval --dataset {args.dataset} "
-        f"--submission {summary.out} --split {args.split}",
+        f"wrote {summary.out}; score it with: {hint}",
         highlight=False,
         markup=False,
         soft_wrap=True,
     )
     return 0
+
+
+def eval_hint(args: argparse.Namespace, submission: str | os.PathLike[str], *, partial: bool) -> str:
+    """The ``navverse eval`` command that scores what ``run-agent`` (run with ``args``) wrote, runnable as
+    printed: the same dataset, split, robot and scene folders, and ``--episodes submitted`` when the run
+    covered only part of the split (``--limit``, ``--task``), so that it is not scored as failures."""
+    import shlex
+
+    words = ["navverse", "eval", "--dataset", str(args.dataset), "--submission", os.fspath(submission)]
+    words += ["--split", args.split]
+    if args.embodiment is not None:
+        words += ["--embodiment", args.embodiment]
+    for folder in getattr(args, "scenes", None) or ():
+        words += ["--scenes", os.fspath(folder)]
+    if partial:
+        words += ["--episodes", "submitted"]
+    return shlex.join(words)

@@ -19,7 +19,7 @@ from typing import Any
 
 from rich.console import Console
 
-from navverse.commands.common import Shared, Subparsers, command
+from navverse.commands.common import Shared, Subparsers, command, console_table
 
 __all__ = ["CATEGORY_KINDS", "LIST_KINDS", "Column", "Listing", "cmd_list", "listings", "register"]
 
@@ -285,11 +285,10 @@ def listings(what: str, *, kind: str | None = None) -> list[Listing]:
 
 
 def _print_tables(console: Console, tables: Sequence[Listing]) -> None:
-    from rich.table import Table
     from rich.text import Text
 
     for listing in tables:
-        table = Table(title=listing.title, title_justify="left")
+        table = console_table(console, title=listing.title, title_justify="left")
         for column in listing.columns:
             table.add_column(column.heading, overflow="fold")
         for row in listing.rows:

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from rich.console import Console
 
-from navverse.commands.common import DATASET_HELP, MINI, OUTDOOR, Shared, Subparsers, command
+from navverse.commands.common import DATASET_HELP, MINI, OUTDOOR, Shared, Subparsers, command, console_table
 from navverse.commands.datasets import dataset_scene_dirs
 
 __all__ = ["cmd_show_dataset", "cmd_show_episode", "cmd_show_presets", "cmd_show_scene", "register"]
@@ -82,13 +82,11 @@ def cmd_show_presets(args: argparse.Namespace, console: Console) -> int:
     """Print the navmesh presets and the scene-type profiles that pick them."""
     from dataclasses import fields
 
-    from rich.table import Table
-
     from navverse.nav.settings import PRESETS, NavMeshSettings
     from navverse.scene_types import PROFILES, SceneTypeProfile
 
-    presets = Table(title="navmesh presets (navverse.nav.PRESETS)")
-    profiles = Table(title="scene types (navverse.scene_types)")
+    presets = console_table(console, title="navmesh presets (navverse.nav.PRESETS)")
+    profiles = console_table(console, title="scene types (navverse.scene_types)")
     presets.add_column("setting")
     profiles.add_column("profile")
     for name in PRESETS:

@@ -10,8 +10,8 @@ from navverse.errors import NavverseError
 __all__ = ["REMEDY", "DatasetError", "first_error"]
 
 REMEDY = (
-    "This dataset version is not as it was packaged: re-download it, or rebuild it with `make episodes` "
-    "(`navverse build <dataset>`); never edit a published version"
+    "This dataset version is not as it was packaged: re-download it, or rebuild it with "
+    "`navverse build <dataset>` in its workspace; never edit a published version"
 )
 """What to do about a version that does not match its manifest (ends the messages that say so)."""
 

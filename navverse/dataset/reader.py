@@ -10,6 +10,7 @@ checksum matched, and never beyond :data:`~navverse.dataset.files.MAX_FILE_BYTES
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
@@ -64,10 +65,7 @@ class Dataset:
                 root = versions[-1]
         manifest_path = root / "manifest.json"
         if not manifest_path.is_file():
-            raise DatasetError(
-                f"{root} is not a dataset version (no manifest.json); build one with `make episodes` "
-                "and pass episodes/<name>/v<version>"
-            )
+            raise DatasetError(_not_a_version(root))
         self.manifest, self.manifest_sha256 = read_manifest(manifest_path)
         self.root = root
         self._files: dict[tuple[str, str], EpisodeFile] = {}
@@ -283,3 +281,18 @@ class Dataset:
             raise DatasetError(
                 f"{self.root}: the episode files do not match manifest.json: {shown}. {REMEDY}"
             )
+
+
+def _not_a_version(root: Path) -> str:
+    """Why ``root`` is not a dataset version, with the published versions beside it and how to build it."""
+    versioned = re.fullmatch(r"v[0-9][0-9.]*", root.name) is not None
+    name = root.parent.name if versioned else root.name
+    episodes = root.parent.parent if versioned else root.parent
+    published = sorted(p.parent for p in episodes.glob("*/v*/manifest.json"))
+    text = f"{root} is not a dataset version (no manifest.json)"
+    if published:
+        text += f"; published in {episodes}: " + ", ".join(str(p) for p in published)
+    return (
+        f"{text}; build it in its workspace with `navverse build {name or '<dataset>'}` (the dataset "
+        "recipe's id; `navverse status` lists the targets) and pass episodes/<name>/v<version>"
+    )

@@ -26,7 +26,9 @@ __all__ = ["cmd_review", "open_review", "register"]
 
 
 def _warn(text: str) -> None:
-    Console(stderr=True).print(
+    from navverse.commands.common import console as terminal_console
+
+    terminal_console(stderr=True).print(
         f"warning: {text}", style="yellow", highlight=False, markup=False, soft_wrap=True
     )
 

@@ -21,7 +21,7 @@ from navverse import cli
 from navverse.dataset import MAX_FILE_BYTES, MAX_MANIFEST_BYTES, Dataset, DatasetError, read_json_gz
 from tests.navverse.test_dataset import build
 
-REMEDY = "re-download it, or rebuild it with `make episodes`"
+REMEDY = "re-download it, or rebuild it with `navverse build <dataset>`"
 
 
 def _edit_manifest(root: Path, edit: Callable[[dict], None]) -> None:
