@@ -10,7 +10,7 @@ DATASET ?= episodes/navverse-mini
 SPLIT ?= eval
 OUT ?= eval-out
 
-.PHONY: all setup scenes episodes eval bench status lint test clean help
+.PHONY: all setup scenes episodes eval bench status lint test docs clean help
 
 all: setup scenes episodes  ## set up, then build the default scenes and dataset
 
@@ -50,6 +50,9 @@ lint: $(STAMP)  ## ruff, then the layer contracts of pyproject.toml (import-lint
 
 test: $(STAMP)  ## the whole test suite
 	$(BIN)/python -m pytest -n 2 -q
+
+docs: $(STAMP)  ## the documentation site: mkdocs build --strict into site/ (generated stage and metric pages)
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --site-dir site
 
 clean:  ## remove build outputs (data/built), keeping the environment
 	$(NAVVERSE) clean --all 2>/dev/null || rm -rf data/built/*
