@@ -223,7 +223,9 @@ def describe_plan(graph: Graph, states: dict[str, NodeState], console: Console) 
         f"({counts['cached']} cached, {counts['build']} to build)",
         soft_wrap=True,
     )
-    table = _table("#", "target", "stage", "reads", "writes", "state", "key")
+    table = _table(
+        "#", "target", "stage", "reads", "writes", "state", "key", graph=graph, width=console.width
+    )
     for index, node_id in enumerate(graph.order, 1):
         node = graph.nodes[node_id]
         reads = ", ".join(
@@ -247,15 +249,35 @@ def describe_plan(graph: Graph, states: dict[str, NodeState], console: Console) 
         console.print(f"skipped {run}: {stands}", highlight=False, soft_wrap=True)
 
 
-def _table(*columns: str) -> Table:
+def _table(*columns: str, graph: Graph, width: int | None) -> Table:
     """A borderless table whose cells are never cut: on a console too narrow for a cell, its text
-    wraps, and a word longer than its column (a target id, a stage name) folds onto the next line.
-    Nothing is truncated or given a width, so a wide console (output that is not a terminal) shows
-    every cell whole on one line."""
+    wraps, and a word longer than its column folds onto the next line. The ``target`` and ``stage``
+    columns are as wide as the longest of ``graph`` when the console of ``width`` columns (None: not
+    known) leaves room for the others (an id stays whole and greppable), and the short columns
+    (counts, states, times, keys) stay on one line. Nothing is truncated, so a wide console (output
+    that is not a terminal) shows every cell whole on one line."""
     table = Table(show_edge=False, pad_edge=False, box=None)
+    widest = {
+        "target": max((len(node.target.id) for node in graph.nodes.values()), default=0),
+        "stage": max((len(node.stage) for node in graph.nodes.values()), default=0),
+    }
+    room = (
+        -1
+        if width is None
+        else width - sum(widest.values()) - 2 * len(columns) - 12 * sum(c in _FOLDED for c in columns)
+    )
     for column in columns:
-        table.add_column(column, overflow="fold")
+        table.add_column(
+            column,
+            overflow="fold",
+            min_width=widest.get(column) if room >= 0 else None,
+            no_wrap=column not in _FOLDED and (column not in widest or room >= 0),
+        )
     return table
+
+
+_FOLDED = ("reads", "writes", "made")
+"""The columns of the engine's tables that may fold onto several lines on a narrow terminal."""
 
 
 def _ref_label(ref: ArtifactRef, input_name: str, target: str) -> str:
@@ -484,7 +506,7 @@ def _summary(report: BuildReport, graph: Graph, store: ArtifactStore, console: C
         f"{len(report.cached)} cached, {len(report.failed)} failed, {len(report.skipped)} skipped.",
         soft_wrap=True,
     )
-    console.print(runs_table(graph, store, report))
+    console.print(runs_table(graph, store, report, width=console.width))
     for node_id, result in sorted(report.built.items()):
         for message in result.warnings:
             console.print(f"  [yellow]warning[/] {node_id}: {message}", highlight=False, soft_wrap=True)
@@ -495,7 +517,7 @@ def _summary(report: BuildReport, graph: Graph, store: ArtifactStore, console: C
         console.print(f"  [yellow]skipped[/] {node_id}: {reason}", highlight=False, soft_wrap=True)
 
 
-def runs_table(graph: Graph, store: ArtifactStore, report: BuildReport) -> Table:
+def runs_table(graph: Graph, store: ArtifactStore, report: BuildReport, *, width: int | None = None) -> Table:
     """The build summary's table: per target, each stage run with its time (or ``cached``, ``failed``,
     ``skipped``) and what it made (:func:`run_made`).
 
@@ -507,13 +529,15 @@ def runs_table(graph: Graph, store: ArtifactStore, report: BuildReport) -> Table
         Where the reused artifacts' manifests are read.
     report : BuildReport
         What the build did.
+    width : int, optional
+        Columns of the console it is printed on (None: not known; ids fold like other cells).
 
     Returns
     -------
     rich.table.Table
         Columns ``target``, ``stage``, ``time``, ``made``; rows by target, then in execution order.
     """
-    table = _table("target", "stage", "time", "made")
+    table = _table("target", "stage", "time", "made", graph=graph, width=width)
     position = {node_id: index for index, node_id in enumerate(graph.order)}
     cached = set(report.cached)
     for node_id in sorted(graph.order, key=lambda n: (graph.nodes[n].target.id, position[n])):

@@ -20,6 +20,7 @@ NAVVERSE = str(Path(sys.executable).parent / "navverse")
 
 def run(root: Path, *args: str, timeout: float = 600) -> subprocess.CompletedProcess[str]:
     env = {**os.environ, "NAVVERSE_ROOT": str(root)}
+    env.pop("COLUMNS", None)  # as a user's pipe: pytest-xdist workers set 80
     return subprocess.run(
         [NAVVERSE, *args], env=env, capture_output=True, text=True, timeout=timeout, cwd=root
     )

@@ -5,9 +5,10 @@ the commands (``bash``) or the program (``python``) of journey NAME. A journey s
 must be the same everywhere. The test runs them from a folder that stands for a fresh clone (the
 shipped OSM extract at the path the docs give), with the installed ``navverse`` on the ``PATH``:
 
-- ``own-city``: a workspace of one's own (``navverse init``), a 300 m window of a real extract built,
-  the oracle run on five episodes and scored with the command ``run-agent`` prints (the last line of
-  the block must be that command): SR 100 %;
+- ``own-city``: a workspace of one's own (``navverse init``, whose printed next commands must be the
+  block's next lines), a 300 m window of a real extract built, the oracle run on five episodes and
+  scored with the command ``run-agent`` prints (the last line of the block must be that command):
+  SR 100 %;
 - ``python-api``: the Python API example, in that workspace, saving an RGB frame.
 """
 
@@ -90,6 +91,8 @@ def test_own_city_then_the_python_api_run_as_documented(tmp_path: Path):
                           timeout=TIMEOUT)  # fmt: skip
     output = done.stdout + done.stderr
     assert done.returncode == 0, output[-4000:]
+    printed = done.stdout.split("\nnext:\n", 1)[1].splitlines()
+    assert [line.strip() for line in printed[:3]] == steps[1:4], "init's next commands are not the docs'"
     hint = re.search(r"score it with: (.*)$", done.stdout, re.M)
     assert hint is not None, done.stdout[-2000:]
     assert hint.group(1) == scoring, "the docs' scoring command is not the one run-agent prints"

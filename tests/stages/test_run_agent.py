@@ -282,24 +282,3 @@ def test_the_python_api_builds_a_dict_recipe_loads_it_and_makes_an_env_on_a_data
         assert observation["depth"].shape[:2] == (480, 640)
     finally:
         env.close()
-
-
-def test_the_readme_python_api_example_runs(built: Built, dataset: Dataset, monkeypatch: pytest.MonkeyPatch):
-    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
-    start = readme.index("```python\nimport navverse.api as nv\n") + len("```python\n")
-    code = readme[start : readme.index("```", start)]
-    episode = next(e for e in dataset.episodes(split="eval") if e.task == "objnav")
-    for shipped, here in (
-        ('"office-s1"', '"apartment-s0"'),  # a recipe of this small workspace (built: from the cache)
-        ('"episodes/navverse-i2o/v1.0"', repr(str(dataset.root))),
-        ('"cafe-synthetic-grid-objnav-0000"', repr(episode.episode_id)),
-    ):
-        assert shipped in code, shipped
-        code = code.replace(shipped, here)
-    monkeypatch.chdir(built.workspace.root)
-    monkeypatch.setenv("NAVVERSE_ROOT", str(built.workspace.root))
-    namespace: dict = {}
-    exec(compile(code, "README.md", "exec"), namespace)
-    assert namespace["scene"].pathfinder.area_costs  # the cost by name took
-    assert namespace["obs"]["depth"].shape[:2] == (480, 640)
-    assert namespace["house"].annotations.rooms and namespace["town"].map.buildings
