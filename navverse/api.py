@@ -41,7 +41,7 @@ if TYPE_CHECKING:
     from navverse.city.map import CityMap
     from navverse.env import NavVerseEnv
     from navverse.nav import PathFinder
-    from navverse.scene import Scene
+    from navverse.scene.geometry import Scene
 
 __all__ = [
     "ApiError",
@@ -207,7 +207,7 @@ def load_scene(
     ``scenes``, then ``$NAVVERSE_SCENES``, then the workspace's build store.
     """
     from navverse.nav.scene_navmesh import load_scene_navmesh
-    from navverse.scene import SceneFiles, read_scene
+    from navverse.scene.directory import SceneFiles, read_scene
     from navverse.scene.locate import find_scene_dirs
 
     given = Path(scene)

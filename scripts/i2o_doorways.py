@@ -23,7 +23,7 @@ import shapely
 from shapely.geometry import Polygon
 
 from navverse.nav.scene_navmesh import load_scene_navmesh
-from navverse.scene import read_annotations
+from navverse.scene.directory import read_annotations
 
 ROOT = Path(__file__).resolve().parent.parent
 TARGETS = ROOT / "data" / "built" / "targets"

@@ -23,7 +23,7 @@ import shapely
 from shapely.geometry import Polygon
 
 from navverse.nav.scene_navmesh import load_scene_navmesh, read_navmesh_info
-from navverse.scene import read_annotations
+from navverse.scene.directory import read_annotations
 from navverse.scene_types import scene_profile
 
 ROOT = Path(__file__).resolve().parent.parent

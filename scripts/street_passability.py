@@ -26,7 +26,7 @@ from rich.table import Table
 from navverse.city.geometry.street_plan import STREET_PLAN_FILE, load_street_plan
 from navverse.city.street_life.passability import sidewalk_passability
 from navverse.nav.scene_navmesh import build_scene_navmesh, load_scene_navmesh
-from navverse.scene import read_scene
+from navverse.scene.directory import read_scene
 from navverse.scene.heights import SurfaceHeights
 
 ROOT = Path(__file__).resolve().parents[1]

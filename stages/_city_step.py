@@ -21,7 +21,7 @@ def read_city_step(ctx: StageContext, scene_artifact: str) -> tuple[CityMap, Sce
     from navverse.city.city_settings import CITY_SETTINGS_FILE, load_city_settings
     from navverse.city.geometry.street_plan import STREET_PLAN_FILE, load_street_plan
     from navverse.city.map import read_city_map
-    from navverse.scene import read_scene
+    from navverse.scene.directory import read_scene
     from stages.city import CITY_MAP_FILE
 
     ctx.progress(0, 3, "reading")
@@ -43,7 +43,7 @@ def write_city_step(
 
     from navverse.city.city_settings import CITY_SETTINGS_FILE, save_city_settings
     from navverse.city.geometry.street_plan import STREET_PLAN_FILE, save_street_plan
-    from navverse.scene import write_scene_dir
+    from navverse.scene.directory import write_scene_dir
     from stages.city import CITY_MAP_FILE
 
     ctx.progress(2, 3, "writing")

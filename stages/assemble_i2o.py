@@ -61,7 +61,7 @@ class AssembleI2OParams(Params, AssemblySettings, DensifySettings):
 def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
     """An i2o scene: the linked building set into the linked city at a road-facing facade."""
     from navverse.city.i2o.assembly import assemble_i2o as assemble
-    from navverse.scene import read_scene
+    from navverse.scene.directory import read_scene
 
     city, city_map, plan, carried = _read_city(ctx)
     building = read_scene(_draw(ctx, "building"))
@@ -103,7 +103,7 @@ def _read_city(ctx: StageContext):
     from navverse.city.geometry.street_plan import STREET_PLAN_FILE, load_street_plan
     from navverse.city.i2o.assembly import AssemblyError
     from navverse.city.map import read_city_map
-    from navverse.scene import read_scene
+    from navverse.scene.directory import read_scene
     from stages.city import CITY_MAP_FILE
 
     ctx.progress(0, 3, "reading")
@@ -136,7 +136,7 @@ def _finish(
     from shapely.geometry import Point
 
     from navverse.city.i2o.densify import densify_neighbourhood
-    from navverse.scene import write_scene_dir
+    from navverse.scene.directory import write_scene_dir
 
     anchor = result.scene.annotations.indoor_anchor
     doorway = Point(anchor[0], anchor[1]).buffer(params.clear_depth + 1.5)
@@ -166,7 +166,7 @@ def _finish(
 def _draw(ctx: StageContext, name: str):
     """The linked scene directory of input `name`: the only one, or one drawn with the target's seed
     among several (ordered by scene id, so the draw does not depend on where artifacts are stored)."""
-    from navverse.scene import read_annotations
+    from navverse.scene.directory import read_annotations
 
     linked = sorted(ctx.inputs[name], key=lambda path: read_annotations(path).scene_id)
     return linked[int(ctx.rng.integers(len(linked)))] if len(linked) > 1 else linked[0]

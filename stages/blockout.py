@@ -134,15 +134,11 @@ class BlockoutParams(Params, SceneTypeSettings):
 def blockout(ctx: StageContext, params: BlockoutParams) -> None:
     """A scene directory (scene.usdc, scene.json, bev.png) built from the recipe's primitive solids."""
     import navverse
-    from navverse.scene import (
-        MeshData,
-        ObjectPart,
-        SceneSource,
-        Surface,
-        assemble_scene,
-        terrain_classes,
-        write_scene_dir,
-    )
+    from navverse.scene.annotations import SceneSource
+    from navverse.scene.compose import ObjectPart, assemble_scene
+    from navverse.scene.directory import write_scene_dir
+    from navverse.scene.geometry import MeshData, Surface
+    from navverse.scene.terrain import terrain_classes
 
     surfaces = []
     for solid in params.surfaces:

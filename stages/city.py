@@ -138,7 +138,8 @@ def city_geometry(ctx: StageContext, params: CityGeometryParams) -> None:
     from navverse.city.geometry.scene import city_scene, geometry_plan
     from navverse.city.geometry.street_plan import STREET_PLAN_FILE, save_street_plan
     from navverse.city.map import read_city_map
-    from navverse.scene import SceneSource, write_scene_dir
+    from navverse.scene.annotations import SceneSource
+    from navverse.scene.directory import write_scene_dir
 
     city = read_city_map(ctx.input("city_map") / CITY_MAP_FILE)
     geometry = CityGeometry.of(params)

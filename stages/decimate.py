@@ -10,7 +10,7 @@ from pipeline import Params, StageContext, stage
 
 if TYPE_CHECKING:
     from navverse.nav import NavMeshSettings
-    from navverse.scene import Scene
+    from navverse.scene.geometry import Scene
 
 
 class DecimateParams(Params, DecimateSettings):
@@ -49,7 +49,7 @@ def _navmesh_figures(
 def decimate(ctx: StageContext, params: DecimateParams) -> None:
     """The scene directory with every surface and object mesh cleaned and simplified, colours kept."""
     from navverse.nav import NavMeshSettings
-    from navverse.scene import read_scene, write_scene_dir
+    from navverse.scene.directory import read_scene, write_scene_dir
     from navverse.scene.simplify import decimate_scene
     from navverse.scene_types import scene_profile
 

@@ -248,11 +248,14 @@ def _roles(params: ImportMeshParams, nodes: list[MeshNode]) -> tuple[list[NodeRo
 def import_mesh(ctx: StageContext, params: ImportMeshParams) -> None:
     """A scene directory (scene.usdc, scene.json, bev.png) of a mesh file's nodes as objects and surfaces."""
     import navverse
-    from navverse.scene import SceneSource, assemble_scene, terrain_classes, write_scene_dir
+    from navverse.scene.annotations import SceneSource
+    from navverse.scene.compose import assemble_scene
+    from navverse.scene.directory import write_scene_dir
     from navverse.scene.mesh_files import MeshImportError
     from navverse.scene.mesh_import import check_extent, read_mesh_nodes, to_z_up
     from navverse.scene.mesh_nodes import MeshNode
     from navverse.scene.mesh_parts import scene_parts
+    from navverse.scene.terrain import terrain_classes
 
     nodes, frame = read_mesh_nodes(params.source, progress=ctx.progress)
     up_axis = params.up_axis or frame.up_axis or "z"

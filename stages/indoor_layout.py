@@ -28,8 +28,9 @@ def indoor_layout(ctx: StageContext, params: IndoorLayoutParams) -> None:
     """A furnished procedural building: scene.usdc, scene.json (rooms, doorways, exits, objects), bev.png."""
     import navverse
     from navverse.indoor import BuildingOptions, describe_rooms, generate_building
-    from navverse.scene import SceneSource, write_scene_dir
+    from navverse.scene.annotations import SceneSource
     from navverse.scene.categories import unmatched_rules
+    from navverse.scene.directory import write_scene_dir
 
     options = BuildingOptions.of(params)
     source = SceneSource(recipe=ctx.recipe, recipe_hash=ctx.recipe_hash, toolkit_version=navverse.__version__)

@@ -49,7 +49,7 @@ def instructions(ctx: StageContext, params: InstructionsParams) -> None:
     from navverse.dataset import Episode, read_json_gz, write_json_gz
     from navverse.episodes import files
     from navverse.episodes.instructions.writer import load_refiner
-    from navverse.scene import read_annotations
+    from navverse.scene.directory import read_annotations
 
     if params.refiner:
         load_refiner(params.refiner)  # a wrong name fails here, before any scene is read
@@ -122,7 +122,7 @@ def _write_scene(job: tuple) -> tuple[dict[str, dict], dict[str, str]]:
         intention_instruction,
     )
     from navverse.episodes.instructions.writer import InstructionWriter, load_refiner
-    from navverse.scene import read_scene
+    from navverse.scene.directory import read_scene
     from navverse.sim.embodiments import make_embodiment
 
     scene_dir, episodes, rollouts, embodiment, settings, refiner_name, seed = job

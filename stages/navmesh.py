@@ -85,7 +85,10 @@ def navmesh(ctx: StageContext, params: NavmeshParams) -> None:
         scene_settings,
         write_navmesh_info,
     )
-    from navverse.scene import Scene, SceneFiles, read_scene, render_bev, save_annotations
+    from navverse.scene.annotations import save_annotations
+    from navverse.scene.bev import render_bev
+    from navverse.scene.directory import SceneFiles, read_scene
+    from navverse.scene.geometry import Scene
     from navverse.scene_types import scene_profile
 
     source = SceneFiles(ctx.inputs["geometry"])

@@ -55,8 +55,7 @@ def package_dataset(ctx: StageContext, params: PackageDatasetParams) -> None:
     from navverse.dataset import Episode, Instruction, read_json_gz
     from navverse.episodes import files
     from navverse.episodes.packaging import apply_quota, assign_splits, write_dataset
-    from navverse.scene import read_annotations
-    from navverse.scene.directory import scene_hash
+    from navverse.scene.directory import read_annotations, scene_hash
 
     verified = read_json_gz(ctx.input("verified") / files.EPISODES)
     rollouts = read_json_gz(ctx.input("verified") / files.ROLLOUTS)

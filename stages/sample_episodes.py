@@ -76,7 +76,7 @@ def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
     """candidates.json.gz: episode candidates of every task in every linked scene, with their statistics."""
     from navverse.dataset import write_json_gz
     from navverse.episodes import files
-    from navverse.scene import read_annotations
+    from navverse.scene.directory import read_annotations
     from navverse.sim.embodiments import make_embodiment
 
     robot = make_embodiment(params.embodiment)
@@ -134,7 +134,7 @@ def _sample_scene(job: tuple) -> dict:
 
     from navverse.episodes.sampling import object_goals, place_goals, sample_scene_episodes
     from navverse.nav.scene_navmesh import load_scene_navmesh
-    from navverse.scene import read_annotations
+    from navverse.scene.directory import read_annotations
 
     scene_id, path, seed, params, (robot_radius, base_height) = job
     settings = SamplingSettings.of(params)

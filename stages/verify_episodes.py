@@ -28,7 +28,7 @@ def verify_episodes(ctx: StageContext, params: VerifyEpisodesParams) -> None:
     from navverse.dataset import Episode, read_json_gz, write_json_gz
     from navverse.episodes import files
     from navverse.episodes.verification import verify_episodes as run
-    from navverse.scene import read_annotations
+    from navverse.scene.directory import read_annotations
 
     candidates = read_json_gz(ctx.input("candidates") / files.CANDIDATES)
     episodes = [Episode.model_validate(e) for e in candidates["episodes"]]

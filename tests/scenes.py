@@ -11,8 +11,9 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from navverse.scene import MeshData, ObjectPart, Scene, Surface, assemble_scene, terrain_classes
-from navverse.scene.compose import SceneType
+from navverse.scene.compose import ObjectPart, SceneType, assemble_scene
+from navverse.scene.geometry import MeshData, Scene, Surface
+from navverse.scene.terrain import terrain_classes
 
 __all__ = ["box_part", "box_room", "quad", "scene_of"]
 

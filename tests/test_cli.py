@@ -170,7 +170,8 @@ def test_show_scene_draws_a_scene_directory_of_two_buildings(tmp_path):
     import numpy as np
 
     from navverse.indoor import generate_building
-    from navverse.scene import merge_scenes, transform_scene, write_scene_dir
+    from navverse.scene.compose import merge_scenes, transform_scene
+    from navverse.scene.directory import write_scene_dir
 
     cafe = generate_building("cafe", np.random.default_rng(1), scene_id="cafe")
     flat = generate_building("apartment", np.random.default_rng(2), scene_id="flat")

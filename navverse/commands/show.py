@@ -53,7 +53,8 @@ def cmd_show_scene(args: argparse.Namespace, console: Console, *, built_dir: Cal
     """Draw a scene's bird's-eye view, with its navmesh when it has one: a built scene's id, or a scene
     directory (one holding ``scene.json``)."""
     from navverse.nav.scene_navmesh import load_scene_navmesh, navmesh_overlay
-    from navverse.scene import SceneFiles, read_scene, render_bev
+    from navverse.scene.bev import render_bev
+    from navverse.scene.directory import SceneFiles, read_scene
     from navverse.scene.locate import built_scene_dir
 
     given = Path(args.scene)

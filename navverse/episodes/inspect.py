@@ -84,7 +84,8 @@ def draw_episode(
     """The scene's bird's-eye view with the episode: start and heading, goals with their success
     circles, the reference path and the verification rollout; for VLN, the instruction's landmarks and
     where along the rollout each directive was carried out."""
-    from navverse.scene import BevOverlay, read_scene, render_bev
+    from navverse.scene.bev import BevOverlay, render_bev
+    from navverse.scene.directory import read_scene
 
     overlays = []
     goals = [

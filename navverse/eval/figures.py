@@ -160,7 +160,7 @@ class Backdrop:
     """
 
     def __init__(self, scene_dir: Path) -> None:
-        from navverse.scene import read_annotations
+        from navverse.scene.directory import read_annotations
 
         self.fields: SceneFields = load_scene_fields(scene_dir)
         classes = read_annotations(scene_dir).terrain_classes

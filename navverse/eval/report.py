@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
-from navverse.dataset import Dataset
+from navverse.dataset import Dataset, Episode
 from navverse.eval.figures import (
     THUMB_COLORS,
     Backdrop,
@@ -255,7 +255,7 @@ class _KeyframeStrips:
 
     def strip(self, scene: str, scene_dir: Path, trajectory: np.ndarray, count: int) -> str:
         """A PNG data URI of `count` frames side by side, along the trajectory, start on the left."""
-        from navverse.scene import read_scene
+        from navverse.scene.directory import read_scene
         from navverse.sim.camera import CameraIntrinsics
         from navverse.sim.embodiments import make_embodiment
         from navverse.sim.keyframes import render_keyframes
@@ -276,6 +276,57 @@ class _KeyframeStrips:
 
 def _split_of(dataset: Dataset, scene_ids: set[str]) -> list[str]:
     return sorted(s for s, scenes in dataset.manifest.splits.items() if scene_ids & set(scenes))
+
+
+def _episode_pictures(
+    result: EvalResult,
+    episodes: Mapping[str, Episode],
+    submission: Submission,
+    scene_dirs: Mapping[str, Path],
+    *,
+    robot,
+    embodiment: str,
+    keyframes: int,
+    progress: Callable[[int, int], None] | None,
+) -> dict[str, tuple[str | None, str | None]]:
+    """The top-down picture and the keyframe strip (data URIs) of every episode with a trajectory to
+    draw, ``{episode id: (picture, strip)}``, drawn scene by scene: one scene's backdrop and renderer
+    are in memory at a time, so memory grows with the submission, not with the scenes."""
+    by_scene: dict[str, list[Mapping[str, object]]] = {}
+    drawn, total = 0, len(result.episodes)
+    for row in result.episodes:
+        episode = episodes.get(str(row["episode_id"]))
+        if (
+            submission.records.get(str(row["episode_id"])) is None
+            or episode is None
+            or row["label"] == "invalid"
+        ):
+            drawn += 1  # a card without pictures
+            if progress is not None:
+                progress(drawn, total)
+            continue
+        by_scene.setdefault(episode.scene_id, []).append(row)
+    pictures: dict[str, tuple[str | None, str | None]] = {}
+    for scene, rows in sorted(by_scene.items()):
+        backdrop = Backdrop(Path(scene_dirs[scene])) if scene in scene_dirs else None
+        strips = _KeyframeStrips(embodiment)
+        for row in rows:
+            episode_id, label = str(row["episode_id"]), str(row["label"])
+            episode, record = episodes[episode_id], submission.records[episode_id]
+            heading = (f"{episode_id}\n{label_name(label)} · SR {_value(row, 'success')} · "
+                       f"SPL {_value(row, 'spl')}")  # fmt: skip
+            fig = episode_figure(episode, record.trajectory, label=label, title=heading,
+                                 success_radius=robot.success_distance(episode.scene_type),
+                                 backdrop=backdrop)  # fmt: skip
+            strip = None
+            if keyframes and scene in scene_dirs:
+                strip = strips.strip(scene, Path(scene_dirs[scene]), record.trajectory, keyframes)
+            pictures[episode_id] = (png_data_uri(fig, colors=THUMB_COLORS), strip)
+            drawn += 1
+            if progress is not None:
+                progress(drawn, total)
+        del backdrop, strips
+    return pictures
 
 
 def write_report(
@@ -337,35 +388,19 @@ def write_report(
     title = title or f"Evaluation of {submission.path.name}"
     invalid = sum(row["label"] == "invalid" for row in result.episodes)
 
-    backdrops: dict[str, Backdrop | None] = {}
-    strips = _KeyframeStrips(embodiment)
+    pictures = _episode_pictures(
+        result, episodes, submission, scene_dirs, robot=robot, embodiment=embodiment, keyframes=keyframes,
+        progress=progress,
+    )  # fmt: skip
     groups: dict[str, list[str]] = {}
-    drawn = 0
     order = [*CARD_ORDER, *sorted({str(r["label"]) for r in result.episodes} - set(CARD_ORDER))]
     for label in order:
         rows = sorted((r for r in result.episodes if r["label"] == label), key=lambda r: str(r["episode_id"]))
         cards = []
         for row in rows:
             episode_id = str(row["episode_id"])
-            record = submission.records.get(episode_id)
-            episode = episodes.get(episode_id)
-            picture = strip = None
-            if record is not None and episode is not None and label != "invalid":
-                scene = episode.scene_id
-                if scene not in backdrops:
-                    backdrops[scene] = Backdrop(Path(scene_dirs[scene])) if scene in scene_dirs else None
-                heading = (f"{episode_id}\n{label_name(label)} · SR {_value(row, 'success')} · "
-                           f"SPL {_value(row, 'spl')}")  # fmt: skip
-                fig = episode_figure(episode, record.trajectory, label=label, title=heading,
-                                     success_radius=robot.success_distance(episode.scene_type),
-                                     backdrop=backdrops[scene])  # fmt: skip
-                picture = png_data_uri(fig, colors=THUMB_COLORS)
-                if keyframes and scene in scene_dirs:
-                    strip = strips.strip(scene, Path(scene_dirs[scene]), record.trajectory, keyframes)
+            picture, strip = pictures.get(episode_id, (None, None))
             cards.append(_card_html(row, picture, problems_of.get(episode_id, []), strip=strip))
-            drawn += 1
-            if progress is not None:
-                progress(drawn, len(result.episodes))
         if cards:
             color = label_color(label)
             groups[label] = [

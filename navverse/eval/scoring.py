@@ -202,7 +202,7 @@ def _target(episode: Episode) -> EpisodeTarget:
 
 
 def _preferred(fields: SceneFields, scene_dir: Path, robot: Robot) -> np.ndarray:
-    from navverse.scene import read_annotations
+    from navverse.scene.directory import read_annotations
 
     classes = read_annotations(scene_dir).terrain_classes
     flags = [classes[n].preferred or n in robot.extra_surfaces for n in fields.class_names]
@@ -262,33 +262,35 @@ def score(
     instruction_type = instruction_type_of(submission, episodes)
     track = submission_track(submission)
     robot = robot_for(embodiment or dataset.manifest.embodiment)
-    fields = {}
-    preferred = {}
-    for scene in sorted({e.scene_id for e in episodes}):
-        fields[scene] = load_scene_fields(scene_dirs[scene])
-        preferred[scene] = _preferred(fields[scene], Path(scene_dirs[scene]), robot)
     count = len(episodes)
     measures: dict[str, np.ndarray] = {}
     valid = np.array([e.episode_id in submission.records for e in episodes], dtype=np.float64)
     scored = [i for i in range(count) if valid[i]]
-    records = [submission.records[episodes[i].episode_id] for i in scored]
+    by_scene: dict[str, list[int]] = {}
+    for i in scored:
+        by_scene.setdefault(episodes[i].scene_id, []).append(i)
     done = 0
-    for batch in _batches([len(r.trajectory) for r in records], BATCH_ROWS):
-        chosen = [records[b] for b in batch]
-        values = measure(
-            [r.trajectory for r in chosen],
-            [_target(episodes[scored[b]]) for b in batch],
-            robot=robot,
-            stops=[r.stop for r in chosen],
-            collisions=[r.collisions for r in chosen],
-            fields=fields,
-            preferred=preferred,
-        )
-        for name, array in values.items():
-            measures.setdefault(name, np.full(count, np.nan))[[scored[b] for b in batch]] = array
-        done += len(batch)
-        if progress is not None:
-            progress(done, len(records))
+    for scene, indices in sorted(by_scene.items()):  # one scene's fields in memory at a time
+        fields = {scene: load_scene_fields(scene_dirs[scene])}
+        preferred = {scene: _preferred(fields[scene], Path(scene_dirs[scene]), robot)}
+        records = [submission.records[episodes[i].episode_id] for i in indices]
+        for batch in _batches([len(r.trajectory) for r in records], BATCH_ROWS):
+            chosen = [records[b] for b in batch]
+            values = measure(
+                [r.trajectory for r in chosen],
+                [_target(episodes[indices[b]]) for b in batch],
+                robot=robot,
+                stops=[r.stop for r in chosen],
+                collisions=[r.collisions for r in chosen],
+                fields=fields,
+                preferred=preferred,
+            )
+            for name, array in values.items():
+                measures.setdefault(name, np.full(count, np.nan))[[indices[b] for b in batch]] = array
+            done += len(batch)
+            if progress is not None:
+                progress(done, len(scored))
+        del fields, preferred
     inputs = {name: measures.get(name, np.full(count, np.nan)) for name in MEASURES}
     inputs["geodesic"] = np.array([e.info.geodesic_distance for e in episodes], dtype=float)
     inputs["success_distance"] = np.array([robot.success_distance(e.scene_type) for e in episodes])

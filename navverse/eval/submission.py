@@ -243,7 +243,7 @@ def episode_bounds(
     SceneError
         If a scene's ``scene.json`` is missing or invalid.
     """
-    from navverse.scene import read_annotations
+    from navverse.scene.directory import read_annotations
 
     boxes: dict[str, Box] = {}
     out = {}

@@ -69,7 +69,8 @@ from navverse.export.habitat_scenes import (
 )
 from navverse.files import atomic_dir
 from navverse.nav.pathfinder import PathFinder
-from navverse.scene import SceneAnnotations, SceneFiles, read_annotations, read_scene
+from navverse.scene.annotations import SceneAnnotations
+from navverse.scene.directory import SceneFiles, read_annotations, read_scene
 from navverse.scene.locate import built_scene_dir
 
 __all__ = [

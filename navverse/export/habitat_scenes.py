@@ -24,7 +24,8 @@ import numpy as np
 
 from navverse.export.habitat_navmesh import mset_from_tiles
 from navverse.nav.fileformat import read_navmesh
-from navverse.scene import MeshData, Scene, default_color
+from navverse.scene.colors import default_color
+from navverse.scene.geometry import MeshData, Scene
 from navverse.scene.semantics import STOREFRONT_ID_BASE, semantic_categories, storefront_objects
 
 __all__ = [

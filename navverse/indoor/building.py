@@ -13,23 +13,20 @@ from navverse.indoor.floorplan import Floorplan, depth_range, generate_floorplan
 from navverse.indoor.furnish import Placement, furnish_room
 from navverse.indoor.programs import BUILDING_TYPES, PROGRAMS, ROOM_FURNITURE, Furniture
 from navverse.indoor.structure import SLAB, build_structure
-from navverse.scene import (
+from navverse.scene.annotations import (
     BuildingAnnotation,
     DoorAnnotation,
     ExitAnnotation,
-    MeshData,
-    ObjectPart,
     RoomAnnotation,
-    Scene,
     SceneSource,
-    Surface,
-    assemble_scene,
     footprint_facades,
     nearest_facade,
-    terrain_classes,
 )
 from navverse.scene.categories import CategoryRule, assign_category
+from navverse.scene.compose import ObjectPart, assemble_scene
+from navverse.scene.geometry import MeshData, Scene, Surface
 from navverse.scene.naming import OBJECTS_ROOT, sanitize_identifier
+from navverse.scene.terrain import terrain_classes
 from navverse.settings import Settings
 
 __all__ = ["BuildingOptions", "BuildingSettings", "BuildingType", "ExtraFurniture", "generate_building"]

@@ -25,7 +25,10 @@ from navverse.files import atomic_write
 from navverse.nav.errors import NavMeshError
 from navverse.nav.pathfinder import MAX_AREA_TYPE, PathFinder, build
 from navverse.nav.settings import NavMeshSettings
-from navverse.scene import BevOverlay, Scene, SceneAnnotations, SceneFiles
+from navverse.scene.annotations import SceneAnnotations
+from navverse.scene.bev import BevOverlay
+from navverse.scene.directory import SceneFiles
+from navverse.scene.geometry import Scene
 from navverse.scene_types import scene_profile
 
 __all__ = [

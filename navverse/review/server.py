@@ -205,7 +205,7 @@ class ReviewState:
         return {f"keyframe-{k}": _png(frame) for k, frame in enumerate(frames)}
 
     def _keyframes(self, scene_id: str, scene_dir: Path, rollout: np.ndarray) -> list[np.ndarray]:
-        from navverse.scene import read_scene
+        from navverse.scene.directory import read_scene
         from navverse.sim.camera import CameraIntrinsics
         from navverse.sim.embodiments import make_embodiment
         from navverse.sim.keyframes import render_keyframes

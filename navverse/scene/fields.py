@@ -47,7 +47,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import open3d as o3d
 from numpy.typing import ArrayLike
 from scipy import ndimage
 
@@ -209,6 +208,8 @@ class _Caster:
     """Downward rays through a set of meshes (``parts``), in coordinates relative to the grid origin."""
 
     def __init__(self, parts: Sequence[MeshData], origin: np.ndarray) -> None:
+        import open3d as o3d  # here: reading cached fields (scoring) needs no ray caster
+
         local = np.array([origin[0], origin[1], 0.0])
         self._scene = o3d.t.geometry.RaycastingScene()
         self._part: dict[int, int] = {}
@@ -228,6 +229,8 @@ class _Caster:
             return hits
         rays = np.zeros((count, 6), dtype=np.float32)
         rays[:, :2], rays[:, 2], rays[:, 5] = xy, z, -1.0
+        import open3d as o3d
+
         result = self._scene.cast_rays(o3d.core.Tensor(rays))
         t_hit = result["t_hit"].numpy()
         hit = np.isfinite(t_hit)

@@ -23,8 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from navverse.scene import Scene, read_scene
-from navverse.scene.geometry import MeshData
+from navverse.scene.directory import read_scene
+from navverse.scene.geometry import MeshData, Scene
 from navverse.sim.bullet import connect, pybullet
 from navverse.sim.collision import convex_parts, default_cache_dir, hulls_file
 

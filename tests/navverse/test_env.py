@@ -16,8 +16,8 @@ from navverse import nav
 from navverse.dataset import Episode, EpisodeInfo, Goal
 from navverse.env import ACTION_MODES, EnvError, NavVerseEnv
 from navverse.nav.scene_navmesh import build_scene_navmesh
-from navverse.scene import Scene
 from navverse.scene.directory import SceneFiles, write_scene_dir
+from navverse.scene.geometry import Scene
 from navverse.sim.actions import DISCRETE_ACTIONS
 from navverse.sim.recorder import write_submission
 from tests.scenes import box_part, box_room, scene_of

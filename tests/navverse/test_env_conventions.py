@@ -14,7 +14,7 @@ import pytest
 from navverse.assets.facade.storefronts import PLACE_CATEGORIES
 from navverse.assets.library import categories
 from navverse.env import REWARD_SLACK, REWARD_SUCCESS, EnvError, NavVerseEnv, episode_goal_id
-from navverse.scene import MeshData, Surface
+from navverse.scene.geometry import MeshData, Surface
 from navverse.sim import actions
 from navverse.sim.actions import DISCRETE_ACTIONS, DISCRETE_TIMEOUT, ActionRunner, action_index
 from navverse.sim.controller import wrap_angle

@@ -8,7 +8,7 @@ import pytest
 
 from navverse import nav
 from navverse.dataset import success_distance
-from navverse.scene import SceneAnnotations
+from navverse.scene.annotations import SceneAnnotations
 from navverse.scene_types import PROFILES, SCENE_TYPES, UnknownSceneTypeError, scene_profile
 from navverse.sim.actions import step_size
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from navverse.scene import read_annotations
+from navverse.scene.directory import read_annotations
 from tests.stages.conftest import Built, build_all, navverse_command, workspace_with
 
 CITY = """\

@@ -16,7 +16,7 @@ import osmnx
 import pytest
 
 from navverse.city.map import read_city_map
-from navverse.scene import read_annotations
+from navverse.scene.directory import read_annotations
 from tests.stages.conftest import build_all, navverse_command, workspace_with
 
 T_JUNCTION = Path(__file__).parents[1] / "navverse" / "city" / "data" / "t_junction.osm"

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from navverse.scene import MeshData, Scene, SceneFiles, read_annotations, read_scene
+from navverse.scene.directory import SceneFiles, read_annotations, read_scene
+from navverse.scene.geometry import MeshData, Scene
 from navverse.scene.simplify import (
     SimplifyError,
     budget_ratio,

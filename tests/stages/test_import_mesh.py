@@ -12,7 +12,8 @@ import trimesh
 import yaml
 from PIL import Image
 
-from navverse.scene import Scene, read_annotations, read_scene
+from navverse.scene.directory import read_annotations, read_scene
+from navverse.scene.geometry import Scene
 from navverse.scene.mesh_parts import split_components, subdivide
 from pipeline.errors import RecipeError
 from pipeline.recipes import RecipeLoader
@@ -381,7 +382,7 @@ def test_subdivide_multiplies_faces_and_keeps_the_shape(built: Built):
 
 
 def test_subdivided_faces_keep_the_colour_of_their_parent():
-    from navverse.scene import MeshData
+    from navverse.scene.geometry import MeshData
 
     box = MeshData.box((1.0, 1.0, 1.0))
     colors = np.zeros((12, 3), dtype=np.uint8)
@@ -394,7 +395,7 @@ def test_subdivided_faces_keep_the_colour_of_their_parent():
 
 
 def test_split_components_joins_pieces_within_the_gap():
-    from navverse.scene import MeshData
+    from navverse.scene.geometry import MeshData
 
     a = MeshData.box((1, 1, 1), center=(0, 0, 0))
     b = MeshData.box((1, 1, 1), center=(0, 0, 1.05))  # 5 cm above a

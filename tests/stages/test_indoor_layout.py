@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from navverse.nav.scene_navmesh import load_scene_navmesh, read_navmesh_info
-from navverse.scene import SceneFiles, read_annotations
+from navverse.scene.directory import SceneFiles, read_annotations
 from pipeline.errors import RecipeError
 from pipeline.recipes import RecipeLoader
 from pipeline.stage import discover

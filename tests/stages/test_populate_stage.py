@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from navverse.scene import read_annotations
+from navverse.scene.directory import read_annotations
 from tests.stages.conftest import build_all, navverse_command, workspace_with
 
 CITY = """\

@@ -136,7 +136,7 @@ def test_the_same_inputs_give_the_same_scene(city, cafe, assembled) -> None:
 
 
 def test_the_same_inputs_give_byte_identical_scene_files(city, cafe, assembled, tmp_path) -> None:
-    from navverse.scene import write_scene_dir
+    from navverse.scene.directory import write_scene_dir
 
     scene, plan = city
     (tmp_path / "a").mkdir()

@@ -15,7 +15,7 @@ from navverse.city.street_life.objects import footprint
 from navverse.city.street_life.populate import CAR_TYPES, PopulateSettings, populate_city
 from navverse.city.street_life.zones import street_zones
 from navverse.city.synthetic.generator import SyntheticCityParams, synthetic_city
-from navverse.scene import read_annotations, write_scene_dir
+from navverse.scene.directory import read_annotations, write_scene_dir
 
 GEOMETRY = CityGeometry(junction_crosswalks=True)
 

@@ -10,7 +10,8 @@ import pytest
 from navverse import nav
 from navverse.indoor import generate_building
 from navverse.nav.scene_navmesh import build_scene_navmesh
-from navverse.scene import Scene, SceneFiles, write_scene_dir
+from navverse.scene.directory import SceneFiles, write_scene_dir
+from navverse.scene.geometry import Scene
 
 
 def write_building(root: Path, building_type: str, seed: int) -> Path:
@@ -32,7 +33,7 @@ def scene_dirs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 
 @pytest.fixture(scope="session")
 def apartment(scene_dirs: dict[str, Path]) -> Scene:
-    from navverse.scene import read_scene
+    from navverse.scene.directory import read_scene
 
     return read_scene(scene_dirs["apartment-s0"])
 

@@ -23,7 +23,8 @@ from navverse.episodes.instructions import (
     template_text,
     turn_class,
 )
-from navverse.scene import ObjectPart, Scene, Surface
+from navverse.scene.compose import ObjectPart
+from navverse.scene.geometry import Scene, Surface
 from navverse.sim.camera import CameraIntrinsics
 from navverse.sim.embodiments import make_embodiment
 from navverse.sim.render import SceneRenderer

@@ -11,7 +11,7 @@ import pytest
 from navverse.dataset import goal_distance
 from navverse.episodes.sampling import SamplingSettings, goal_regions, object_goals, sample_scene_episodes
 from navverse.nav.scene_navmesh import load_scene_navmesh
-from navverse.scene import Scene
+from navverse.scene.geometry import Scene
 from navverse.scene.categories import CategoryRule
 
 CATEGORIES = ["bed", "sofa", "toilet", "fridge", "chair", "armchair", "sink", "desk"]

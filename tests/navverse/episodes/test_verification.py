@@ -12,7 +12,8 @@ from navverse.dataset import Episode, goal_distance
 from navverse.episodes.sampling import object_goals, sample_scene_episodes
 from navverse.episodes.verification import REASONS, VerificationSettings, verify_episodes
 from navverse.nav.scene_navmesh import load_scene_navmesh
-from navverse.scene import Scene, read_scene
+from navverse.scene.directory import read_scene
+from navverse.scene.geometry import Scene
 
 
 def test_accepted_rollouts_reach_a_goal_within_the_bounds(verified_vln):

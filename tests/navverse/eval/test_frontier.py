@@ -25,8 +25,8 @@ from navverse.eval.agents.grid_planning import grid_dijkstra, trace_path
 from navverse.eval.agents.mapping import FREE, OCCUPIED, UNKNOWN, back_project, estimate_floor
 from navverse.indoor import generate_building
 from navverse.nav.scene_navmesh import build_scene_navmesh
-from navverse.scene import Scene
 from navverse.scene.directory import SceneFiles, write_scene_dir
+from navverse.scene.geometry import Scene
 from navverse.sim.camera import CameraIntrinsics, look_at
 from tests.scenes import box_part, box_room, scene_of
 

@@ -22,7 +22,7 @@ from navverse.eval.runner import RunError, _check_instruction_type, _read_partia
 from navverse.eval.scoring import EvalResult, instruction_type_of, score
 from navverse.eval.submission import Submission, SubmissionError, TrajectoryRecord, read_submission
 from navverse.eval.tables import instruction_type_entries, instruction_type_table, write_outputs
-from navverse.scene import write_scene_dir
+from navverse.scene.directory import write_scene_dir
 from tests.navverse.eval.test_report import CHAIR, TABLE, TO_CHAIR, TO_TABLE, _episode, _rows
 from tests.navverse.eval.toy_dataset import write_toy_dataset
 from tests.navverse.scene.conftest import build_scene

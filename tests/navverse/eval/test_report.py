@@ -29,7 +29,7 @@ from navverse.eval.scoring import EvalResult, score
 from navverse.eval.screenshot import ScreenshotError, find_browser, screenshot_report
 from navverse.eval.submission import Submission, read_submission
 from navverse.eval.tables import HEADERS, TABLES, table_rows
-from navverse.scene import write_scene_dir
+from navverse.scene.directory import write_scene_dir
 from tests.navverse.eval.toy_dataset import write_toy_dataset
 from tests.navverse.scene.conftest import build_scene
 

@@ -31,7 +31,7 @@ from navverse.eval.submission import (
     episode_bounds,
     read_submission,
 )
-from navverse.scene import write_scene_dir
+from navverse.scene.directory import write_scene_dir
 from navverse.scene.fields import SceneFields
 from tests.navverse.scene.conftest import build_scene
 

@@ -27,7 +27,7 @@ from navverse.export.habitat_scenes import (
 from navverse.nav.fileformat import read_navmesh, write_navmesh
 from navverse.nav.pathfinder import PathFinder
 from navverse.nav.scene_navmesh import build_scene_navmesh
-from navverse.scene import SceneFiles, read_scene, write_scene_dir
+from navverse.scene.directory import SceneFiles, read_scene, write_scene_dir
 from tests.navverse.eval.toy_dataset import write_toy_dataset
 from tests.navverse.scene.conftest import build_scene
 

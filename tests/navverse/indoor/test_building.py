@@ -14,8 +14,9 @@ from navverse.errors import SceneError
 from navverse.indoor import BUILDING_TYPES, BuildingOptions, ExtraFurniture, generate_building
 from navverse.indoor.occupancy import footprint_corners
 from navverse.nav.scene_navmesh import build_scene_navmesh
-from navverse.scene import Scene, save_annotations
+from navverse.scene.annotations import save_annotations
 from navverse.scene.categories import CategoryRule
+from navverse.scene.geometry import Scene
 
 
 @pytest.fixture(scope="module", params=BUILDING_TYPES)

@@ -19,7 +19,8 @@ from navverse.nav.scene_navmesh import (
     scene_settings,
     write_navmesh_info,
 )
-from navverse.scene import Scene, terrain_classes
+from navverse.scene.geometry import Scene
+from navverse.scene.terrain import terrain_classes
 from tests.navverse.scene.conftest import build_scene
 
 TABLE = (7.0, 5.0)  # tests/navverse/scene/conftest.py: a 1.2 m x 0.8 m x 0.75 m table
@@ -145,7 +146,7 @@ def test_indoor_to_outdoor_scenes_get_fine_cells_over_their_indoor_buildings(sce
 
 def test_costs_and_exclusions_by_class_name_on_a_saved_scene_navmesh(scene: Scene, tmp_path: Path):
     from navverse.nav.scene_navmesh import load_scene_navmesh
-    from navverse.scene import SceneFiles
+    from navverse.scene.directory import SceneFiles
 
     built = build_scene_navmesh(scene, nav.OUTDOOR)
     files = SceneFiles(tmp_path)

@@ -7,19 +7,16 @@ import math
 import numpy as np
 import pytest
 
-from navverse.scene import (
+from navverse.scene.annotations import (
     BuildingAnnotation,
     ExitAnnotation,
-    MeshData,
-    ObjectPart,
-    Scene,
     SceneSource,
     StorefrontAnnotation,
-    Surface,
-    assemble_scene,
     footprint_facades,
-    terrain_classes,
 )
+from navverse.scene.compose import ObjectPart, assemble_scene
+from navverse.scene.geometry import MeshData, Scene, Surface
+from navverse.scene.terrain import terrain_classes
 from tests.scenes import quad
 
 ROAD_FRICTION = 0.7

@@ -9,16 +9,16 @@ import pytest
 from pydantic import ValidationError
 
 from navverse.errors import SceneError
-from navverse.scene import (
+from navverse.scene.annotations import (
     SCENE_FORMAT_VERSION,
     ObjectAnnotation,
-    Scene,
     SceneAnnotations,
     footprint_facades,
     load_annotations,
     nearest_facade,
     save_annotations,
 )
+from navverse.scene.geometry import Scene
 
 
 def _object(object_id: int, **changes: object) -> ObjectAnnotation:

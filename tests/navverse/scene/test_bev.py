@@ -7,17 +7,9 @@ import pytest
 from PIL import Image
 
 from navverse.errors import SceneError
-from navverse.scene import (
-    BevOverlay,
-    MeshData,
-    Scene,
-    Surface,
-    default_color,
-    lighten,
-    raster_bev,
-    render_bev,
-)
-from navverse.scene.bev import auto_meters_per_pixel
+from navverse.scene.bev import BevOverlay, auto_meters_per_pixel, raster_bev, render_bev
+from navverse.scene.colors import default_color, lighten
+from navverse.scene.geometry import MeshData, Scene, Surface
 from tests.navverse.scene.conftest import FLOOR_POINT, OBJECTS, ROAD_POINT, WALL_POINT
 from tests.scenes import scene_of
 

@@ -10,21 +10,18 @@ import pytest
 
 from navverse.errors import SceneError
 from navverse.indoor import generate_building
-from navverse.scene import (
-    MeshData,
+from navverse.scene.bev import render_bev
+from navverse.scene.compose import (
     ObjectPart,
-    Scene,
-    Surface,
     assemble_scene,
     merge_scenes,
-    read_scene,
     remove_inside,
-    render_bev,
-    terrain_classes,
+    scene_bounds,
     transform_scene,
-    write_scene_dir,
 )
-from navverse.scene.compose import scene_bounds
+from navverse.scene.directory import read_scene, write_scene_dir
+from navverse.scene.geometry import MeshData, Scene, Surface
+from navverse.scene.terrain import terrain_classes
 
 
 def test_bounds_and_statistics_are_derived_from_the_parts(tiny_scene: Scene) -> None:
@@ -128,7 +125,7 @@ def test_a_merged_scene_round_trips_through_json_and_usd(two_buildings, tmp_path
     write_scene_dir(merged, tmp_path, bev=False)
     again = read_scene(tmp_path)
     assert again.annotations == merged.annotations
-    from navverse.scene import read_usd
+    from navverse.scene.usd import read_usd
 
     usd = read_usd(tmp_path / "scene.usdc")
     assert usd.buildings is not None and list(usd.buildings) == merged.annotations.buildings
@@ -143,7 +140,7 @@ def test_usd_and_json_that_disagree_on_buildings_are_refused(two_buildings, tmp_
     first, _ = two_buildings
     write_scene_dir(first, tmp_path, bev=False)
     moved = first.annotations.buildings[0].model_copy(update={"height": 99.0})
-    from navverse.scene import save_annotations
+    from navverse.scene.annotations import save_annotations
 
     save_annotations(first.annotations.model_copy(update={"buildings": [moved]}), tmp_path / "scene.json")
     with pytest.raises(SceneError, match=r"buildings .* differ"):

@@ -5,15 +5,15 @@ from pathlib import Path
 import pytest
 
 from navverse.errors import SceneError
-from navverse.scene import (
+from navverse.scene.directory import (
     BEV_PNG,
     SCENE_JSON,
     SCENE_USD,
-    Scene,
     read_annotations,
     read_scene,
     write_scene_dir,
 )
+from navverse.scene.geometry import Scene
 
 
 def test_writing_twice_gives_identical_files(tiny_scene: Scene, tmp_path: Path) -> None:

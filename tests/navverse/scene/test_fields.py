@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from navverse.scene import MeshData, ObjectPart, Scene, Surface, write_scene_dir
-from navverse.scene.compose import object_parts, replace_parts
+from navverse.scene.compose import ObjectPart, object_parts, replace_parts
+from navverse.scene.directory import write_scene_dir
 from navverse.scene.fields import (
     BODY_HEIGHT,
     NO_SURFACE,
@@ -18,6 +18,7 @@ from navverse.scene.fields import (
     load_scene_fields,
     scene_fields,
 )
+from navverse.scene.geometry import MeshData, Scene, Surface
 from tests.scenes import box_part, quad, scene_of
 
 from .conftest import FLOOR_POINT, ROAD_POINT, WALL_POINT

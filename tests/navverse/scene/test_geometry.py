@@ -5,7 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from navverse.scene import MeshData, Scene, SceneObject, Surface, default_color, sanitize_identifier
+from navverse.scene.colors import default_color
+from navverse.scene.geometry import MeshData, Scene, SceneObject, Surface
+from navverse.scene.naming import sanitize_identifier
 from tests.navverse.scene.conftest import OBJECTS
 
 

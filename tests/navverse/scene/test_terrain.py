@@ -5,7 +5,7 @@ import itertools
 import pytest
 
 from navverse.errors import SceneError
-from navverse.scene import DEFAULT_TERRAIN_CLASSES, terrain_classes
+from navverse.scene.terrain import DEFAULT_TERRAIN_CLASSES, terrain_classes
 
 
 def test_defaults_are_read_only() -> None:

@@ -8,16 +8,9 @@ import pytest
 from pxr import Usd, UsdGeom, UsdPhysics, UsdSemantics, UsdShade
 
 from navverse.errors import SceneError
-from navverse.scene import (
-    SCENE_USD,
-    Scene,
-    export_usd,
-    physics_materials,
-    read_scene,
-    read_usd,
-    scene_from_usd,
-    write_scene_dir,
-)
+from navverse.scene.directory import SCENE_USD, read_scene, write_scene_dir
+from navverse.scene.geometry import Scene
+from navverse.scene.usd import export_usd, physics_materials, read_usd, scene_from_usd
 from tests.navverse.scene.conftest import ROAD_FRICTION
 
 

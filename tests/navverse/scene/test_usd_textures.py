@@ -10,19 +10,11 @@ from PIL import Image
 from pxr import Sdf, Usd, UsdGeom, UsdShade
 
 from navverse.errors import SceneError
-from navverse.scene import (
-    ObjectPart,
-    Scene,
-    assemble_scene,
-    export_usd,
-    read_scene,
-    read_usd,
-    scene_from_usd,
-    terrain_classes,
-    write_scene_dir,
-)
-from navverse.scene.directory import SceneFiles, scene_hash
-from navverse.scene.geometry import MeshData, Surface, Texture
+from navverse.scene.compose import ObjectPart, assemble_scene
+from navverse.scene.directory import SceneFiles, read_scene, scene_hash, write_scene_dir
+from navverse.scene.geometry import MeshData, Scene, Surface, Texture
+from navverse.scene.terrain import terrain_classes
+from navverse.scene.usd import export_usd, read_usd, scene_from_usd
 from tests.scenes import quad
 
 CHECKER_UVS = np.array([[[0, 0], [2, 0], [2, 2]], [[0, 0], [2, 2], [0, 2]]], dtype=np.float32)

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 
 import pytest
 
-from navverse.scene import MeshData, Surface
+from navverse.scene.geometry import MeshData, Surface
 from navverse.sim.actions import DISCRETE_ACTIONS, DISCRETE_TIMEOUT, ActionRunner, step_size
 from navverse.sim.controller import REACH_DISTANCE, REACH_YAW, Waypoint, wrap_angle
 from navverse.sim.embodiments import make_embodiment

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from navverse.errors import NavverseError
-from navverse.scene import MeshData, Surface
+from navverse.scene.geometry import MeshData, Surface
 from navverse.sim.embodiment import FALL_TILT, Embodiment, tilt
 from navverse.sim.embodiments import EMBODIMENTS, UnknownEmbodimentError, make_embodiment
 from navverse.sim.turtlebot import AXLE_X

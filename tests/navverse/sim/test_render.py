@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from navverse.scene import MeshData, Scene, Surface, transform_scene
-from navverse.scene.geometry import yaw_matrix
+from navverse.scene.compose import transform_scene
+from navverse.scene.geometry import MeshData, Scene, Surface, yaw_matrix
 from navverse.sim.camera import CameraIntrinsics, look_at, optical_from_body, optical_pose
 from navverse.sim.render import Frame, SceneRenderer, Shading
 from tests.scenes import box_part, quad, scene_of

@@ -8,8 +8,8 @@ from collections.abc import Sequence
 import numpy as np
 import pytest
 
-from navverse.scene import MeshData, ObjectPart, Scene, Surface
-from navverse.scene.geometry import Texture
+from navverse.scene.compose import ObjectPart
+from navverse.scene.geometry import MeshData, Scene, Surface, Texture
 from navverse.sim import render as render_module
 from navverse.sim.camera import CameraIntrinsics, look_at
 from navverse.sim.render import Frame, SceneRenderer, Shading

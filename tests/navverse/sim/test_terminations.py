@@ -7,7 +7,7 @@ from collections.abc import Iterator
 import numpy as np
 import pytest
 
-from navverse.scene import MeshData, Surface
+from navverse.scene.geometry import MeshData, Surface
 from navverse.sim.bullet import pybullet
 from navverse.sim.embodiments import make_embodiment
 from navverse.sim.rollout import follow_path

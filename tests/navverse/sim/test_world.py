@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from navverse.assets.library import make_object
-from navverse.scene import MeshData, ObjectPart, Scene, Surface
-from navverse.scene.compose import replace_parts
+from navverse.scene.compose import ObjectPart, replace_parts
+from navverse.scene.geometry import MeshData, Scene, Surface
 from navverse.sim.bullet import pybullet
 from navverse.sim.collision import convex_parts
 from navverse.sim.world import PHYSICS_HZ, World
