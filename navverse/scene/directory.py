@@ -16,9 +16,8 @@ from pathlib import Path
 
 from navverse.errors import SceneError
 from navverse.scene.annotations import SceneAnnotations, load_annotations, save_annotations
-from navverse.scene.bev import render_bev
 from navverse.scene.geometry import Scene
-from navverse.scene.usd import TEXTURES_DIR, export_usd, scene_from_usd
+from navverse.scene.naming import TEXTURES_DIR
 
 __all__ = [
     "BEV_PNG",
@@ -101,6 +100,9 @@ def write_scene_dir(scene: Scene, out_dir: Path, *, bev: bool = True) -> SceneFi
     SceneError
         If `out_dir` does not exist.
     """
+    from navverse.scene.bev import render_bev  # here: reading a scene's files loads no renderer
+    from navverse.scene.usd import export_usd
+
     files = SceneFiles(Path(out_dir))
     if not files.root.is_dir():
         raise SceneError(f"scene output directory {files.root} does not exist; create it before writing")
@@ -144,6 +146,8 @@ def read_scene(scene_dir: Path) -> Scene:
     SceneError
         If the directory or a file is missing, invalid, or the files disagree.
     """
+    from navverse.scene.usd import scene_from_usd  # here: reading annotations needs no USD
+
     files = SceneFiles(Path(scene_dir))
     annotations = read_annotations(files.root)
     _require(files.usd, files.root)

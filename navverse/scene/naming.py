@@ -8,6 +8,9 @@ from __future__ import annotations
 
 import re
 
+TEXTURES_DIR = "textures"
+"""The folder of a scene directory (beside its USD file) holding its texture images."""
+
 __all__ = [
     "BUILDINGS_ROOT",
     "LOOKS_ROOT",

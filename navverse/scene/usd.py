@@ -40,7 +40,14 @@ from navverse.files import atomic_path
 from navverse.scene.annotations import BuildingAnnotation, SceneAnnotations
 from navverse.scene.colors import default_color
 from navverse.scene.geometry import MeshData, Scene, SceneObject, Surface, Texture
-from navverse.scene.naming import LOOKS_ROOT, OBJECTS_ROOT, PHYSICS_ROOT, TERRAIN_ROOT, WORLD_PATH
+from navverse.scene.naming import (
+    LOOKS_ROOT,
+    OBJECTS_ROOT,
+    PHYSICS_ROOT,
+    TERRAIN_ROOT,
+    TEXTURES_DIR,
+    WORLD_PATH,
+)
 from navverse.scene.usd_buildings import read_buildings, write_buildings
 
 __all__ = [
@@ -73,7 +80,6 @@ ATTR_CATEGORY = "navverse:category"
 ATTR_INSTANCE_ID = "navverse:instanceId"
 ATTR_SIZE = "navverse:size"
 OBJECT_MESH_NAME = "mesh"
-TEXTURES_DIR = "textures"
 TEXTURE_LOOKS = "Textures"
 ST_PRIMVAR = "st"
 _TEXTURE_SUBSET_PREFIX = "texture_"

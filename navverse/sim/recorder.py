@@ -12,11 +12,13 @@ import gzip
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from navverse.files import atomic_write
-from navverse.sim.simulator import Simulator
-from navverse.sim.world import CONTROL_HZ
+from navverse.sim.rates import CONTROL_HZ
+
+if TYPE_CHECKING:
+    from navverse.sim.simulator import Simulator
 
 __all__ = ["RECORD_HZ", "RolloutRecorder", "write_submission"]
 

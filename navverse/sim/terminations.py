@@ -17,10 +17,13 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from navverse.sim.embodiment import FALL_TILT
-from navverse.sim.simulator import Simulator
-from navverse.sim.world import PHYSICS_HZ
+from navverse.sim.rates import PHYSICS_HZ
+
+if TYPE_CHECKING:
+    from navverse.sim.simulator import Simulator
 
 __all__ = ["AGENT_TIMEOUT", "STUCK_DISTANCE", "STUCK_WINDOW", "TIMEOUT", "TerminationMonitor"]
 

@@ -27,6 +27,7 @@ from navverse.scene.directory import read_scene
 from navverse.scene.geometry import MeshData, Scene
 from navverse.sim.bullet import connect, pybullet
 from navverse.sim.collision import convex_parts, default_cache_dir, hulls_file
+from navverse.sim.rates import CONTROL_HZ, PHYSICS_HZ
 
 __all__ = [
     "CONTROL_HZ",
@@ -39,10 +40,6 @@ __all__ = [
     "World",
 ]
 
-PHYSICS_HZ = 200
-"""Physics steps per simulated second."""
-CONTROL_HZ = 50
-"""Controller updates per simulated second (every PHYSICS_HZ // CONTROL_HZ physics steps)."""
 GRAVITY = 9.81
 OBJECT_FRICTION = 0.6
 """Friction of objects (furniture); terrain classes carry their own."""
