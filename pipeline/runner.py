@@ -261,11 +261,8 @@ def _table(*columns: str, graph: Graph, width: int | None) -> Table:
         "target": max((len(node.target.id) for node in graph.nodes.values()), default=0),
         "stage": max((len(node.stage) for node in graph.nodes.values()), default=0),
     }
-    room = (
-        -1
-        if width is None
-        else width - sum(widest.values()) - 2 * len(columns) - 12 * sum(c in _FOLDED for c in columns)
-    )
+    folded = sum(column in _FOLDED for column in columns)
+    room = -1 if width is None else width - sum(widest.values()) - 2 * len(columns) - _FOLDED_MIN * folded
     for column in columns:
         table.add_column(
             column,
@@ -277,6 +274,8 @@ def _table(*columns: str, graph: Graph, width: int | None) -> Table:
 
 
 _FOLDED = ("reads", "writes", "made")
+_FOLDED_MIN = 12
+"""Columns left at least to each folding column before the id columns are given their full width."""
 """The columns of the engine's tables that may fold onto several lines on a narrow terminal."""
 
 

@@ -291,7 +291,7 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
 
     dataset = Dataset(args.dataset)
     dataset.verify()
-    split_of(dataset, args.split)
+    split_ids = split_of(dataset, args.split)
     embodiment = args.embodiment or dataset.manifest.embodiment
     scene_dirs = dataset_scene_dirs(args, dataset, dataset.episodes(split=args.split), built_dir)
     jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)
@@ -340,7 +340,7 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
         markup=False,
         soft_wrap=True,
     )
-    hint = eval_hint(args, summary.out, partial=summary.episodes < len(split_of(dataset, args.split)))
+    hint = eval_hint(args, summary.out, partial=summary.episodes < len(split_ids))
     console.print(
         f"wrote {summary.out}; score it with: {hint}",
         highlight=False,

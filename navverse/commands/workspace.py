@@ -9,6 +9,7 @@ an interrupted or failed ``init`` leaves nothing behind.
 from __future__ import annotations
 
 import argparse
+import re
 import shlex
 import shutil
 import tempfile
@@ -89,8 +90,6 @@ class CityWindow:
 
 def scene_name(path: Path) -> str:
     """A target id from an OSM file's name: lower case, its OSM suffixes dropped, other characters as -."""
-    import re
-
     name = path.name.lower()
     while (suffix := Path(name).suffix) in OSM_SUFFIXES and suffix:
         name = name[: -len(suffix)]
@@ -109,8 +108,6 @@ def city_window(
         If the file is not OSM data, the window is out of bounds or off the file's data, or the name
         is not a valid target id.
     """
-    import re
-
     from navverse.city.map import CityMapError
     from navverse.city.osm.files import check_osm_file
     from navverse.city.osm.reader import check_window
