@@ -76,7 +76,11 @@ def _link_or_copy(source: Path, target: Path) -> None:
     },
 )
 def navmesh(ctx: StageContext, params: NavmeshParams) -> None:
-    """The complete scene directory: geometry files, navmesh.bin, navmesh.json, bev.png with the navmesh."""
+    """The complete scene directory: geometry files, navmesh.bin, navmesh.json, bev.png with the navmesh.
+
+    Tiles whose input an earlier build already had (same triangles, settings and place) are taken
+    from the tile store under the cache folder (:mod:`navverse.nav.tiles`), with the same bytes.
+    """
     from navverse.nav import NavMeshSettings
     from navverse.nav.scene_navmesh import (
         build_scene_navmesh,
@@ -85,6 +89,7 @@ def navmesh(ctx: StageContext, params: NavmeshParams) -> None:
         scene_settings,
         write_navmesh_info,
     )
+    from navverse.nav.tiles import default_tile_store
     from navverse.scene.annotations import save_annotations
     from navverse.scene.bev import render_bev
     from navverse.scene.directory import SceneFiles, read_scene
@@ -102,8 +107,13 @@ def navmesh(ctx: StageContext, params: NavmeshParams) -> None:
 
     ctx.progress(0, 3, "navmesh")
     started = time.perf_counter()
+    tiles = default_tile_store()
     finder = build_scene_navmesh(
-        scene, settings, area_costs=params.area_costs, excluded_classes=params.excluded_classes
+        scene,
+        settings,
+        area_costs=params.area_costs,
+        excluded_classes=params.excluded_classes,
+        tile_store=tiles,
     )
     build_seconds = time.perf_counter() - started
     ctx.progress(1, 3, "navmesh")
@@ -134,6 +144,8 @@ def navmesh(ctx: StageContext, params: NavmeshParams) -> None:
         largest_island_m2=round(info.island_areas_m2[0], 3) if info.island_areas_m2 else 0.0,
     )
     ctx.log.info(
-        "navmesh %s (%s preset): %d polygons in %d tiles, %.1f m2 navigable, %d islands, built in %.2f s",
-        ctx.target, preset, info.polygons, info.tiles, info.navigable_area_m2, info.islands, build_seconds,
+        "navmesh %s (%s preset): %d polygons in %d tiles (%d reused from %s, %d built), %.1f m2 navigable, "
+        "%d islands, built in %.2f s",
+        ctx.target, preset, info.polygons, info.tiles, tiles.last_use.reused, tiles.root,
+        tiles.last_use.built, info.navigable_area_m2, info.islands, build_seconds,
     )  # fmt: skip

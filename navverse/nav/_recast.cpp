@@ -6,7 +6,9 @@
 
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "csrc/navmesh.h"
 
@@ -66,9 +68,8 @@ navverse::BuildConfig buildConfig(const py::dict& d) {
   return c;
 }
 
-std::unique_ptr<NavMesh> build(const Points& vertices, const py::array_t<std::int32_t, py::array::c_style | py::array::forcecast>& faces,
-                               const py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>& areas,
-                               const py::dict& settings, int jobs) {
+navverse::InputMesh inputMesh(const Points& vertices, const py::array_t<std::int32_t, py::array::c_style | py::array::forcecast>& faces,
+                              const py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>& areas) {
   if (vertices.ndim() != 2 || vertices.shape(1) != 3) throw py::value_error("vertices must have shape (N, 3)");
   if (faces.ndim() != 2 || faces.shape(1) != 3) throw py::value_error("faces must have shape (M, 3)");
   if (areas.ndim() != 1 || areas.shape(0) != faces.shape(0)) throw py::value_error("areas must have shape (M,)");
@@ -79,6 +80,15 @@ std::unique_ptr<NavMesh> build(const Points& vertices, const py::array_t<std::in
   const int nverts = static_cast<int>(vertices.shape(0));
   for (int t : mesh.triangles)
     if (t < 0 || t >= nverts) throw py::value_error("face index out of range");
+  return mesh;
+}
+
+using Faces = py::array_t<std::int32_t, py::array::c_style | py::array::forcecast>;
+using Areas = py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>;
+
+std::unique_ptr<NavMesh> build(const Points& vertices, const Faces& faces, const Areas& areas, const py::dict& settings,
+                               int jobs) {
+  navverse::InputMesh mesh = inputMesh(vertices, faces, areas);
   const navverse::BuildConfig cfg = buildConfig(settings);
   NavMesh* nav = nullptr;
   {
@@ -86,6 +96,43 @@ std::unique_ptr<NavMesh> build(const Points& vertices, const py::array_t<std::in
     nav = navverse::buildNavMesh(mesh, cfg, jobs);
   }
   return std::unique_ptr<NavMesh>(nav);
+}
+
+std::unique_ptr<navverse::TiledBuild> prepareTiles(const Points& vertices, const Faces& faces, const Areas& areas,
+                                                   const py::dict& settings) {
+  navverse::InputMesh mesh = inputMesh(vertices, faces, areas);
+  const navverse::BuildConfig cfg = buildConfig(settings);
+  py::gil_scoped_release release;
+  return std::make_unique<navverse::TiledBuild>(std::move(mesh), cfg);
+}
+
+// (navmesh, built): built holds per tile the bytes built now (b"" for an empty tile), None otherwise.
+py::tuple buildTiles(navverse::TiledBuild& self, int jobs, const py::list& reuse) {
+  std::vector<std::optional<std::string>> earlier;
+  earlier.reserve(reuse.size());
+  for (const py::handle item : reuse) {
+    if (item.is_none()) {
+      earlier.emplace_back(std::nullopt);
+    } else {
+      earlier.emplace_back(item.cast<py::bytes>().cast<std::string>());
+    }
+  }
+  std::vector<std::optional<std::string>> built;
+  NavMesh* nav = nullptr;
+  {
+    py::gil_scoped_release release;
+    nav = self.build(jobs, earlier, &built);
+  }
+  std::unique_ptr<NavMesh> owned(nav);
+  py::list out;
+  for (const auto& data : built) {
+    if (data) {
+      out.append(py::bytes(*data));
+    } else {
+      out.append(py::none());
+    }
+  }
+  return py::make_tuple(std::move(owned), out);
 }
 
 }  // namespace
@@ -104,6 +151,16 @@ PYBIND11_MODULE(_recast, m) {
       PyErr_SetString(cls.ptr(), e.what());
     }
   });
+
+  py::class_<navverse::TiledBuild>(m, "TiledBuild",
+                                   "A navmesh build prepared tile by tile, so tiles of an earlier build can be reused.")
+      .def(py::init(&prepareTiles), py::arg("vertices"), py::arg("faces"), py::arg("areas"), py::arg("settings"))
+      .def_property_readonly("num_tiles", &navverse::TiledBuild::numTiles)
+      .def(
+          "tile_key", [](const navverse::TiledBuild& self, int tile) { return py::bytes(self.tileKey(tile)); },
+          py::arg("tile"), "The bytes tile `tile`'s result depends on (b'' when no triangle reaches it).")
+      .def("build", &buildTiles, py::arg("jobs"), py::arg("reuse"),
+           "Build the tiles `reuse` does not supply (a list with one bytes or None per tile); returns (navmesh, built).");
 
   py::class_<NavMesh>(m, "NavMesh")
       .def_static("build", &build, py::arg("vertices"), py::arg("faces"), py::arg("areas"), py::arg("settings"),

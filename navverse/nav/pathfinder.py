@@ -56,6 +56,7 @@ except ImportError as exc:  # pragma: no cover - depends on the installation
     ) from exc
 from navverse.nav.fileformat import read_navmesh, write_navmesh
 from navverse.nav.settings import NavMeshSettings
+from navverse.nav.tiles import TileStore, TileStoreUse
 
 __all__ = [
     "DEFAULT_AREA",
@@ -704,6 +705,7 @@ def build(
     *,
     area_types: ArrayLike | None = None,
     jobs: int | None = None,
+    tile_store: TileStore | None = None,
 ) -> PathFinder:
     """Build a navmesh from a z-up triangle mesh.
 
@@ -724,6 +726,10 @@ def build(
         Without it every walkable polygon gets :data:`DEFAULT_AREA` (63).
     jobs : int, optional
         Most tiles built at once (threads); default: the number of CPUs.
+    tile_store : TileStore, optional
+        Finished tiles of earlier builds (:mod:`navverse.nav.tiles`): tiles whose input it holds are
+        reused, the others built and added to it; the navmesh has the same bytes as without it.
+        ``tile_store.last_use`` tells how many tiles were reused.
 
     Returns
     -------
@@ -779,8 +785,35 @@ def build(
     n_jobs = (os.cpu_count() or 1) if jobs is None else int(jobs)
     if n_jobs < 1:
         raise NavMeshError(f"jobs must be at least 1, got {jobs}")
-    mesh = _recast.NavMesh.build(verts, tris.astype(np.int32), areas, settings.model_dump(), n_jobs)
+    if tile_store is None:
+        mesh = _recast.NavMesh.build(verts, tris.astype(np.int32), areas, settings.model_dump(), n_jobs)
+    else:
+        mesh = _build_with_store(verts, tris.astype(np.int32), areas, settings, n_jobs, tile_store)
     return PathFinder(mesh, settings)
+
+
+def _build_with_store(
+    verts: np.ndarray,
+    tris: np.ndarray,
+    areas: np.ndarray,
+    settings: NavMeshSettings,
+    jobs: int,
+    store: TileStore,
+) -> _recast.NavMesh:
+    """Build reusing the tiles ``store`` holds, then store the tiles built here."""
+    plan = _recast.TiledBuild(verts, tris, areas, settings.model_dump())
+    inputs = (plan.tile_key(i) for i in range(plan.num_tiles))
+    keys = [store.key(tile_input) if tile_input else None for tile_input in inputs]
+    reuse = [store.get(key) if key else None for key in keys]
+    mesh, built = plan.build(jobs, reuse)
+    for key, data in zip(keys, built, strict=True):
+        if key and data is not None:
+            store.put(key, data)
+    fresh = sum(data is not None for data in built)
+    store.last_use = TileStoreUse(
+        tiles=plan.num_tiles, reused=sum(key is not None for key in keys) - fresh, built=fresh
+    )
+    return mesh
 
 
 def load(path: str | os.PathLike[str]) -> PathFinder:

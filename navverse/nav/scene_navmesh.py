@@ -25,6 +25,7 @@ from navverse.files import atomic_write
 from navverse.nav.errors import NavMeshError
 from navverse.nav.pathfinder import MAX_AREA_TYPE, PathFinder, build
 from navverse.nav.settings import NavMeshSettings
+from navverse.nav.tiles import TileStore
 from navverse.scene.annotations import SceneAnnotations
 from navverse.scene.bev import BevOverlay
 from navverse.scene.directory import SceneFiles
@@ -118,6 +119,7 @@ def build_scene_navmesh(
     area_costs: Mapping[str, float] | None = None,
     excluded_classes: Collection[str] = (),
     jobs: int | None = None,
+    tile_store: TileStore | None = None,
 ) -> PathFinder:
     """Build the navmesh of a scene, with terrain classes as area types.
 
@@ -134,6 +136,8 @@ def build_scene_navmesh(
         Terrain classes path queries never enter (absent ones are ignored).
     jobs : int, optional
         Tiles built at once (threads); default: the number of CPUs.
+    tile_store : TileStore, optional
+        Finished tiles to reuse and to add to (:mod:`navverse.nav.tiles`); the navmesh is the same.
 
     Returns
     -------
@@ -157,7 +161,14 @@ def build_scene_navmesh(
             f"({', '.join(annotations.terrain_classes) or 'none'}) is navigable"
         )
     try:
-        finder = build(labeled.mesh.vertices, labeled.mesh.faces, settings, area_types=face_area, jobs=jobs)
+        finder = build(
+            labeled.mesh.vertices,
+            labeled.mesh.faces,
+            settings,
+            area_types=face_area,
+            jobs=jobs,
+            tile_store=tile_store,
+        )
     except NavMeshError as exc:
         raise NavMeshError(f"scene {annotations.scene_id!r}: {exc}") from None
     costs = _named_areas("area_costs", list(area_costs or {}), areas, annotations)

@@ -282,8 +282,19 @@ INDOOR = NavMeshSettings(
 )
 """Indoor scenes: fine voxels (5 cm) for narrow passages (paper, table ``tab:navmesh_params``)."""
 
-OUTDOOR = INDOOR.model_copy(update={"cell_size": 0.1, "cell_height": 0.1, "agent_max_climb": 0.3})
-"""Outdoor scenes: 10 cm voxels and curbs up to 0.30 m (paper, table ``tab:navmesh_params``)."""
+OUTDOOR = INDOOR.model_copy(
+    update={"cell_size": 0.1, "cell_height": 0.1, "agent_max_climb": 0.3, "detail_sample_max_error": 1.0}
+)
+"""Outdoor scenes: 10 cm voxels and curbs up to 0.30 m (paper, table ``tab:navmesh_params``).
+
+One value departs from the table: ``detail_sample_max_error`` is 1 cell height instead of 0. The
+heightfield holds heights in whole cells, so on a ramp (street crossings, curb ramps, sloped
+terrain) a detail mesh held to no error at all follows every voxel step, adding height samples up
+to Recast's cap of 127 vertices per polygon; that tracing was ~80 % of a city's build time. Within
+one cell height the detail mesh follows the surface rather than its voxel steps: on a 500 m
+synthetic city the build is ~10x faster, the navigable area 0.3 % smaller (the steps' risers no
+longer count) and geodesic distances change by 0.02 % (median; 99th percentile 0.3 %).
+"""
 
 I2O = OUTDOOR.model_copy(update={"fine_factor": 2})
 """Indoor-to-outdoor scenes: :data:`OUTDOOR`, with the tiles meeting ``fine_region`` at 5 cm.

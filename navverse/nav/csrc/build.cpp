@@ -1,7 +1,10 @@
 // Navmesh build: Recast voxelizes each tile's triangles, Detour packs the tiles into one dtNavMesh.
 //
 // Tiles are built independently (each sees its own triangles plus a border of
-// agent_radius + 3 cells, so tiles agree along their edges) on up to `jobs` threads. Each thread
+// agent_radius + 3 cells, so tiles agree along their edges) on up to `jobs` threads. A tile's
+// voxel grid depends only on the mesh's lower corner, the settings and its own triangles (its
+// heightfield ends the agent height above its highest vertex), so a tile whose input is unchanged
+// builds to the same data and can be taken from an earlier build (TiledBuild, tileKey). Each thread
 // keeps only the tile it is working on, so the memory in flight is bounded by `jobs` tiles; the
 // finished tiles are added to the navmesh in tile order, which keeps polygon references (and so
 // random sampling and saved files) independent of thread timing.
@@ -25,6 +28,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <new>
 #include <sstream>
@@ -116,6 +120,9 @@ struct Grid {
   // Triangles per tile (CSR): tileTris[tileStart[t] .. tileStart[t+1]).
   std::vector<std::size_t> tileStart;
   std::vector<int> tileTris;
+  // Per tile: the top of its heightfield, the highest vertex of its triangles plus the agent height
+  // (a tile's voxels never depend on geometry that does not reach it, so tiles can be reused).
+  std::vector<float> tileTop;
 };
 
 // The cells one tile is voxelized in: Recast's parameters, the tile's core cells and the border.
@@ -139,7 +146,7 @@ struct TileOut {
 // Triangles per tile: those whose bounds come within the border of the tile's core. The border in
 // meters is the wider of the coarse and the fine one, so every tile sees all of its border; it is
 // the coarse one, (ceil(r / cs) + 3) * cs, which holds the fine one, (ceil(f * r / cs) + 3) * cs / f.
-void bucketTriangles(const Geometry& g, Grid& grid) {
+void bucketTriangles(const Geometry& g, Grid& grid, float headroom) {
   const int ntiles = grid.tilesX * grid.tilesY;
   const double bw =
       std::max(static_cast<double>(grid.border) * (static_cast<double>(grid.tileW) / grid.cellsX), grid.fineBorder);
@@ -173,6 +180,15 @@ void bucketTriangles(const Geometry& g, Grid& grid) {
     const auto& r = ranges[static_cast<std::size_t>(t)];
     for (int y = r[2]; y <= r[3]; ++y)
       for (int x = r[0]; x <= r[1]; ++x) grid.tileTris[fill[static_cast<std::size_t>(y * grid.tilesX + x)]++] = t;
+  }
+  grid.tileTop.assign(static_cast<std::size_t>(ntiles), g.bmin[1]);
+  for (int i = 0; i < ntiles; ++i) {
+    float top = -std::numeric_limits<float>::infinity();
+    for (std::size_t k = grid.tileStart[static_cast<std::size_t>(i)]; k < grid.tileStart[static_cast<std::size_t>(i) + 1]; ++k) {
+      const int t = grid.tileTris[k];
+      for (int j = 0; j < 3; ++j) top = std::max(top, g.verts[3 * static_cast<std::size_t>(tris[3 * t + j]) + 1]);
+    }
+    if (top > -std::numeric_limits<float>::infinity()) grid.tileTop[static_cast<std::size_t>(i)] = top + headroom;
   }
 }
 
@@ -288,6 +304,22 @@ void fillSolidInteriors(rcContext* ctx, const Geometry& g, const std::vector<int
   }
 }
 
+// The voxel grid of one tile: its resolution's parameters and the tile's bounds with its border.
+rcConfig tileConfig(const Geometry& g, const Grid& grid, const Resolution& res, int tx, int ty) {
+  rcConfig c = res.cfg;
+  c.tileSize = res.border > 0 ? res.cellsX : 0;
+  c.borderSize = res.border;
+  c.width = res.cellsX + 2 * res.border;
+  c.height = res.cellsY + 2 * res.border;
+  c.bmin[0] = g.bmin[0] + tx * grid.tileW - res.border * c.cs;
+  c.bmin[1] = res.ymin;
+  c.bmin[2] = g.bmin[2] + ty * grid.tileH - res.border * c.cs;
+  c.bmax[0] = g.bmin[0] + (tx + 1) * grid.tileW + res.border * c.cs;
+  c.bmax[1] = grid.tileTop[static_cast<std::size_t>(ty * grid.tilesX + tx)];
+  c.bmax[2] = g.bmin[2] + (ty + 1) * grid.tileH + res.border * c.cs;
+  return c;
+}
+
 TileOut buildTile(const Geometry& g, const Grid& grid, const Resolution& res, const BuildConfig& opts, int tx,
                   int ty) {
   TileOut out;
@@ -298,17 +330,7 @@ TileOut buildTile(const Geometry& g, const Grid& grid, const Resolution& res, co
   if (begin == end) return out;
 
   BuildContext ctx;
-  rcConfig c = res.cfg;
-  c.tileSize = res.border > 0 ? res.cellsX : 0;
-  c.borderSize = res.border;
-  c.width = res.cellsX + 2 * res.border;
-  c.height = res.cellsY + 2 * res.border;
-  c.bmin[0] = g.bmin[0] + tx * grid.tileW - res.border * c.cs;
-  c.bmin[1] = res.ymin;
-  c.bmin[2] = g.bmin[2] + ty * grid.tileH - res.border * c.cs;
-  c.bmax[0] = g.bmin[0] + (tx + 1) * grid.tileW + res.border * c.cs;
-  c.bmax[1] = g.bmax[1];
-  c.bmax[2] = g.bmin[2] + (ty + 1) * grid.tileH + res.border * c.cs;
+  const rcConfig c = tileConfig(g, grid, res, tx, ty);
 
   auto fail = [&](const char* step) {
     std::ostringstream msg;
@@ -435,8 +457,29 @@ std::string noWalkableMessage(const Geometry& g, int flatTriangles, int walkable
 
 }  // namespace
 
-NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& s, int jobs) {
+// Everything a build needs between preparing the tiles and packing them.
+struct TiledBuild::State {
+  InputMesh mesh;
+  BuildConfig settings;
   Geometry g;
+  Grid grid;
+  Resolution coarse;
+  Resolution fine;
+  int ntiles = 0;
+  int tileBits = 0;
+  int polyBits = 0;
+  int flatTriangles = 0;
+  int walkableTypeTriangles = 0;
+
+  const Resolution& resolution(int tile) const { return grid.fine[static_cast<std::size_t>(tile)] ? fine : coarse; }
+};
+
+TiledBuild::TiledBuild(InputMesh input, const BuildConfig& s) : state_(std::make_unique<State>()) {
+  State& st = *state_;
+  st.mesh = std::move(input);
+  st.settings = s;
+  const InputMesh& mesh = st.mesh;
+  Geometry& g = st.g;
   g.nverts = static_cast<int>(mesh.vertices.size() / 3);
   g.ntris = static_cast<int>(mesh.triangles.size() / 3);
   g.tris = &mesh.triangles;
@@ -453,23 +496,20 @@ NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& s, int jobs) {
   g.bmin[1] -= 0.5f * static_cast<float>(s.cell_height);
   g.bmax[0] += 0.5f * static_cast<float>(s.cell_size);
   g.bmax[2] += 0.5f * static_cast<float>(s.cell_size);
-  g.bmax[1] += static_cast<float>(s.agent_height);  // headroom above the highest floor
 
   // Area ids per triangle; triangles steeper than the max slope (or facing down) become RC_NULL_AREA.
   g.areas = mesh.areas;
-  int walkableTypeTriangles = 0;
-  for (unsigned char a : g.areas) walkableTypeTriangles += a != RC_NULL_AREA;
+  for (unsigned char a : g.areas) st.walkableTypeTriangles += a != RC_NULL_AREA;
   BuildContext ctx;
   rcClearUnwalkableTriangles(&ctx, static_cast<float>(s.agent_max_slope), g.verts.data(), g.nverts,
                              mesh.triangles.data(), g.ntris, g.areas.data());
-  int flatTriangles = 0;
-  for (unsigned char a : g.areas) flatTriangles += a != RC_NULL_AREA;
-  if (flatTriangles == 0) throw NavError(noWalkableMessage(g, flatTriangles, walkableTypeTriangles, s));
+  for (unsigned char a : g.areas) st.flatTriangles += a != RC_NULL_AREA;
+  if (st.flatTriangles == 0) throw NavError(noWalkableMessage(g, st.flatTriangles, st.walkableTypeTriangles, s));
 
   const rcConfig base = baseConfig(s);
   const int gw = std::max(1, static_cast<int>(std::ceil((g.bmax[0] - g.bmin[0]) / base.cs - 1e-4)));
   const int gh = std::max(1, static_cast<int>(std::ceil((g.bmax[2] - g.bmin[2]) / base.cs - 1e-4)));
-  Grid grid;
+  Grid& grid = st.grid;
   if (s.tile_size > 0) {
     grid.cellsX = grid.cellsY = s.tile_size;
     grid.tilesX = (gw + s.tile_size - 1) / s.tile_size;
@@ -482,24 +522,25 @@ NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& s, int jobs) {
   grid.tileW = grid.cellsX * base.cs;
   grid.tileH = grid.cellsY * base.cs;
   const long long ntilesLL = static_cast<long long>(grid.tilesX) * grid.tilesY;
-  const int tileBits = ntilesLL > 1 ? static_cast<int>(dtIlog2(dtNextPow2(static_cast<unsigned int>(std::min(ntilesLL, 1LL << 30))))) : 0;
-  if (tileBits > 14) {
+  st.tileBits = ntilesLL > 1 ? static_cast<int>(dtIlog2(dtNextPow2(static_cast<unsigned int>(std::min(ntilesLL, 1LL << 30))))) : 0;
+  if (st.tileBits > 14) {
     std::ostringstream msg;
     msg << "the scene needs " << grid.tilesX << " x " << grid.tilesY << " tiles of tile_size " << s.tile_size
         << " cells, more than the 16384 Detour's 32-bit polygon references allow: increase tile_size";
     throw NavError(msg.str());
   }
-  const int polyBits = 22 - tileBits;
-  const int ntiles = static_cast<int>(ntilesLL);
+  st.polyBits = 22 - st.tileBits;
+  st.ntiles = static_cast<int>(ntilesLL);
 
-  Resolution coarse;
+  Resolution& coarse = st.coarse;
   coarse.cfg = base;
   coarse.cellsX = grid.cellsX;
   coarse.cellsY = grid.cellsY;
   coarse.border = grid.border;
   coarse.ymin = g.bmin[1];
-  Resolution fine = coarse;
-  grid.fine.assign(static_cast<std::size_t>(ntiles), 0);
+  Resolution& fine = st.fine;
+  fine = coarse;
+  grid.fine.assign(static_cast<std::size_t>(st.ntiles), 0);
   if (s.tile_size > 0 && s.fine_factor > 1 && s.fine_region) {
     BuildConfig fs = s;
     fs.cell_size = s.cell_size / s.fine_factor;
@@ -523,27 +564,103 @@ NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& s, int jobs) {
       }
     }
   }
-  bucketTriangles(g, grid);
+  bucketTriangles(g, grid, static_cast<float>(s.agent_height));
+}
 
-  // Build the tiles: at most `jobs` threads, each holding one tile at a time.
+TiledBuild::~TiledBuild() = default;
+
+int TiledBuild::numTiles() const { return state_->ntiles; }
+
+std::string TiledBuild::tileKey(int tile) const {
+  const State& st = *state_;
+  if (tile < 0 || tile >= st.ntiles) throw NavError("tile index out of range");
+  const std::size_t begin = st.grid.tileStart[static_cast<std::size_t>(tile)];
+  const std::size_t end = st.grid.tileStart[static_cast<std::size_t>(tile) + 1];
+  if (begin == end) return {};
+  static_assert(sizeof(rcConfig) % 4 == 0, "rcConfig is read as plain 4-byte fields");
+  const Resolution& res = st.resolution(tile);
+  const rcConfig c = tileConfig(st.g, st.grid, res, tile % st.grid.tilesX, tile / st.grid.tilesX);
+  const std::int32_t header[3] = {tile % st.grid.tilesX, tile / st.grid.tilesX, res.fine ? 1 : 0};
+  const unsigned char flags[4] = {st.settings.filter_low_hanging_obstacles, st.settings.filter_ledge_spans,
+                                  st.settings.filter_walkable_low_height_spans, st.settings.fill_solid_interiors};
+  const float offset = kHeightOffset;
+  std::string key;
+  key.reserve(64 + sizeof(c) + (end - begin) * (9 * sizeof(float) + 1));
+  auto put = [&key](const void* p, std::size_t n) { key.append(static_cast<const char*>(p), n); };
+  put("navverse-tile-input", 19);
+  put(header, sizeof(header));
+  put(&c, sizeof(c));
+  put(flags, sizeof(flags));
+  put(&offset, sizeof(offset));
+  const std::vector<int>& tris = *st.g.tris;
+  for (std::size_t i = begin; i < end; ++i) {
+    const int t = st.grid.tileTris[i];
+    for (int k = 0; k < 3; ++k) put(&st.g.verts[3 * static_cast<std::size_t>(tris[3 * static_cast<std::size_t>(t) + k])], 3 * sizeof(float));
+    put(&st.g.areas[static_cast<std::size_t>(t)], 1);
+  }
+  return key;
+}
+
+namespace {
+
+// Tile data from an earlier build, copied into Detour's allocator, when it is a Detour tile of
+// this position; an empty string is a tile that built empty. False when it cannot be used.
+bool reuseTile(const std::string& data, int tx, int ty, bool fine, TileOut& out) {
+  out = TileOut();
+  out.fine = fine;
+  if (data.empty()) return true;
+  if (data.size() < sizeof(dtMeshHeader)) return false;
+  dtMeshHeader header;
+  std::memcpy(&header, data.data(), sizeof(header));
+  if (header.magic != DT_NAVMESH_MAGIC || header.version != DT_NAVMESH_VERSION || header.x != tx || header.y != ty ||
+      header.layer != 0)
+    return false;
+  out.data = static_cast<unsigned char*>(dtAlloc(data.size(), DT_ALLOC_PERM));
+  if (!out.data) throw std::bad_alloc();
+  std::memcpy(out.data, data.data(), data.size());
+  out.size = static_cast<int>(data.size());
+  out.polys = header.polyCount;
+  return true;
+}
+
+}  // namespace
+
+NavMesh* TiledBuild::build(int jobs, const std::vector<std::optional<std::string>>& reuse,
+                           std::vector<std::optional<std::string>>* built) {
+  State& st = *state_;
+  const Geometry& g = st.g;
+  const Grid& grid = st.grid;
+  const BuildConfig& s = st.settings;
+  const int ntiles = st.ntiles;
+  if (!reuse.empty() && static_cast<int>(reuse.size()) != ntiles) throw NavError("reuse needs one entry per tile");
+
+  // Reused tiles first; the others are built: at most `jobs` threads, each holding one tile at a time.
   std::vector<TileOut> tiles(static_cast<std::size_t>(ntiles));
+  std::vector<int> todo;
+  for (int i = 0; i < ntiles; ++i) {
+    const bool fine = grid.fine[static_cast<std::size_t>(i)] != 0;
+    const auto& earlier = reuse.empty() ? std::nullopt : reuse[static_cast<std::size_t>(i)];
+    if (!earlier || !reuseTile(*earlier, i % grid.tilesX, i / grid.tilesX, fine, tiles[static_cast<std::size_t>(i)]))
+      todo.push_back(i);
+  }
+  const int ntodo = static_cast<int>(todo.size());
   std::atomic<int> next{0};
   std::atomic<bool> failed{false};
   auto work = [&]() {
     for (;;) {
-      const int i = next.fetch_add(1);
-      if (i >= ntiles || failed.load()) return;
+      const int k = next.fetch_add(1);
+      if (k >= ntodo || failed.load()) return;
+      const int i = todo[static_cast<std::size_t>(k)];
       TileOut& out = tiles[static_cast<std::size_t>(i)];
       try {
-        out = buildTile(g, grid, grid.fine[static_cast<std::size_t>(i)] ? fine : coarse, s, i % grid.tilesX,
-                        i / grid.tilesX);
+        out = buildTile(g, grid, st.resolution(i), s, i % grid.tilesX, i / grid.tilesX);
       } catch (const std::bad_alloc&) {
         out.error = "out of memory while building a tile: use a smaller tile_size or fewer jobs";
       }
       if (!out.error.empty()) failed.store(true);
     }
   };
-  const int nthreads = std::max(1, std::min(jobs, ntiles));
+  const int nthreads = std::max(1, std::min(jobs, ntodo));
   if (nthreads == 1) {
     work();
   } else {
@@ -565,11 +682,11 @@ NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& s, int jobs) {
       freeAll();
       throw NavError("navmesh build failed: " + err);
     }
-    if (t.polys > (1 << polyBits)) {
+    if (t.polys > (1 << st.polyBits)) {
       freeAll();
       std::ostringstream msg;
       msg << "a " << (t.fine ? "fine " : "") << "tile has " << t.polys << " polygons, more than the "
-          << (1 << polyBits) << " that fit in a polygon reference with " << ntiles
+          << (1 << st.polyBits) << " that fit in a polygon reference with " << ntiles
           << " tiles: decrease tile_size" << (t.fine ? " or fine_factor" : "");
       throw NavError(msg.str());
     }
@@ -577,7 +694,16 @@ NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& s, int jobs) {
   }
   if (totalPolys == 0) {
     freeAll();
-    throw NavError(noWalkableMessage(g, flatTriangles, walkableTypeTriangles, s));
+    throw NavError(noWalkableMessage(g, st.flatTriangles, st.walkableTypeTriangles, s));
+  }
+  if (built) {
+    built->assign(static_cast<std::size_t>(ntiles), std::nullopt);
+    for (int i : todo) {
+      if (grid.tileStart[static_cast<std::size_t>(i)] == grid.tileStart[static_cast<std::size_t>(i) + 1]) continue;
+      const TileOut& t = tiles[static_cast<std::size_t>(i)];
+      (*built)[static_cast<std::size_t>(i)] =
+          t.data ? std::string(reinterpret_cast<const char*>(t.data), static_cast<std::size_t>(t.size)) : std::string();
+    }
   }
 
   // Pack the tiles into one navmesh, in tile order.
@@ -591,8 +717,8 @@ NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& s, int jobs) {
   rcVcopy(params.orig, g.bmin);
   params.tileWidth = grid.tileW;
   params.tileHeight = grid.tileH;
-  params.maxTiles = 1 << tileBits;
-  params.maxPolys = 1 << polyBits;
+  params.maxTiles = 1 << st.tileBits;
+  params.maxPolys = 1 << st.polyBits;
   if (dtStatusFailed(nav->init(&params))) {
     freeAll();
     dtFreeNavMesh(nav);
@@ -600,8 +726,8 @@ NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& s, int jobs) {
   }
   for (auto& t : tiles) {
     if (!t.data) continue;
-    const dtStatus st = nav->addTile(t.data, t.size, DT_TILE_FREE_DATA, 0, nullptr);
-    if (dtStatusFailed(st)) {
+    const dtStatus status = nav->addTile(t.data, t.size, DT_TILE_FREE_DATA, 0, nullptr);
+    if (dtStatusFailed(status)) {
       freeAll();
       dtFreeNavMesh(nav);
       throw NavError("navmesh build failed: Detour rejected a tile");
@@ -609,6 +735,11 @@ NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& s, int jobs) {
     t.data = nullptr;  // owned by the navmesh now
   }
   return new NavMesh(nav);
+}
+
+NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& cfg, int jobs) {
+  TiledBuild build(mesh, cfg);
+  return build.build(jobs, {}, nullptr);
 }
 
 }  // namespace navverse

@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -181,8 +182,38 @@ class NavMesh {
   float bmax_[3] = {0, 0, 0};
 };
 
-// Builds a tiled (cfg.tile_size > 0) or single-tile navmesh. Runs tiles on up to `jobs` threads;
-// call without holding the Python GIL. Throws NavError when nothing is walkable.
+// A navmesh build, prepared tile by tile so finished tiles of an earlier build can be reused.
+//
+// The constructor prepares the geometry (slopes, the tile grid, each tile's triangles); tileKey
+// gives the bytes a tile's result depends on (its voxel grid, the settings that reach it, and its
+// triangles with their area types, in order), so two tiles with equal keys build to equal data;
+// build builds every tile that `reuse` does not supply and packs them into one navmesh. Throws
+// NavError when nothing is walkable.
+class TiledBuild {
+ public:
+  TiledBuild(InputMesh mesh, const BuildConfig& cfg);
+  ~TiledBuild();
+  TiledBuild(const TiledBuild&) = delete;
+  TiledBuild& operator=(const TiledBuild&) = delete;
+
+  int numTiles() const;
+  // Empty for a tile that no triangle reaches (it is empty whatever else changes).
+  std::string tileKey(int tile) const;
+  // reuse: one entry per tile, the data an earlier build made for the same key ("" for a tile
+  // that built empty) or nullopt to build it here; entries that are not a Detour tile of this
+  // tile's position are built. built (optional): set per tile to the data built here ("" when
+  // empty), nullopt for reused tiles and tiles without triangles. Runs tiles on up to `jobs`
+  // threads; call without holding the Python GIL.
+  NavMesh* build(int jobs, const std::vector<std::optional<std::string>>& reuse,
+                 std::vector<std::optional<std::string>>* built);
+
+  struct State;
+
+ private:
+  std::unique_ptr<State> state_;
+};
+
+// Builds a tiled (cfg.tile_size > 0) or single-tile navmesh, every tile anew (TiledBuild without reuse).
 NavMesh* buildNavMesh(const InputMesh& mesh, const BuildConfig& cfg, int jobs);
 
 }  // namespace navverse

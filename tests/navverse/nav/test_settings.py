@@ -33,11 +33,16 @@ PAPER_COMMON = {
 }
 
 
+# Where a preset departs from the table, and why (the presets' docstrings measure the effect): outdoor
+# detail meshes may stray one cell height from the voxel heights instead of tracing their steps.
+DEPARTURES = {"indoor": {}, "outdoor": {"detail_sample_max_error": 1.0}}
+
+
 @pytest.mark.parametrize("name", ["indoor", "outdoor"])
 def test_presets_match_the_paper(name: str):
     preset = NavMeshSettings.preset(name)
     assert preset is nav.PRESETS[name]
-    for key, value in {**PAPER_COMMON, **PAPER[name]}.items():
+    for key, value in {**PAPER_COMMON, **PAPER[name], **DEPARTURES[name]}.items():
         assert getattr(preset, key) == value, key
 
 
