@@ -7,13 +7,15 @@ recipe: the ones that reach into the engine), the data commands in :mod:`navvers
 declaring its commands' arguments beside their handlers. The data commands are handed the build
 store (:func:`workspace_built_dir`, through :class:`~navverse.commands.common.Shared`) so they never
 import the engine. :func:`build_targets` is ``navverse build`` for :func:`navverse.api.build`.
-:func:`main` runs the chosen command's ``func``. The engine is imported inside the functions, so the
-command line starts quickly.
+:func:`main` runs the chosen command's ``func``. The engine is imported inside the functions that use
+it, so the command line starts quickly and the data commands never load it; a stage's module is
+imported when a recipe names the stage (:func:`pipeline.stage.stage_index`).
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import shutil
 import signal
@@ -43,7 +45,6 @@ from navverse.commands.common import (
 )
 from navverse.errors import NavverseError
 from navverse.review import cli as review
-from pipeline.errors import PipelineError
 
 __all__ = [
     "COMMANDS",
@@ -79,6 +80,8 @@ def workspace_built_dir(root: Path | None = None) -> Path:
         If there is no workspace here (the engine's error, as a navverse one: the data commands then
         name it as the reason the build store was not searched).
     """
+    from pipeline.errors import PipelineError
+
     try:
         return _workspace(root).built_dir
     except PipelineError as exc:
@@ -86,10 +89,11 @@ def workspace_built_dir(root: Path | None = None) -> Path:
 
 
 def _loader(workspace):
+    """The workspace's recipe loader; a stage's module is imported when a recipe names the stage."""
     from pipeline.recipes import RecipeLoader
-    from pipeline.stage import discover
+    from pipeline.stage import stage_index
 
-    return RecipeLoader(workspace, stages=discover(STAGES_PACKAGE))
+    return RecipeLoader(workspace, stages=stage_index(STAGES_PACKAGE))
 
 
 def _warn(warnings: Sequence[str]) -> None:
@@ -207,7 +211,7 @@ def _build_parser(sub: Subparsers, shared: Shared) -> None:
 
 def cmd_build(args: argparse.Namespace, console: Console) -> int:
     """Build targets (default: all), holding the workspace lock; exit 1 if a stage failed."""
-
+    from pipeline.errors import PipelineError
     from pipeline.executors import make_executor
     from pipeline.runner import describe_plan, find_corrupt, plan, print_corrupt
 
@@ -263,6 +267,7 @@ def build_targets(
     NavverseError
         The engine's error (a recipe problem, an unknown target), as a navverse one.
     """
+    from pipeline.errors import PipelineError
     from pipeline.executors import make_executor
 
     try:
@@ -498,6 +503,22 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _reading(args: argparse.Namespace) -> contextlib.AbstractContextManager[None]:
+    """``--allow-read`` of a command that reads recipes; the other commands load no engine."""
+    if "allow_read" not in args:
+        return contextlib.nullcontext()
+    from pipeline.params import allow_reading
+
+    return allow_reading(args.allow_read)
+
+
+def _one_line_errors() -> tuple[type[Exception], ...]:
+    """The errors :func:`main` prints as one line: navverse's, and the engine's once a command has
+    loaded the engine (a command that never imports it cannot raise its errors)."""
+    engine = sys.modules.get("pipeline.errors")
+    return (NavverseError,) if engine is None else (NavverseError, engine.PipelineError)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``navverse`` command; returns the exit code.
 
@@ -509,12 +530,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     console = terminal_console()
     errors = terminal_console(stderr=True, highlight=False, soft_wrap=True)
-    from pipeline.params import allow_reading
-
     try:
-        with allow_reading(args.allow_read if "allow_read" in args else ()):
+        with _reading(args):
             return int(args.func(args, console))
-    except (NavverseError, PipelineError) as exc:
+    except _one_line_errors() as exc:
         errors.print(f"error: {exc}", style="red", markup=False)
         return 1
     except KeyboardInterrupt as exc:  # a build's BuildInterrupted says how many stage runs are left

@@ -75,8 +75,7 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
-from navverse.dataset import INSTRUCTION_TYPES
-from navverse.errors import NavverseError
+from navverse.env_spec import ACTION_MODES, SENSORS, EnvError, check_instruction_type, episode_goal
 from navverse.scene_types import scene_profile
 from navverse.sim.actions import DISCRETE_ACTIONS, ActionRunner, action_index, step_size
 from navverse.sim.camera import CameraIntrinsics
@@ -101,9 +100,6 @@ __all__ = [
     "goal_edge_distance",
 ]
 
-ACTION_MODES = ("discrete", "waypoint", "velocity")
-SENSORS = ("rgb", "depth", "semantic")
-"""The camera images an environment can render."""
 POSE_MARGIN = 100.0
 """The pose observation's box: the scene bounds grown by this much (m) on every side."""
 REWARDS = ("none", "habitat")
@@ -115,66 +111,6 @@ REWARD_SUCCESS = 2.5
 GOAL_ID_MAX = 10**6
 """Upper bound of the ``goal_id`` observation's box."""
 _TEXT = spaces.Text(max_length=2048, charset="".join(chr(c) for c in range(32, 127)))
-
-
-class EnvError(NavverseError):
-    """The environment was given something it cannot use (a scene, an episode, an action mode)."""
-
-
-def _check_instruction_type(instruction_type: str) -> None:
-    """An EnvError naming the instruction types when ``instruction_type`` is not one of them."""
-    if instruction_type not in INSTRUCTION_TYPES:
-        raise EnvError(
-            f"unknown instruction type {instruction_type!r}; choose from: {', '.join(INSTRUCTION_TYPES)}"
-        )
-
-
-def _instruction_text(instruction: Any) -> str:
-    """The text of an instruction given as a dict (``instruction_text``), "" if it has none."""
-    return str(instruction.get("instruction_text", "")) if isinstance(instruction, Mapping) else ""
-
-
-def episode_goal(episode: Mapping[str, Any], instruction_type: str = "category") -> tuple[str, str | None]:
-    """The goal text of an episode (given as in the dataset's files) and its instruction type.
-
-    Parameters
-    ----------
-    episode : mapping
-        The episode: ``task``, ``object_category`` or ``place_category``, ``instruction``, and for
-        PlaceNav ``instructions`` (by instruction type, dataset format 1.1).
-    instruction_type : str
-        The PlaceNav instruction type to give (:data:`~navverse.dataset.INSTRUCTION_TYPES`).
-
-    Returns
-    -------
-    goal : str
-        The instruction of that type for a PlaceNav episode with ``instructions``; else the VLN
-        instruction when there is one, or the object or place category (at most 2048 characters).
-    instruction_type : str or None
-        For a PlaceNav episode, the type the goal text is of: ``instruction_type``, or ``category``
-        for an episode without ``instructions`` (older datasets, ad-hoc episodes), whose goal is its
-        place category. None for the other tasks.
-
-    Raises
-    ------
-    EnvError
-        If ``instruction_type`` is unknown, or a PlaceNav episode's ``instructions`` lack it.
-    """
-    _check_instruction_type(instruction_type)
-    placenav = episode.get("task") == "placenav"
-    instructions = episode.get("instructions")
-    if placenav and instructions:
-        if not isinstance(instructions, Mapping) or instruction_type not in instructions:
-            have = ", ".join(sorted(instructions)) if isinstance(instructions, Mapping) else "none"
-            raise EnvError(
-                f"PlaceNav episode {episode.get('episode_id')} has no {instruction_type!r} instruction "
-                f"(its instructions: {have})"
-            )
-        return _instruction_text(instructions[instruction_type])[:2048], instruction_type
-    kind = "category" if placenav else None
-    if episode.get("instruction"):
-        return _instruction_text(episode["instruction"])[:2048], kind
-    return str(episode.get("object_category") or episode.get("place_category") or ""), kind
 
 
 def _check_category_ids(category_ids: Mapping[str, int] | None) -> dict[str, int] | None:
@@ -324,7 +260,7 @@ class NavVerseEnv(gymnasium.Env):
             raise EnvError(f"max_steps must be at least 1, got {max_steps}")
         if terrain_friction is not None and not (math.isfinite(terrain_friction) and terrain_friction >= 0.0):
             raise EnvError(f"terrain_friction must be a finite number >= 0, got {terrain_friction!r}")
-        _check_instruction_type(instruction_type)
+        check_instruction_type(instruction_type)
         if reward not in REWARDS:
             raise EnvError(f"unknown reward {reward!r}; choose from: {', '.join(REWARDS)}")
         if render_mode not in (None, "rgb_array"):

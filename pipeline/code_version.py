@@ -194,7 +194,9 @@ class _Closure:
     def __init__(self, project: _Project) -> None:
         self.project = project
         self.files: dict[str, Path] = {}
-        self.trees: dict[str, ast.Module] = {}
+        self.bound: dict[str, tuple[set[str], bool]] = {}
+        """The names each package's ``__init__`` binds (and whether it star-imports): all that is kept
+        of a syntax tree once its imports are read, so a large closure is never in memory whole."""
 
     def add(self, name: str, *, needed_by: str | None, line: int = 0) -> None:
         if name in self.files or not self.project.owns(name):
@@ -214,7 +216,8 @@ class _Closure:
         if path.suffix != ".py":
             return  # a compiled extension: hashed by its bytes, its imports are not followed
         tree = _parse(path, name)
-        self.trees[name] = tree
+        if path.name == "__init__.py":
+            self.bound[name] = _bound_names(tree)
         if any(
             isinstance(s, ast.FunctionDef) and s.name == "__getattr__"
             for s in _top_level_statements(tree.body)
@@ -223,9 +226,11 @@ class _Closure:
                 f"project module {name!r} ({path}) defines a module-level __getattr__: the names it loads "
                 "lazily are invisible to the code hash; import them from the modules that define them"
             )
+        imports = _imports(tree, name, is_package=path.name == "__init__.py")
+        del tree
         for parent in _parents(name):
             self.add(parent, needed_by=name)
-        for imported in _imports(tree, name, is_package=path.name == "__init__.py"):
+        for imported in imports:
             if imported.required:
                 for parent in _parents(imported.name):
                     self.add(parent, needed_by=name, line=imported.line)
@@ -241,10 +246,9 @@ class _Closure:
             self.add(imported.name, needed_by=needed_by, line=imported.line)
             return
         parent = imported.name.rpartition(".")[0]
-        tree = self.trees.get(parent)
-        if tree is None or self.files[parent].name != "__init__.py":
+        if parent not in self.bound:
             return  # 'from module import attribute'
-        bound, star = _bound_names(tree)
+        bound, star = self.bound[parent]
         if not star and imported.name.rpartition(".")[2] not in bound:
             self.add(imported.name, needed_by=needed_by, line=imported.line)  # raises: not found
 

@@ -23,7 +23,7 @@ import copy
 import os
 import re
 import reprlib
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any
@@ -212,11 +212,12 @@ class RecipeLoader:
     ----------
     workspace : Workspace
         Where recipes and presets are.
-    stages : dict, optional
-        Stage registry to validate against (default: every registered stage).
+    stages : mapping, optional
+        Stage registry to validate against (default: every registered stage), e.g. a
+        :class:`~pipeline.stage.StageIndex`, which imports the stages the recipes name.
     """
 
-    def __init__(self, workspace: Workspace, *, stages: dict[str, StageSpec] | None = None) -> None:
+    def __init__(self, workspace: Workspace, *, stages: Mapping[str, StageSpec] | None = None) -> None:
         self.workspace = workspace
         self.stages = registered_stages() if stages is None else stages
         self.issues: list[RecipeIssue] = []

@@ -3,15 +3,21 @@
 A stage is a plain function ``fn(ctx: StageContext, params: P) -> None`` with one frozen params
 model ``P`` (a :class:`~pipeline.params.Params` subclass). It declares the artifacts it reads and
 the artifacts it writes; the graph of a build is derived from these declarations.
+
+:func:`discover` imports every module of a stage package; :func:`stage_index` reads their sources
+instead and imports a stage's module when the stage is first looked up, so a command that loads a
+few recipes imports only the stages they name (and the libraries those import).
 """
 
 from __future__ import annotations
 
+import ast
 import importlib
+import importlib.util
 import inspect
 import pkgutil
 import typing
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
@@ -269,11 +275,124 @@ def discover(package: str) -> dict[str, StageSpec]:
     """
     root = importlib.import_module(package)
     for info in pkgutil.iter_modules(root.__path__, prefix=f"{package}."):
-        try:
-            importlib.import_module(info.name)
-        except (ImportError, SyntaxError) as exc:
-            raise StageImportError(f"stage module {info.name}", exc) from None
+        _import_stage_module(info.name)
     return registered_stages()
+
+
+def _import_stage_module(module: str) -> None:
+    """Import a stage module, its failure as a :class:`StageImportError` naming it."""
+    try:
+        importlib.import_module(module)
+    except (ImportError, SyntaxError) as exc:
+        raise StageImportError(f"stage module {module}", exc) from None
+
+
+def _declared_stages(tree: ast.Module) -> list[str] | None:
+    """The stage names a module's source registers with ``stage(name="...")`` calls (as decorators or
+    called), or None when a call gives its name otherwise (only importing the module can tell)."""
+    names = []
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Call):
+            continue
+        func = node.func
+        if not (
+            (isinstance(func, ast.Name) and func.id == "stage")
+            or (isinstance(func, ast.Attribute) and func.attr == "stage")
+        ):
+            continue
+        given = next((k.value for k in node.keywords if k.arg == "name"), None)
+        if not (isinstance(given, ast.Constant) and isinstance(given.value, str)):
+            return None
+        names.append(given.value)
+    return names
+
+
+class StageIndex(Mapping[str, StageSpec]):
+    """The stages of a package by name, each module imported when one of its stages is looked up.
+
+    The index is read from the modules' sources (:func:`stage_index`): a module whose source
+    registers stages under literal names (``@stage(name="navmesh", ...)``) is imported when one of
+    them is first looked up; a module that registers stages otherwise is imported at once. Whatever
+    the sources do not settle is settled as :func:`discover` does, by importing every module of the
+    package: a name the index does not hold (or that its module did not register), listing the
+    stages (iteration, ``len``), and a name found in two modules (the registry's error).
+
+    Parameters
+    ----------
+    package : str
+        The stage package (e.g. ``"stages"``).
+    modules : mapping
+        ``{stage name: module}`` as read from the sources.
+    """
+
+    def __init__(self, package: str, modules: Mapping[str, str]) -> None:
+        self.package = package
+        self._modules = dict(modules)
+        self._everything = False
+
+    def _discover(self) -> None:
+        if not self._everything:
+            discover(self.package)
+            self._everything = True
+
+    def __getitem__(self, name: str) -> StageSpec:
+        module = self._modules.get(name)
+        if module is not None:
+            _import_stage_module(module)
+            if name in _REGISTRY:
+                return _REGISTRY[name]
+        self._discover()
+        return _REGISTRY[name]
+
+    def __iter__(self) -> Iterator[str]:
+        self._discover()
+        return iter(registered_stages())
+
+    def __len__(self) -> int:
+        self._discover()
+        return len(_REGISTRY)
+
+
+def stage_index(package: str) -> StageIndex:
+    """The stages of ``package`` by name, read from its modules' sources without importing them.
+
+    Returns
+    -------
+    StageIndex
+        A mapping that imports a stage's module when the stage is first looked up.
+
+    Raises
+    ------
+    StageImportError
+        If a module that must be imported now (see :class:`StageIndex`) cannot be.
+    DagError
+        If two modules register a stage of the same name.
+    """
+    root = importlib.import_module(package)
+    modules: dict[str, str] = {}
+    eager: list[str] = []
+    twice = False
+    for info in pkgutil.iter_modules(root.__path__, prefix=f"{package}."):
+        spec = importlib.util.find_spec(info.name)
+        origin = spec.origin if spec is not None else None
+        names = None
+        if origin is not None and origin.endswith(".py"):
+            try:
+                with open(origin, "rb") as handle:
+                    names = _declared_stages(ast.parse(handle.read(), filename=origin))
+            except (OSError, SyntaxError, ValueError):
+                names = None  # importing it reports what is wrong
+        if names is None:
+            eager.append(info.name)
+            continue
+        for name in names:
+            twice |= modules.get(name, info.name) != info.name
+            modules[name] = info.name
+    if twice:
+        discover(package)  # the registry names the two modules
+    for module in eager:
+        _import_stage_module(module)
+    return StageIndex(package, modules)
 
 
 def import_stage(module: str, name: str) -> StageSpec:

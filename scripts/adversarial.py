@@ -13,8 +13,10 @@ the case fails.
     python scripts/adversarial.py --only alias-bomb gzip-bomb-lines --cap-mb 1024
 
 Cases that score submissions or tamper with a dataset use ``--dataset`` (default: the newest
-navverse-mini version) and the scenes built in this workspace; without them they are reported as
-not run. Exit status: 0 when every case that ran passed.
+navverse-mini version) and its scenes, looked for in ``--scenes`` (default: ``$NAVVERSE_SCENES``, else
+the build store of the workspace the dataset is in, e.g. ``../other/data/built`` for
+``--dataset ../other/episodes/navverse-mini/v2.0``); without a dataset they are reported as not run.
+Exit status: 0 when every case that ran passed.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import gzip
+import io
 import json
 import os
 import re
@@ -44,6 +47,10 @@ SAMPLE_SECONDS = 0.02
 """How often the process tree's memory is sampled."""
 ORPHAN_GRACE_SECONDS = 10.0
 """How long processes of a finished command may take to go away before they count as left behind."""
+SCENES_ENV = "NAVVERSE_SCENES"
+"""Scene folders the commands search after ``--scenes`` (``navverse.scene.locate.SCENES_ENV``)."""
+RUNNING_STAGE_LOG = "data/built/tmp/log-*.log"
+"""Where a build's worker writes the log of the stage it runs, while it runs (a workspace's path)."""
 
 
 # ------------------------------------------------------------------------------------------ case model
@@ -65,9 +72,12 @@ class Step:
         Seconds before the command is killed (and the case fails).
     cwd : Path or None
         Working directory (default: the case's scratch folder).
-    signal_after : tuple of (int, float) or None
-        ``(signal, seconds)``: send the signal to the command's process group after that long, as a
-        terminal's Ctrl-C does; ``SIGKILL`` goes to the command's own process only (its parent dies).
+    signal_when : tuple of (int, str) or None
+        ``(signal, pattern)``: send the signal to the command's process group, as a terminal's Ctrl-C
+        does, once a file matching the glob ``pattern`` (relative to the working directory) exists:
+        a running stage's log (:data:`RUNNING_STAGE_LOG`) proves the build is under way, so the
+        signal never comes after it has finished. ``SIGKILL`` goes to the command's own process only
+        (its parent dies). A command that never makes the file runs to its time limit and fails.
     copies : int
         How many copies run at once (concurrent builds in one workspace).
     env : dict
@@ -79,7 +89,7 @@ class Step:
     expect: str = ""
     timeout: float = 120.0
     cwd: Path | None = None
-    signal_after: tuple[int, float] | None = None
+    signal_when: tuple[int, str] | None = None
     copies: int = 1
     env: dict[str, str] = field(default_factory=dict)
 
@@ -168,13 +178,13 @@ def run_step(step: Step, *, cwd: Path, cap_bytes: int) -> Outcome:
     while any(code is None for code in codes):
         elapsed = time.monotonic() - started
         peak_tree = max(peak_tree, _tree_rss([w for w, c in zip(watched, codes, strict=True) if c is None]))
-        if step.signal_after and not signalled and elapsed >= step.signal_after[1]:
+        if step.signal_when and not signalled and _exists(step.cwd or cwd, step.signal_when[1]):
             signalled = True
             for popen in popens:
-                if step.signal_after[0] == signal.SIGKILL:
+                if step.signal_when[0] == signal.SIGKILL:
                     popen.send_signal(signal.SIGKILL)
                 else:
-                    os.killpg(popen.pid, step.signal_after[0])
+                    os.killpg(popen.pid, step.signal_when[0])
         if not killed and peak_tree > 2 * cap_bytes:
             killed = f"killed at {peak_tree / 2**20:.0f} MB (over twice the cap)"
         elif not killed and elapsed > step.timeout:
@@ -208,6 +218,11 @@ def run_step(step: Step, *, cwd: Path, cap_bytes: int) -> Outcome:
         killed=killed,
         orphans=orphans,
     )
+
+
+def _exists(folder: Path, pattern: str) -> bool:
+    """Whether a file matching the glob ``pattern`` exists under ``folder``."""
+    return next(folder.glob(pattern), None) is not None
 
 
 def _wait_for_sessions(sessions: Sequence[int]) -> list[str]:
@@ -603,7 +618,11 @@ def _interrupt(signum: int, code: tuple[int, ...]) -> Callable[[Scratch, Path], 
         workspace = scratch.box_room(folder)
         return [
             Step(
-                ["build", "--jobs", "2"], code, r"interrupt|resume", signal_after=(signum, 5.0), cwd=workspace
+                ["build", "--jobs", "2"],
+                code,
+                r"interrupt|resume",
+                signal_when=(signum, RUNNING_STAGE_LOG),
+                cwd=workspace,
             ),
             Step(["build", "--jobs", "2"], (0,), r"finished", timeout=180, cwd=workspace),
         ]
@@ -618,7 +637,7 @@ def _parent_killed(scratch: Scratch, folder: Path) -> list[Step]:
             ["build", "--jobs", "2"],
             (-signal.SIGKILL,),
             "",
-            signal_after=(signal.SIGKILL, 5.0),
+            signal_when=(signal.SIGKILL, RUNNING_STAGE_LOG),
             cwd=workspace,
         ),
         Step(["build", "--jobs", "2"], (0,), r"finished", timeout=180, cwd=workspace),
@@ -640,8 +659,16 @@ def _osm_recipe(name: str) -> str:
     )
 
 
-def _osm_case(name: str, what: str, content: Callable[[], bytes], file: str, expect: str) -> Case:
-    """A case that builds a city from one hostile OSM file: exit 1, its message, nothing built."""
+def _osm_case(
+    name: str,
+    what: str,
+    content: Callable[[], bytes],
+    file: str,
+    expect: str,
+    codes: tuple[int, ...] = (1,),
+) -> Case:
+    """A case that builds a city from one hostile OSM file: by default exit 1, its message, nothing
+    built; ``codes`` and ``expect`` say otherwise for a file that is read after all."""
 
     def prepare(scratch: Scratch, folder: Path) -> list[Step]:
         workspace = scratch.workspace(folder, {"city.yaml": _osm_recipe(file)})
@@ -650,7 +677,7 @@ def _osm_case(name: str, what: str, content: Callable[[], bytes], file: str, exp
         (data / file).write_bytes(content())
         return [
             Step(["validate", "recipe", "recipes/city.yaml"], (0, 1), "", timeout=120, cwd=workspace),
-            Step(["build", "city", "--jobs", "1"], (1,), expect, timeout=300, cwd=workspace),
+            Step(["build", "city", "--jobs", "1"], codes, expect, timeout=300, cwd=workspace),
         ]
 
     return Case(name, "osm", what, prepare)
@@ -665,9 +692,15 @@ def _billion_laughs() -> bytes:
 
 
 def _osm_gzip_bomb() -> bytes:
-    head = b'<?xml version="1.0"?>\n<osm version="0.6">\n<!-- '
-    body = gzip.compress(head + b" " * (2 * 1024**3 // 4), compresslevel=9, mtime=0)
-    return body
+    """512 MiB of an XML comment, gzipped (compressed piece by piece: this process stays small, so the
+    commands it starts do not inherit a large peak)."""
+    packed = io.BytesIO()
+    spaces = b" " * (16 << 20)
+    with gzip.GzipFile(fileobj=packed, mode="wb", compresslevel=9, mtime=0) as handle:
+        handle.write(b'<?xml version="1.0"?>\n<osm version="0.6">\n<!-- ')
+        for _ in range(32):
+            handle.write(spaces)
+    return packed.getvalue()
 
 
 def _t_junction() -> bytes:
@@ -793,10 +826,21 @@ CASES: list[Case] = [
         r"DOCTYPE",
     ),
     _osm_case(
-        "osm-gzip-bomb", "2 GiB of XML in a small .osm.gz", _osm_gzip_bomb, "bomb.osm.gz", r"bomb|ratio|large"
+        "osm-gzip-bomb",
+        "512 MiB of XML in a small .osm.gz",
+        _osm_gzip_bomb,
+        "bomb.osm.gz",
+        r"bomb|ratio|large",
     ),
     _osm_case("osm-truncated", "an .osm file cut in half", _truncated_osm, "cut.osm", r"truncated"),
-    _osm_case("osm-pbf-holding-xml", "OSM XML named .osm.pbf", _t_junction, "x.osm.pbf", r"named \.osm\.pbf"),
+    _osm_case(
+        "osm-pbf-holding-xml",
+        "OSM XML named .osm.pbf: read by its content, the city built",
+        _t_junction,
+        "x.osm.pbf",
+        r"finished.*5 built",
+        codes=(0,),
+    ),
 ]
 """Every case, in the order of the breaks they reproduce."""
 
@@ -809,11 +853,27 @@ def _default_dataset() -> Path | None:
     return versions[-1].parent if versions else None
 
 
+def _dataset_store(dataset: Path) -> list[Path]:
+    """The build store of the workspace a dataset version is in (``<workspace>/episodes/<name>/v<x>``),
+    if there is one: where its scenes were built."""
+    store = dataset.resolve().parents[2] / "data" / "built"
+    return [store] if (store / "targets").is_dir() else []
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the chosen cases and print one row per step; the exit status."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
         "--dataset", type=Path, default=None, help="dataset version (default: newest navverse-mini)"
+    )
+    parser.add_argument(
+        "--scenes",
+        type=Path,
+        action="append",
+        default=None,
+        metavar="DIR",
+        help="where the dataset's scenes are, a scene pack or a build store (repeatable; default: "
+        "$NAVVERSE_SCENES, else the build store of the dataset's workspace)",
     )
     parser.add_argument("--cap-mb", type=float, default=1024.0, help="peak RSS allowed per command (MB)")
     parser.add_argument("--only", nargs="+", default=None, metavar="CASE", help="run only these cases")
@@ -833,6 +893,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     if dataset is not None and not (dataset / "manifest.json").is_file():
         console.print(f"{dataset} is not a dataset version (no manifest.json)")
         return 1
+    scenes = args.scenes or ([] if os.environ.get(SCENES_ENV) or dataset is None else _dataset_store(dataset))
+    if scenes:  # the commands run inherit it
+        os.environ[SCENES_ENV] = os.pathsep.join(str(folder.resolve()) for folder in scenes)
     chosen = [case for case in CASES if args.only is None or case.name in args.only]
     table = Table(title=f"hostile inputs (cap {args.cap_mb:.0f} MB per command)")
     for column in ("case", "break", "command", "exit", "peak tree MB", "peak own MB", "s", "verdict"):

@@ -47,3 +47,12 @@ def test_a_case_that_breaks_its_promise_fails_the_run():
     result = _run("--only", "tag-int", "--cap-mb", "1")
     assert result.returncode == 1
     assert "over the cap" in result.stdout
+
+
+def test_an_interrupted_build_is_signalled_while_a_stage_runs():
+    # The signal waits for a running stage's log, so the build is always caught running (exit 130),
+    # however fast the machine; the next build resumes and finishes.
+    result = _run("--only", "ctrl-c-build", "--cap-mb", "1024")
+    assert result.returncode == 0, result.stdout[-3000:]
+    assert "every case passed" in result.stdout  # the first build exited 130, as the case expects
+    assert result.stdout.count(" ok ") >= 2  # interrupted, then resumed

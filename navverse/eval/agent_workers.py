@@ -119,12 +119,12 @@ def task_for(episode: Episode, *, embodiment: str, radius: float, categories: di
     """The :class:`~navverse.eval.agents.base.AgentTask` of an episode, by the observation protocol
     (:mod:`navverse.eval.protocol`).
 
-    Its ``goal`` is what the environment observes (:func:`navverse.env.episode_goal`); its
+    Its ``goal`` is what the environment observes (:func:`navverse.env_spec.episode_goal`); its
     ``goal_category`` is "" where the protocol does not tell it (VLN; PlaceNav under ``route`` and
     ``intention``) unless the agent is privileged; ``semantic_categories`` is given only to an agent
     that uses the semantic sensor (`semantic`) or is privileged.
     """
-    from navverse.env import episode_goal
+    from navverse.env_spec import episode_goal
     from navverse.eval.agents.base import AgentTask
     from navverse.eval.protocol import is_told_category
 

@@ -44,6 +44,7 @@ from navverse.eval.figures import (
     png_data_uri,
     summary_figure,
 )
+from navverse.eval.measures import Robot
 from navverse.eval.metrics import LABELS, definition
 from navverse.eval.protocol import describe
 from navverse.eval.scoring import EvalResult, robot_for
@@ -278,20 +279,45 @@ def _split_of(dataset: Dataset, scene_ids: set[str]) -> list[str]:
     return sorted(s for s, scenes in dataset.manifest.splits.items() if scene_ids & set(scenes))
 
 
+def _scene_figures(
+    rows: Sequence[Mapping[str, object]],
+    episodes: Mapping[str, Episode],
+    submission: Submission,
+    *,
+    robot: Robot,
+    scene_dir: Path | None,
+) -> dict[str, str]:
+    """The top-down pictures (PNG data URIs) of one scene's episodes, ``{episode id: picture}``, over
+    the scene's backdrop (its fields are in memory only while they are drawn)."""
+    backdrop = Backdrop(scene_dir) if scene_dir is not None else None
+    figures = {}
+    for row in rows:
+        episode_id, label = str(row["episode_id"]), str(row["label"])
+        episode, record = episodes[episode_id], submission.records[episode_id]
+        heading = (f"{episode_id}\n{label_name(label)} · SR {_value(row, 'success')} · "
+                   f"SPL {_value(row, 'spl')}")  # fmt: skip
+        fig = episode_figure(episode, record.trajectory, label=label, title=heading,
+                             success_radius=robot.success_distance(episode.scene_type),
+                             backdrop=backdrop)  # fmt: skip
+        figures[episode_id] = png_data_uri(fig, colors=THUMB_COLORS)
+    return figures
+
+
 def _episode_pictures(
     result: EvalResult,
     episodes: Mapping[str, Episode],
     submission: Submission,
     scene_dirs: Mapping[str, Path],
     *,
-    robot,
+    robot: Robot,
     embodiment: str,
     keyframes: int,
     progress: Callable[[int, int], None] | None,
 ) -> dict[str, tuple[str | None, str | None]]:
     """The top-down picture and the keyframe strip (data URIs) of every episode with a trajectory to
-    draw, ``{episode id: (picture, strip)}``, drawn scene by scene: one scene's backdrop and renderer
-    are in memory at a time, so memory grows with the submission, not with the scenes."""
+    draw, ``{episode id: (picture, strip)}``, drawn scene by scene: a scene's pictures over its fields,
+    then its strips with its renderer, so that one scene's fields or its renderer are in memory at a
+    time, and memory grows with the submission, not with the scenes."""
     by_scene: dict[str, list[Mapping[str, object]]] = {}
     drawn, total = 0, len(result.episodes)
     for row in result.episodes:
@@ -308,24 +334,19 @@ def _episode_pictures(
         by_scene.setdefault(episode.scene_id, []).append(row)
     pictures: dict[str, tuple[str | None, str | None]] = {}
     for scene, rows in sorted(by_scene.items()):
-        backdrop = Backdrop(Path(scene_dirs[scene])) if scene in scene_dirs else None
-        strips = _KeyframeStrips(embodiment)
+        scene_dir = Path(scene_dirs[scene]) if scene in scene_dirs else None
+        figures = _scene_figures(rows, episodes, submission, robot=robot, scene_dir=scene_dir)
+        strips = _KeyframeStrips(embodiment) if keyframes and scene_dir is not None else None
         for row in rows:
-            episode_id, label = str(row["episode_id"]), str(row["label"])
-            episode, record = episodes[episode_id], submission.records[episode_id]
-            heading = (f"{episode_id}\n{label_name(label)} · SR {_value(row, 'success')} · "
-                       f"SPL {_value(row, 'spl')}")  # fmt: skip
-            fig = episode_figure(episode, record.trajectory, label=label, title=heading,
-                                 success_radius=robot.success_distance(episode.scene_type),
-                                 backdrop=backdrop)  # fmt: skip
+            episode_id = str(row["episode_id"])
             strip = None
-            if keyframes and scene in scene_dirs:
-                strip = strips.strip(scene, Path(scene_dirs[scene]), record.trajectory, keyframes)
-            pictures[episode_id] = (png_data_uri(fig, colors=THUMB_COLORS), strip)
+            if strips is not None:
+                strip = strips.strip(scene, scene_dir, submission.records[episode_id].trajectory, keyframes)
+            pictures[episode_id] = (figures[episode_id], strip)
             drawn += 1
             if progress is not None:
                 progress(drawn, total)
-        del backdrop, strips
+        del figures, strips
     return pictures
 
 
@@ -388,6 +409,10 @@ def write_report(
     title = title or f"Evaluation of {submission.path.name}"
     invalid = sum(row["label"] == "invalid" for row in result.episodes)
 
+    summary = ""  # drawn first: the episode pictures load the renderer
+    if result.groups.get("overall"):
+        picture = png_data_uri(summary_figure(result))
+        summary = f'<img class="summary" src="{picture}" alt="summary" width="960" height="330">'
     pictures = _episode_pictures(
         result, episodes, submission, scene_dirs, robot=robot, embodiment=embodiment, keyframes=keyframes,
         progress=progress,
@@ -422,10 +447,6 @@ def write_report(
         ("invalid", f"{invalid} (no valid trajectory: scored as failures)" if invalid else "0"),
         ("submission problems", str(len(result.problems))),
     ]
-    summary = ""
-    if result.groups.get("overall"):
-        picture = png_data_uri(summary_figure(result))
-        summary = f'<img class="summary" src="{picture}" alt="summary" width="960" height="330">'
     legend = "".join(
         f'<span><span class="swatch" style="background:{label_color(label)}"></span>'
         f"{_e(label_name(label))}</span>"

@@ -14,7 +14,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from navverse.env import ACTION_MODES
+from navverse.env_spec import ACTION_MODES
 from navverse.errors import NavverseError
 
 __all__ = ["BUILTIN_AGENTS", "AgentLoadError", "agent_factory", "load_agent"]

@@ -19,13 +19,14 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable
 
-from navverse.episodes.instructions.places import PLACE_NAMES
-
 __all__ = ["named_goal_category"]
 
 
 def _names(category: str) -> set[str]:
     """The words a text may name `category` by."""
+    # here: the instructions package loads the camera renderer, which loading an agent does not need
+    from navverse.episodes.instructions.places import PLACE_NAMES
+
     names = {category.replace("_", " ").lower()}
     if category in PLACE_NAMES:
         names.add(PLACE_NAMES[category].lower())

@@ -330,3 +330,35 @@ def test_every_card_with_a_trajectory_has_a_first_person_keyframe_strip(scored):
     assert image.shape == (height, KEYFRAMES * width + 2 * (KEYFRAMES - 1), 3)
     first, last = image[:, :width].astype(int), image[:, -width:].astype(int)
     assert first.std() > 5 and np.abs(first - last).mean() > 3  # a room seen, and seen change as it moves
+
+
+def test_a_scene_s_fields_and_its_renderer_are_never_in_memory_together(
+    scored, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+):
+    import weakref
+
+    from navverse.eval import report
+
+    result, dataset, submission, scene_dirs, out = scored
+    monkeypatch.setenv("NAVVERSE_CACHE_DIR", str(out.parent.parent / "cache"))
+    backdrops: weakref.WeakSet = weakref.WeakSet()
+    live_at_strips: list[int] = []
+
+    class Tracked(report.Backdrop):
+        def __init__(self, scene_dir: Path) -> None:
+            super().__init__(scene_dir)
+            backdrops.add(self)
+
+    strip = report._KeyframeStrips.strip
+
+    def tracked_strip(self, *args, **kwargs):
+        live_at_strips.append(len(backdrops))
+        return strip(self, *args, **kwargs)
+
+    monkeypatch.setattr(report, "Backdrop", Tracked)
+    monkeypatch.setattr(report._KeyframeStrips, "strip", tracked_strip)
+    again = write_report(
+        result, dataset=dataset, submission=submission, scene_dirs=scene_dirs, out_dir=tmp_path
+    )
+    assert len(live_at_strips) == 4 and not any(live_at_strips)  # four cards have a trajectory
+    assert again.read_bytes() == out.read_bytes()
