@@ -144,8 +144,8 @@ def navmesh(ctx: StageContext, params: NavmeshParams) -> None:
         largest_island_m2=round(info.island_areas_m2[0], 3) if info.island_areas_m2 else 0.0,
     )
     ctx.log.info(
-        "navmesh %s (%s preset): %d polygons in %d tiles (%d reused from %s, %d built), %.1f m2 navigable, "
-        "%d islands, built in %.2f s",
-        ctx.target, preset, info.polygons, info.tiles, tiles.last_use.reused, tiles.root,
-        tiles.last_use.built, info.navigable_area_m2, info.islands, build_seconds,
+        "navmesh %s (%s preset): %d polygons in %d tiles, %.1f m2 navigable, %d islands, built in %.2f s "
+        "(of the grid's %d tiles, %d taken from the tile store %s, %d built)",
+        ctx.target, preset, info.polygons, info.tiles, info.navigable_area_m2, info.islands, build_seconds,
+        tiles.last_use.tiles, tiles.last_use.reused, tiles.root, tiles.last_use.built,
     )  # fmt: skip
