@@ -300,9 +300,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         )
         console.print(navmesh_table(results["navmesh"]))
     if "verifier" in args.parts:
-        from bench import _verifier
-
-        results["verifier"] = _verifier.compare(workspace, per_type=args.candidates or None, console=console)
+        try:
+            from bench import _verifier
+        except ImportError:
+            console.print("[yellow]verifier: skipped: bench/_verifier.py is not in this checkout[/]")
+        else:
+            per_type = args.candidates or None
+            results["verifier"] = _verifier.compare(workspace, per_type=per_type, console=console)
     if "eval" in args.parts:
         results["eval"] = ev = eval_part(workspace, args.dataset, args.split, console)
         if ev:
