@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike
 from navverse.errors import SceneError
 from navverse.scene.annotations import SceneAnnotations
 from navverse.scene.colors import default_color, lighten
-from navverse.scene.geometry import Scene
+from navverse.scene.geometry import LabeledMesh, Scene
 
 __all__ = [
     "BACKGROUND",
@@ -46,6 +46,7 @@ __all__ = [
 TARGET_PIXELS = 1600
 MAX_PIXELS = 4000
 MIN_METERS_PER_PIXEL = 0.01
+RAYS_PER_BAND = 1 << 16  # rays cast at a time: bounds the ray-casting working memory
 BACKGROUND = (255, 255, 255)
 OBJECT_LIGHTEN = 0.35
 MAX_LEGEND_CATEGORIES = 25
@@ -179,26 +180,8 @@ def auto_meters_per_pixel(extent_m: float) -> float:
     return max(extent_m / TARGET_PIXELS, MIN_METERS_PER_PIXEL)
 
 
-def raster_bev(scene: Scene, *, meters_per_pixel: float | None = None) -> BevRaster:
-    """Ray-cast the scene from above into a labelled, shaded raster.
-
-    One vertical ray per pixel is cast downwards from above the scene's bounds through every
-    surface of a class with ``show_in_bev`` and every object. A pixel takes the colour of the
-    terrain class it hits (objects: their category colour, lightened), scaled by a hillshade from
-    the hit normal. Pixels next to a height jump of more than 5 cm that the surface slope does not
-    explain are darkened, so walls and steps read.
-
-    Parameters
-    ----------
-    scene : Scene
-        The scene to draw; its ``annotations.bounds`` give the raster's extent.
-    meters_per_pixel : float, optional
-        Resolution; by default :func:`auto_meters_per_pixel` of the longer side.
-
-    Returns
-    -------
-    BevRaster
-        The raster and its placement (``raster_offset`` and ``image_shape`` are zero).
+def _raster_info(scene: Scene, meters_per_pixel: float | None) -> BevInfo:
+    """Place the raster over the scene's bounds at the given (or automatic) resolution.
 
     Raises
     ------
@@ -222,59 +205,318 @@ def raster_bev(scene: Scene, *, meters_per_pixel: float | None = None) -> BevRas
             )
     cols = max(1, math.ceil((x_max - x_min) / mpp - 1e-9))
     rows = max(1, math.ceil((y_max - y_min) / mpp - 1e-9))
-    info = BevInfo(origin=(float(x_min), float(y_max)), meters_per_pixel=mpp, raster_shape=(rows, cols))
+    return BevInfo(origin=(float(x_min), float(y_max)), meters_per_pixel=mpp, raster_shape=(rows, cols))
+
+
+def raster_bev(
+    scene: Scene, *, meters_per_pixel: float | None = None, rays_per_band: int = RAYS_PER_BAND
+) -> BevRaster:
+    """Ray-cast the scene from above into a labelled, shaded raster.
+
+    One vertical ray per pixel is cast downwards from above the scene's bounds through every
+    surface of a class with ``show_in_bev`` and every object. A pixel takes the colour of the
+    terrain class it hits (objects: their category colour, lightened), scaled by a hillshade from
+    the hit normal. Pixels next to a height jump of more than 5 cm that the surface slope does not
+    explain are darkened, so walls and steps read.
+
+    The rays are cast and shaded in bands of whole rows, about `rays_per_band` rays at a time, so
+    the working memory beyond the returned arrays does not grow with the image. The band size does
+    not change the result.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene to draw; its ``annotations.bounds`` give the raster's extent.
+    meters_per_pixel : float, optional
+        Resolution; by default :func:`auto_meters_per_pixel` of the longer side.
+    rays_per_band : int
+        Rays cast at a time (a band holds at least one row).
+
+    Returns
+    -------
+    BevRaster
+        The raster and its placement (``raster_offset`` and ``image_shape`` are zero).
+
+    Raises
+    ------
+    SceneError
+        If `meters_per_pixel` is not positive or would make a side longer than 4000 pixels.
+    ValueError
+        If `rays_per_band` is not positive.
+    """
+    info = _raster_info(scene, meters_per_pixel)
+    class_index = np.full(info.raster_shape, BACKGROUND_CLASS, dtype=np.int16)
+    instance_id = np.zeros(info.raster_shape, dtype=np.int32)
+    height = np.full(info.raster_shape, np.nan)
+    rgb, class_names, _ = _cast_bev(
+        scene, info, rays_per_band=rays_per_band, labels=(class_index, instance_id, height)
+    )
+    return BevRaster(info, rgb, class_index, instance_id, height, class_names)
+
+
+@dataclass(frozen=True, eq=False)
+class _Rows:
+    """Ray hits of the raster rows ``start`` to ``stop`` (exclusive).
+
+    Parameters
+    ----------
+    start : int
+        The first row.
+    t_hit : ndarray of float32, shape (R, W)
+        Distance from the ray origin down to the hit, inf where the ray hit nothing.
+    face : ndarray of uint32, shape (R, W)
+        Index of the hit face (meaningless where nothing was hit).
+    normal : ndarray of float32, shape (R, W, 3)
+        Normal of the hit face.
+    """
+
+    start: int
+    t_hit: np.ndarray
+    face: np.ndarray
+    normal: np.ndarray
+
+    @property
+    def stop(self) -> int:
+        """One past the last row."""
+        return self.start + len(self.t_hit)
+
+
+def _cast_bev(
+    scene: Scene,
+    info: BevInfo,
+    *,
+    rays_per_band: int,
+    labels: tuple[np.ndarray, np.ndarray, np.ndarray] | None,
+) -> tuple[np.ndarray, tuple[str, ...], tuple[int, ...]]:
+    """Ray-cast the scene from above (see :func:`raster_bev`), one band of rows at a time.
+
+    Each band is cast with one row above and below it, so the height steps of its edge rows see
+    their neighbours; rows the previous band already cast are reused. A pixel's values depend only
+    on its own ray and its four neighbours' rays, so the bands give the raster one whole-image pass
+    gives.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene to draw.
+    info : BevInfo
+        Where the raster sits (from :func:`_raster_info`).
+    rays_per_band : int
+        Rays cast at a time (a band holds at least one row).
+    labels : tuple of ndarray, optional
+        ``(class_index, instance_id, height)`` of the raster's shape, filled in as in
+        :class:`BevRaster` where a ray hits (the caller initialises them for no hit); None to keep
+        only the colours.
+
+    Returns
+    -------
+    rgb : ndarray of uint8, shape (H, W, 3)
+        Shaded colours; background is white.
+    class_names : tuple of str
+        Terrain class names.
+    present : tuple of int
+        Indices into `class_names` of the terrain classes some pixel shows, ascending.
+
+    Raises
+    ------
+    ValueError
+        If `rays_per_band` is not positive.
+    """
+    if rays_per_band < 1:
+        raise ValueError(f"rays_per_band must be positive, got {rays_per_band}")
+    rows, cols = info.raster_shape
+    mpp = info.meters_per_pixel
+    bounds = scene.annotations.bounds
+    x_min, y_min, _ = bounds.min
+    _, y_max, _ = bounds.max
 
     hidden = [name for name, tc in scene.annotations.terrain_classes.items() if not tc.show_in_bev]
     labeled = scene.world_mesh(include_objects=True, exclude_classes=hidden)
     class_names = labeled.class_names
     rgb = np.empty((rows, cols, 3), dtype=np.uint8)
     rgb[...] = BACKGROUND
-    class_index = np.full((rows, cols), BACKGROUND_CLASS, dtype=np.int16)
-    instance_id = np.zeros((rows, cols), dtype=np.int32)
-    height = np.full((rows, cols), np.nan)
     mesh = labeled.mesh
     if mesh.num_faces == 0:
-        return BevRaster(info, rgb, class_index, instance_id, height, class_names)
+        return rgb, class_names, ()
 
     # Cast in a local frame so float32 keeps centimetre precision far from the world origin.
     local = np.array([x_min, y_min, 0.0])
     top = max(bounds.max[2], float(mesh.vertices[:, 2].max())) + 1.0
     raycaster = o3d.t.geometry.RaycastingScene()
     raycaster.add_triangles(
-        o3d.core.Tensor((mesh.vertices - local).astype(np.float32)),
+        o3d.core.Tensor(_local_float32(mesh.vertices, local)),
         o3d.core.Tensor(mesh.faces.astype(np.uint32)),
     )
     xs = (np.arange(cols) + 0.5) * mpp + (x_min - local[0])
     ys = (y_max - local[1]) - (np.arange(rows) + 0.5) * mpp
-    gx, gy = np.meshgrid(xs, ys)
-    rays = np.zeros((rows, cols, 6), dtype=np.float32)
-    rays[..., 0], rays[..., 1], rays[..., 2], rays[..., 5] = gx, gy, top, -1.0
-    hits = raycaster.cast_rays(o3d.core.Tensor(rays))
-    t_hit = hits["t_hit"].numpy()
-    face = hits["primitive_ids"].numpy().astype(np.int64)
-    hit = np.isfinite(t_hit)
-    face_hit = face[hit]
+    table, face_row = _face_colours(scene, labeled)
+    present = np.zeros(len(class_names), dtype=bool)
 
-    # Per-face base colours: terrain classes, then lightened category colours for objects.
-    palette = np.array(
-        [scene.annotations.terrain_classes[n].color for n in class_names] or [BACKGROUND], float
-    )
-    face_class = labeled.class_index.astype(np.int64)
-    face_rgb = palette[np.clip(face_class, 0, None)]
+    band_rows = max(1, rays_per_band // cols)
+    block: _Rows | None = None
+    hits_total = 0
+    lone: tuple[slice, np.ndarray, np.ndarray] | None = None  # a band's only hit, shaded as the sole hit
+    for r0 in range(0, rows, band_rows):
+        r1 = min(r0 + band_rows, rows)
+        block = _cast_rows(
+            raycaster, xs, ys, top, start=max(r0 - 1, 0), stop=min(r1 + 1, rows), previous=block
+        )
+        hit = np.isfinite(block.t_hit)
+        block_height = np.full(hit.shape, np.nan)
+        block_height[hit] = top - block.t_hit[hit]
+        normals = block.normal[hit].astype(np.float64)
+        normals[normals[:, 2] < 0] *= -1.0
+        step = _height_steps(block_height, hit, normals, mpp)
+
+        inner = slice(r0 - block.start, r1 - block.start)
+        band_hit = hit[inner]
+        count = int(np.count_nonzero(band_hit))
+        if count == 0:
+            continue
+        first = int(np.count_nonzero(hit[: inner.start]))
+        band_normals = normals[first : first + count]
+        face = block.face[inner][band_hit]
+        colours = table[face_row[face]]
+        edge = step[inner][band_hit]
+        if count == 1:
+            # NumPy multiplies a one-row matrix by a vector as a dot product, which can round
+            # differently from the matrix-vector product several rows get: shade a band's lone hit
+            # as one of two equal rows, and keep its one-row shade for a raster with no other hit.
+            values = _shaded(colours.repeat(2, axis=0), band_normals.repeat(2, axis=0), edge.repeat(2))[:1]
+            lone = (slice(r0, r1), band_hit, _shaded(colours, band_normals, edge))
+        else:
+            values = _shaded(colours, band_normals, edge)
+        rgb[r0:r1][band_hit] = values
+        hits_total += count
+        terrain = labeled.class_index[face]
+        present[terrain[terrain >= 0]] = True
+        if labels is not None:
+            class_index, instance_id, height = labels
+            class_index[r0:r1][band_hit] = terrain
+            instance_id[r0:r1][band_hit] = labeled.instance_id[face]
+            height[r0:r1][band_hit] = block_height[inner][band_hit]
+    if hits_total == 1 and lone is not None:
+        band, mask, values = lone
+        rgb[band][mask] = values
+    return rgb, class_names, tuple(int(i) for i in np.flatnonzero(present))
+
+
+def _local_float32(vertices: np.ndarray, local: np.ndarray, *, chunk: int = 1 << 16) -> np.ndarray:
+    """``(vertices - local).astype(np.float32)``, subtracted in float64 one chunk of rows at a time."""
+    out = np.empty(vertices.shape, dtype=np.float32)
+    for start in range(0, len(vertices), chunk):
+        out[start : start + chunk] = vertices[start : start + chunk] - local
+    return out
+
+
+def _cast_rows(
+    raycaster: o3d.t.geometry.RaycastingScene,
+    xs: np.ndarray,
+    ys: np.ndarray,
+    top: float,
+    *,
+    start: int,
+    stop: int,
+    previous: _Rows | None,
+) -> _Rows:
+    """Cast straight down through the pixel centres of rows `start` to `stop`, reusing `previous`.
+
+    Parameters
+    ----------
+    raycaster : RaycastingScene
+        The scene's triangles in the local frame.
+    xs, ys : ndarray of float64
+        Local x of every column's and local y of every row's pixel centre.
+    top : float
+        Local height the rays start from.
+    start, stop : int
+        The rows wanted.
+    previous : _Rows, optional
+        The rows cast last; those of them from `start` on are reused (it must end by `stop`).
+
+    Returns
+    -------
+    _Rows
+        The hits of rows `start` to `stop`.
+    """
+    parts: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+    reused = 0
+    if previous is not None and previous.stop > start:
+        reused = previous.stop - start
+        parts.append((previous.t_hit[-reused:], previous.face[-reused:], previous.normal[-reused:]))
+    if start + reused < stop:
+        rays = np.zeros((stop - start - reused, len(xs), 6), dtype=np.float32)
+        rays[..., 0] = xs
+        rays[..., 1] = ys[start + reused : stop, None]
+        rays[..., 2] = top
+        rays[..., 5] = -1.0
+        hits = raycaster.cast_rays(o3d.core.Tensor(rays))
+        parts.append(
+            (hits["t_hit"].numpy(), hits["primitive_ids"].numpy(), hits["primitive_normals"].numpy())
+        )
+    if len(parts) == 1:
+        return _Rows(start, *parts[0])
+    t_hit, face, normal = (np.concatenate(arrays) for arrays in zip(*parts, strict=True))
+    return _Rows(start, t_hit, face, normal)
+
+
+def _face_colours(scene: Scene, labeled: LabeledMesh) -> tuple[np.ndarray, np.ndarray]:
+    """A table of base colours and each face's row in it.
+
+    Terrain faces take their class colour; faces of an object take its category colour,
+    lightened (faces of an id no object has: the first terrain class's colour).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene: its terrain class colours and object categories.
+    labeled : LabeledMesh
+        The scene's world mesh as ray cast.
+
+    Returns
+    -------
+    table : ndarray of float64, shape (K, 3)
+        Colours in 0..255: the terrain classes in ``labeled.class_names`` order (white when there
+        are none), then the object categories in name order.
+    face_row : ndarray of int16 (int32 for a longer table), shape (M,)
+        Row of `table` for every face of ``labeled.mesh``.
+    """
+    terrain = [scene.annotations.terrain_classes[n].color for n in labeled.class_names] or [BACKGROUND]
     categories = {o.annotation.id: o.annotation.category for o in scene.objects}
-    for object_id, category in categories.items():
-        face_rgb[labeled.instance_id == object_id] = lighten(default_color(category), OBJECT_LIGHTEN)
+    names = sorted(set(categories.values()))
+    table = np.array(terrain + [lighten(default_color(c), OBJECT_LIGHTEN) for c in names], dtype=float)
+    row_type = np.int16 if len(table) <= np.iinfo(np.int16).max else np.int32
+    face_row = np.clip(labeled.class_index, 0, None).astype(row_type)
+    if categories:
+        name_row = {name: len(terrain) + i for i, name in enumerate(names)}
+        ids = np.array(sorted(categories), dtype=np.int64)
+        id_rows = np.array([name_row[categories[i]] for i in ids.tolist()], dtype=row_type)
+        at = np.minimum(np.searchsorted(ids, labeled.instance_id), len(ids) - 1)
+        is_object = ids[at] == labeled.instance_id
+        face_row[is_object] = id_rows[at[is_object]]
+    return table, face_row
 
-    normals = hits["primitive_normals"].numpy()[hit].astype(np.float64)
-    normals[normals[:, 2] < 0] *= -1.0
+
+def _shaded(colours: np.ndarray, normals: np.ndarray, edge: np.ndarray) -> np.ndarray:
+    """Colours of hit pixels: base colour times the hillshade of the hit normal, darker at steps.
+
+    Parameters
+    ----------
+    colours : ndarray of float64, shape (N, 3)
+        Base colours in 0..255.
+    normals : ndarray of float64, shape (N, 3)
+        Hit normals, pointing up.
+    edge : ndarray of bool, shape (N,)
+        Whether the pixel is next to a height step.
+
+    Returns
+    -------
+    ndarray of uint8, shape (N, 3)
+        The shaded colours.
+    """
     shade = np.clip((normals @ _LIGHT) / _LIGHT[2], 0.55, 1.15)
-    height[hit] = top - t_hit[hit]
-    step = _height_steps(height, hit, normals, mpp)
-    shade = shade * np.where(step[hit], _EDGE_SHADE, 1.0)
-    rgb[hit] = np.clip(np.rint(face_rgb[face_hit] * shade[:, None]), 0, 255).astype(np.uint8)
-    class_index[hit] = face_class[face_hit]
-    instance_id[hit] = labeled.instance_id[face_hit]
-    return BevRaster(info, rgb, class_index, instance_id, height, class_names)
+    shade = shade * np.where(edge, _EDGE_SHADE, 1.0)
+    return np.clip(np.rint(colours * shade[:, None]), 0, 255).astype(np.uint8)
 
 
 def _height_steps(height: np.ndarray, hit: np.ndarray, normals: np.ndarray, mpp: float) -> np.ndarray:
@@ -449,6 +691,7 @@ def render_bev(
     *,
     meters_per_pixel: float | None = None,
     overlays: Sequence[BevOverlay] = (),
+    rays_per_band: int = RAYS_PER_BAND,
 ) -> BevInfo:
     """Write a bird's-eye-view PNG of the scene.
 
@@ -469,23 +712,25 @@ def render_bev(
         Raster resolution; automatic by default (longer side ~1600 px).
     overlays : sequence of BevOverlay
         Extra line collections, drawn in order above everything else.
+    rays_per_band : int
+        Rays cast at a time (see :func:`raster_bev`); the picture does not depend on it.
 
     Returns
     -------
     BevInfo
         How world coordinates map to PNG pixels.
     """
-    raster = raster_bev(scene, meters_per_pixel=meters_per_pixel)
+    info = _raster_info(scene, meters_per_pixel)
+    rgb, class_names, present = _cast_bev(scene, info, rays_per_band=rays_per_band, labels=None)
     ann = scene.annotations
-    rows, cols = raster.info.raster_shape
-    mpp = raster.info.meters_per_pixel
-    x0, y_top = raster.info.origin
+    rows, cols = info.raster_shape
+    mpp = info.meters_per_pixel
+    x0, y_top = info.origin
     extent = (x0, x0 + cols * mpp, y_top - rows * mpp, y_top)
 
-    present = sorted(int(i) for i in np.unique(raster.class_index) if i >= 0)
     terrain_handles: list[Artist] = [
-        Patch(facecolor=_rgb01(ann.terrain_classes[raster.class_names[i]].color), edgecolor="black",
-              linewidth=0.5, label=raster.class_names[i])
+        Patch(facecolor=_rgb01(ann.terrain_classes[class_names[i]].color), edgecolor="black",
+              linewidth=0.5, label=class_names[i])
         for i in present
     ]  # fmt: skip
     categories = sorted({o.category for o in ann.objects})
@@ -499,7 +744,13 @@ def render_bev(
     ax = fig.add_axes(
         (_MARGIN_LEFT / width, (height - _MARGIN_TOP - rows) / height, cols / width, rows / height)
     )
-    ax.imshow(raster.rgb, extent=extent, origin="upper", interpolation="nearest", aspect="auto", zorder=0)
+    # Drawn as RGBA: matplotlib resamples an RGB image as float64 RGBA but an RGBA one as float32,
+    # half the memory, and every uint8 level comes out of either unchanged (the same PNG).
+    rgba = np.empty((rows, cols, 4), dtype=np.uint8)
+    rgba[..., :3] = rgb
+    rgba[..., 3] = 255
+    del rgb
+    ax.imshow(rgba, extent=extent, origin="upper", interpolation="nearest", aspect="auto", zorder=0)
     ax.set_xlim(extent[0], extent[1])
     ax.set_ylim(extent[2], extent[3])
     ax.set_xlabel("x [m]")
@@ -512,7 +763,7 @@ def render_bev(
     )  # fmt: skip
     fig.savefig(Path(out_path), dpi=_DPI, metadata={"Software": None})
     return BevInfo(
-        origin=raster.info.origin,
+        origin=info.origin,
         meters_per_pixel=mpp,
         raster_shape=(rows, cols),
         raster_offset=(_MARGIN_TOP, _MARGIN_LEFT),
@@ -558,13 +809,14 @@ def bev_window(scene: Scene, centre: ArrayLike, side: float, *, pixels: int = 90
 
     lo, hi = np.asarray(scene.annotations.bounds.min[:2]), np.asarray(scene.annotations.bounds.max[:2])
     extent = float((hi - lo).max())
-    raster = raster_bev(scene, meters_per_pixel=max(0.06, extent / (MAX_PIXELS - 100)))
+    info = _raster_info(scene, max(0.06, extent / (MAX_PIXELS - 100)))
+    rgb, _, _ = _cast_bev(scene, info, rays_per_band=RAYS_PER_BAND, labels=None)
     middle = np.asarray(centre, dtype=np.float64)[:2]
-    (r0, c0), (r1, c1) = raster.info.world_to_raster(
+    (r0, c0), (r1, c1) = info.world_to_raster(
         middle + np.array([[-side / 2, side / 2], [side / 2, -side / 2]])
     )
     r0, c0 = max(int(r0), 0), max(int(c0), 0)
-    crop = Image.fromarray(raster.rgb[r0 : int(r1), c0 : int(c1)])
+    crop = Image.fromarray(rgb[r0 : int(r1), c0 : int(c1)])
     scale = pixels / crop.width
     crop = crop.resize((pixels, round(crop.height * scale)), Image.Resampling.LANCZOS)
-    return BevWindow(np.asarray(crop), raster.info, (r0, c0), scale)
+    return BevWindow(np.asarray(crop), info, (r0, c0), scale)

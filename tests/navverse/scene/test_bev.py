@@ -7,11 +7,11 @@ import pytest
 from PIL import Image
 
 from navverse.errors import SceneError
-from navverse.scene.bev import BevOverlay, auto_meters_per_pixel, raster_bev, render_bev
+from navverse.scene.bev import BevOverlay, BevRaster, auto_meters_per_pixel, raster_bev, render_bev
 from navverse.scene.colors import default_color, lighten
 from navverse.scene.geometry import MeshData, Scene, Surface
 from tests.navverse.scene.conftest import FLOOR_POINT, OBJECTS, ROAD_POINT, WALL_POINT
-from tests.scenes import scene_of
+from tests.scenes import quad, scene_of
 
 MPP = 0.02
 
@@ -157,3 +157,51 @@ def test_filled_polygons_are_tinted_without_seams(tiny_scene: Scene, tmp_path: P
 def test_overlay_shapes_are_checked(kwargs: dict, match: str) -> None:
     with pytest.raises(ValueError, match=match):
         BevOverlay("bad", **kwargs)
+
+
+def _assert_same_raster(a: BevRaster, b: BevRaster) -> None:
+    assert a.info == b.info and a.class_names == b.class_names
+    for name in ("rgb", "class_index", "instance_id", "height"):
+        x, y = getattr(a, name), getattr(b, name)
+        assert x.dtype == y.dtype, name
+        np.testing.assert_array_equal(x, y, err_msg=name)  # NaN equals NaN here
+
+
+@pytest.mark.parametrize("rays_per_band", [1, 281, 561, 839, 7000])
+def test_bands_give_the_raster_of_one_band(tiny_scene: Scene, rays_per_band: int) -> None:
+    # 240 x 280 pixels: bands of 1, 1, 2, 2 and 25 rows (the last band shorter)
+    whole = raster_bev(tiny_scene, meters_per_pixel=0.05, rays_per_band=10**9)
+    _assert_same_raster(raster_bev(tiny_scene, meters_per_pixel=0.05, rays_per_band=rays_per_band), whole)
+
+
+def test_a_banded_png_has_the_bytes_of_a_one_band_png(tiny_scene: Scene, tmp_path: Path) -> None:
+    overlay = BevOverlay("path", np.array([[[1.0, 7.0], [9.5, 7.0]]]), color=(0.0, 0.0, 1.0))
+    for name, rays_per_band in (("banded.png", 1000), ("whole.png", 10**9)):
+        render_bev(
+            tiny_scene, tmp_path / name, meters_per_pixel=MPP, overlays=[overlay], rays_per_band=rays_per_band
+        )
+    assert (tmp_path / "banded.png").read_bytes() == (tmp_path / "whole.png").read_bytes()
+
+
+@pytest.mark.parametrize("patches", [1, 2, 3])
+def test_bands_with_a_single_hit_give_the_raster_of_one_band(patches: int) -> None:
+    # Small tilted patches, each covering one pixel centre (0.25 m pixels) in a row of its own,
+    # under a ceiling the BEV does not show: bands of one row hold one hit each.
+    def patch(x: float, y: float, rise: float) -> MeshData:
+        x0, y0, x1, y1 = x - 0.08, y - 0.08, x + 0.08, y + 0.08
+        vertices = np.array([[x0, y0, 0.0], [x1, y0, rise], [x1, y1, rise + 0.03], [x0, y1, 0.03]])
+        return MeshData(vertices, np.array([[0, 1, 2], [0, 2, 3]]))
+
+    spots = ((0.125, 0.125, 0.07), (1.375, 0.875, 0.11), (1.875, 1.625, 0.05))[:patches]
+    surfaces = [Surface(f"patch_{i}", "ground", patch(x, y, rise)) for i, (x, y, rise) in enumerate(spots)]
+    surfaces.append(Surface("ceiling", "ceiling", quad(0.0, 0.0, 2.0, 2.0, 3.0)))
+    scene = scene_of(surfaces, scene_id="patches", scene_type="outdoor")
+    whole = raster_bev(scene, meters_per_pixel=0.25, rays_per_band=10**9)
+    assert np.isfinite(whole.height).sum() == patches
+    for rays_per_band in (1, 16, 24):  # bands of 1, 2 and 3 rows
+        _assert_same_raster(raster_bev(scene, meters_per_pixel=0.25, rays_per_band=rays_per_band), whole)
+
+
+def test_rays_per_band_must_be_positive(tiny_scene: Scene) -> None:
+    with pytest.raises(ValueError, match="rays_per_band"):
+        raster_bev(tiny_scene, meters_per_pixel=0.05, rays_per_band=0)
