@@ -11,7 +11,9 @@ follows the reference path's corners with the shared waypoint follower under ful
 * no termination ended it (fall, stuck, out of bounds, timeout).
 
 The first unmet condition is the rejection reason. Scenes are verified in parallel processes, each
-scene's candidates in order in one world, so results do not depend on the number of processes.
+scene's candidates in order in one world, so results do not depend on the number of processes. A
+scene's world gives collision geometry only to the objects within ``object_margin_m`` of one of its
+candidates' reference paths (:func:`navverse.sim.world.objects_near`).
 """
 
 from __future__ import annotations
@@ -67,6 +69,10 @@ class VerificationSettings(Settings):
         Annotated[float, Field(gt=0.0, le=1000.0, description="Meters, more than 0, at most 1000.")],
     ] = (5.0, 50.0)
     """The executed path must be longer than the first and shorter than the second (m)."""
+    object_margin_m: Annotated[float, Field(ge=1.0, le=1000.0)] | None = 10.0
+    """Objects whose box is farther than this (m, horizontally) from every reference path of the
+    scene's candidates get no collision geometry: the follower keeps the robot within centimetres
+    of its path, and one that strays this far has failed already. None (null) loads every object."""
     keyframes: Annotated[int, Field(ge=0, le=64)] = 0
     """RGB frames rendered along each accepted rollout and kept (0: none)."""
     keyframe_size: ImageSize = (320, 240)
@@ -151,15 +157,21 @@ def verify_scene(
     progress : callable, optional
         Called with 1 after each episode.
     """
+    from navverse.scene.directory import read_scene
     from navverse.sim.embodiments import make_embodiment
     from navverse.sim.rollout import follow_path
     from navverse.sim.simulator import Simulator
     from navverse.sim.terminations import TerminationMonitor
-    from navverse.sim.world import World
+    from navverse.sim.world import World, objects_near
 
     settings = settings or VerificationSettings()
     results = []
-    with World(scene_dir, collision_cache=collision_cache) as world:
+    scene = read_scene(Path(scene_dir))
+    object_ids = None
+    if settings.object_margin_m is not None:
+        paths = [np.asarray(episode.reference_path, dtype=float) for episode in episodes]
+        object_ids = objects_near(scene, paths, margin=settings.object_margin_m)
+    with World(scene, collision_cache=collision_cache, object_ids=object_ids) as world:
         sim = Simulator(world, make_embodiment(embodiment))
         renderer = None
         for episode in episodes:

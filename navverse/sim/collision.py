@@ -12,7 +12,6 @@ import hashlib
 from pathlib import Path
 
 import numpy as np
-import trimesh
 
 from navverse.cache import cache_root
 from navverse.files import atomic_path, atomic_write
@@ -37,8 +36,9 @@ def _digest(vertices: np.ndarray, faces: np.ndarray) -> str:
     return h.hexdigest()[:32]
 
 
-def _decompose(part: trimesh.Trimesh, cache_dir: Path | None) -> list[np.ndarray]:
-    key = _digest(part.vertices, part.faces)
+def _decompose(vertices: np.ndarray, faces: np.ndarray, cache_dir: Path | None) -> list[np.ndarray]:
+    """CoACD's convex pieces of one concave closed part, cached by the part's bytes."""
+    key = _digest(vertices, faces)
     if key in _MEMORY:
         return _MEMORY[key]
     cached = cache_dir / f"{key}.npz" if cache_dir is not None else None
@@ -50,7 +50,7 @@ def _decompose(part: trimesh.Trimesh, cache_dir: Path | None) -> list[np.ndarray
 
         coacd.set_log_level("error")
         result = coacd.run_coacd(
-            coacd.Mesh(np.asarray(part.vertices, dtype=np.float64), np.asarray(part.faces, dtype=np.int64)),
+            coacd.Mesh(np.asarray(vertices, dtype=np.float64), np.asarray(faces, dtype=np.int64)),
             threshold=0.08,
             max_convex_hull=12,
             preprocess_mode="off",  # library parts are closed manifolds already
@@ -74,8 +74,70 @@ def default_cache_dir() -> Path:
     return cache_root() / "coacd"
 
 
+def _face_components(faces: np.ndarray, vertex_count: int) -> tuple[int, np.ndarray, np.ndarray]:
+    """Connected parts of a mesh: faces joined by an edge that exactly two faces share.
+
+    Returns
+    -------
+    count : int
+        Number of parts, numbered in the order of their first face.
+    label : ndarray of int, shape (F,)
+        Each face's part.
+    edge_key : ndarray of int64, shape (3F,)
+        Each face edge ``(a, b)``, ``a < b``, as ``a * V + b``: face ``f``'s edges are rows
+        ``3f .. 3f + 2``.
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    edges = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1).astype(np.int64)
+    edge_key = edges[:, 0] * vertex_count + edges[:, 1]
+    order = np.argsort(edge_key, kind="stable")
+    sorted_key = edge_key[order]
+    starts = np.flatnonzero(np.r_[True, sorted_key[1:] != sorted_key[:-1]])
+    lengths = np.diff(np.r_[starts, len(sorted_key)])
+    shared = starts[lengths == 2]  # an edge of exactly two faces joins them
+    a, b = order[shared] // 3, order[shared + 1] // 3
+    count = len(faces)
+    graph = coo_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(count, count))
+    parts, label = connected_components(graph, directed=False)
+    return int(parts), label, edge_key
+
+
+def _closed_parts(label: np.ndarray, edge_key: np.ndarray, parts: int) -> np.ndarray:
+    """Which parts are closed: each of their edges is shared by exactly two of their faces."""
+    edge_part = np.repeat(label, 3).astype(np.int64)
+    key = np.stack([edge_part, edge_key], axis=1)
+    _, index, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
+    closed = np.ones(parts, dtype=bool)
+    closed[edge_part[index[counts != 2]]] = False
+    return closed
+
+
+def _hull(points: np.ndarray) -> tuple[np.ndarray, float] | None:
+    """The convex hull's vertices (in the points' order) and its volume; None when degenerate."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        try:
+            hull = ConvexHull(points, qhull_options="QbB Pp Qt")
+        except QhullError:  # nearly flat or repeated points: joggle them
+            hull = ConvexHull(points, qhull_options="QJ")
+    except (QhullError, ValueError):
+        return None
+    # Qhull's own volume is of the points scaled to a unit box (QbB): sum the hull's tetrahedra
+    # about an inner point instead.
+    corners = points[hull.simplices] - points[hull.vertices].mean(axis=0)
+    volume = np.abs(np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2]))).sum() / 6.0
+    return points[np.sort(hull.vertices)], float(volume)
+
+
 def convex_parts(mesh: MeshData, *, cache_dir: Path | None = None) -> ConvexParts:
     """Convex pieces covering a closed mesh (each connected part: its hull, or CoACD's pieces).
+
+    A part is a set of faces joined by edges that exactly two faces share. A part keeps its convex
+    hull when it is small (under 0.25 m), thin or open (no volume), or nearly convex (its hull at most
+    1.5 times its volume); otherwise it is decomposed with CoACD.
 
     Parameters
     ----------
@@ -87,27 +149,39 @@ def convex_parts(mesh: MeshData, *, cache_dir: Path | None = None) -> ConvexPart
     Returns
     -------
     ConvexParts
-        Vertex arrays of convex pieces.
+        Vertex arrays of convex pieces, part by part in the order of their first face.
     """
-    whole = trimesh.Trimesh(mesh.vertices, mesh.faces, process=False)
-    parts = ConvexParts()
-    for part in whole.split(only_watertight=False):
-        if len(part.vertices) < 4:
+    vertices = np.asarray(mesh.vertices, dtype=np.float64)
+    faces = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
+    result = ConvexParts()
+    if len(faces) == 0:
+        return result
+    parts, label, edge_key = _face_components(faces, len(vertices))
+    closed = _closed_parts(label, edge_key, parts)
+    corners = vertices[faces]
+    signed = np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2])) / 6.0
+    volumes = np.abs(np.bincount(label, weights=signed, minlength=parts))
+    order = np.argsort(label)  # a part's faces in the order its cached decomposition was keyed by
+    bounds = np.r_[0, np.cumsum(np.bincount(label, minlength=parts))]
+    for part in range(parts):
+        part_faces = faces[order[bounds[part] : bounds[part + 1]]]
+        used = np.unique(part_faces)
+        if len(used) < 4:
             continue
-        # A flat part (or its hull) has no volume: trimesh's centre of mass divides by zero, harmlessly.
-        with np.errstate(invalid="ignore", divide="ignore"):
-            try:
-                hull = part.convex_hull
-            except Exception:  # degenerate: nothing solid to collide with
-                continue
-            volume = abs(float(part.volume)) if part.is_watertight else 0.0
-            hull_volume = float(hull.volume)
-        small = float(np.ptp(part.vertices, axis=0).max()) < _MIN_EXTENT
+        points = vertices[used]
+        hull = _hull(points)
+        if hull is None:  # nothing solid to collide with
+            continue
+        hull_points, hull_volume = hull
+        volume = volumes[part] if closed[part] else 0.0
+        small = float(np.ptp(points, axis=0).max()) < _MIN_EXTENT
         if small or volume < _MIN_VOLUME or hull_volume <= _CONCAVE * volume:
-            parts.append(np.asarray(hull.vertices, dtype=np.float64))
+            result.append(hull_points)
         else:
-            parts.extend(_decompose(part, cache_dir))
-    return parts
+            remap = np.zeros(len(vertices), dtype=np.int64)
+            remap[used] = np.arange(len(used))
+            result.extend(_decompose(points, remap[part_faces], cache_dir))
+    return result
 
 
 def hulls_file(hulls: list[np.ndarray], directory: Path) -> Path:
@@ -134,11 +208,11 @@ def hulls_file(hulls: list[np.ndarray], directory: Path) -> Path:
             faces = ConvexHull(v).simplices + offset
         except QhullError:  # nearly flat or repeated points (a thin pole): joggle them by ~1e-11
             faces = ConvexHull(v, qhull_options="QJ").simplices + offset
-        lines.append(f"o hull{k}")
-        lines.extend(f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in v)
-        lines.extend(f"f {a} {b} {c}" for a, b, c in faces)
+        lines.append(f"o hull{k}\n")
+        lines.append(("v %.9g %.9g %.9g\n" * len(v)) % tuple(v.ravel().tolist()))
+        lines.append(("f %d %d %d\n" * len(faces)) % tuple(faces.ravel().tolist()))
         offset += len(v)
     directory.mkdir(parents=True, exist_ok=True)
     with atomic_write(path, mode="w") as handle:
-        handle.write("\n".join(lines) + "\n")
+        handle.write("".join(lines))
     return path

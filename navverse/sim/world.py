@@ -17,11 +17,12 @@ from __future__ import annotations
 import math
 import os
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from navverse.scene.directory import read_scene
 from navverse.scene.geometry import MeshData, Scene
@@ -38,6 +39,7 @@ __all__ = [
     "BodyInfo",
     "Contact",
     "World",
+    "objects_near",
 ]
 
 GRAVITY = 9.81
@@ -70,6 +72,43 @@ class Contact:
     force: float  # normal force (N)
 
 
+def objects_near(scene: Scene, paths: Sequence[ArrayLike], *, margin: float) -> set[int]:
+    """Ids of the scene's objects whose box comes within ``margin`` (m, horizontally) of a path.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    paths : sequence of array_like, shape (K, 2) or (K, 3)
+        Polylines (a single point is a path too).
+    margin : float
+        Horizontal distance (m) from a path to an object's box (the circle around its footprint).
+
+    Returns
+    -------
+    set of int
+        Object ids (:attr:`ObjectAnnotation.id`).
+    """
+    annotations = [obj.annotation for obj in scene.objects]
+    if not annotations or not paths:
+        return set()
+    centers = np.array([a.center[:2] for a in annotations], dtype=float)
+    reach = np.hypot(*np.array([a.size[:2] for a in annotations], dtype=float).T) / 2.0 + margin
+    near = np.zeros(len(annotations), dtype=bool)
+    for path in paths:
+        points = np.asarray(path, dtype=float).reshape(-1, np.shape(path)[-1])[:, :2]
+        starts, ends = points[:-1] if len(points) > 1 else points, points[1:] if len(points) > 1 else points
+        segment = ends - starts
+        length2 = np.einsum("ij,ij->i", segment, segment)
+        offset = centers[:, None, :] - starts[None, :, :]
+        along = np.clip(
+            np.einsum("nmk,mk->nm", offset, segment) / np.where(length2 > 0.0, length2, 1.0), 0.0, 1.0
+        )
+        gap = offset - along[..., None] * segment[None, :, :]
+        near |= (np.einsum("nmk,nmk->nm", gap, gap) <= (reach * reach)[:, None]).any(axis=1)
+    return {annotations[i].id for i in np.flatnonzero(near)}
+
+
 class World:
     """A scene loaded into its own PyBullet client.
 
@@ -83,6 +122,9 @@ class World:
     terrain_friction : float, optional
         Friction coefficient given to every terrain class instead of its own (the friction diagnostic
         of the paper's kinodynamics table); None keeps the scene's values.
+    object_ids : collection of int, optional
+        The scene objects given collision geometry (see :func:`objects_near`); None: every object.
+        Contacts and ray hits are still attributed among all of the scene's objects.
 
     Attributes
     ----------
@@ -102,6 +144,7 @@ class World:
         *,
         collision_cache: Path | str | None = "default",
         terrain_friction: float | None = None,
+        object_ids: Collection[int] | None = None,
     ) -> None:
         if terrain_friction is not None and not (math.isfinite(terrain_friction) and terrain_friction >= 0.0):
             raise ValueError(f"terrain_friction must be a finite number >= 0, got {terrain_friction!r}")
@@ -119,7 +162,10 @@ class World:
         self.time = 0.0
         self.steps = 0
         self._load_terrain()
-        self._load_objects(default_cache_dir() if collision_cache == "default" else collision_cache)
+        self._load_objects(
+            default_cache_dir() if collision_cache == "default" else collision_cache,
+            None if object_ids is None else frozenset(object_ids),
+        )
         bounds = self.scene.annotations.bounds
         self.bounds = (np.asarray(bounds.min, dtype=float), np.asarray(bounds.max, dtype=float))
 
@@ -154,7 +200,7 @@ class World:
                 mesh, BodyInfo("terrain", terrain_class=name, navigable=tc.navigable, friction=friction)
             )
 
-    def _load_objects(self, cache: Path | None) -> None:
+    def _load_objects(self, cache: Path | None, only: frozenset[int] | None) -> None:
         # The objects are static compounds of every convex piece in world coordinates, one per
         # OBJECT_TILE square: Bullet refreshes the bounds of every body each step, static ones
         # included, so a body per object would cost more than the robot's own physics in a
@@ -170,6 +216,8 @@ class World:
         self.object_bodies: tuple[int, ...] = ()
         tiles: dict[tuple[int, int], list[np.ndarray]] = {}
         for obj, center, yaw in zip(self.scene.objects, self._object_center, self._object_yaw, strict=True):
+            if only is not None and obj.annotation.id not in only:
+                continue
             c, s = math.cos(yaw), math.sin(yaw)
             rotation_t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])  # row vectors @ R.T
             key = (math.floor(center[0] / OBJECT_TILE), math.floor(center[1] / OBJECT_TILE))
@@ -178,7 +226,7 @@ class World:
             )
         if not any(tiles.values()):
             return
-        if cache is None:
+        if cache is None or only is not None:  # a subset's hulls would only fill the cache
             self._scratch = tempfile.TemporaryDirectory(prefix="navverse-hulls-")
             directory = Path(self._scratch.name)
         else:

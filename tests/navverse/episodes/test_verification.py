@@ -14,6 +14,7 @@ from navverse.episodes.verification import REASONS, VerificationSettings, verify
 from navverse.nav.scene_navmesh import load_scene_navmesh
 from navverse.scene.directory import read_scene
 from navverse.scene.geometry import Scene
+from navverse.sim.world import objects_near
 
 
 def test_accepted_rollouts_reach_a_goal_within_the_bounds(verified_vln):
@@ -119,3 +120,26 @@ def test_results_do_not_depend_on_the_number_of_processes(scene_dirs: dict[str, 
 def test_bounds_are_lowest_then_highest():
     with pytest.raises(ValueError, match=r"duration_s must be \[lowest, highest\], got \[5.0, 2.0\]"):
         VerificationSettings(duration_s=(5.0, 2.0))
+
+
+def test_objects_far_from_the_paths_do_not_change_a_verdict(
+    verified_vln, apartment: Scene, scene_dirs: dict[str, Path]
+):
+    # The follower keeps the robot near its path: with only the furniture within a metre of the
+    # candidates' paths given collision geometry, every verdict is that of the furnished scene.
+    episodes, _ = verified_vln
+    near = objects_near(apartment, [np.asarray(e.reference_path) for e in episodes], margin=1.0)
+    assert 0 < len(near) < len(apartment.objects)  # the check is not vacuous: some objects are left out
+    results = {
+        margin: verify_episodes(
+            episodes,
+            scene_dirs,
+            embodiment="spot",
+            settings=VerificationSettings(object_margin_m=margin),
+            jobs=1,
+        )
+        for margin in (1.0, None)
+    }
+    assert [r.reason for r in results[1.0]] == [r.reason for r in results[None]]
+    for a, b in zip(results[1.0], results[None], strict=True):
+        assert a.verification.traveled_m == pytest.approx(b.verification.traveled_m, abs=0.05)

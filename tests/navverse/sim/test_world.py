@@ -10,7 +10,7 @@ from navverse.scene.compose import ObjectPart, replace_parts
 from navverse.scene.geometry import MeshData, Scene, Surface
 from navverse.sim.bullet import pybullet
 from navverse.sim.collision import convex_parts
-from navverse.sim.world import PHYSICS_HZ, World
+from navverse.sim.world import PHYSICS_HZ, World, objects_near
 from tests.scenes import box_part, scene_of
 
 
@@ -127,3 +127,73 @@ def test_objects_keep_every_convex_piece():
             w.step()
         assert w.client.getBasePositionAndOrientation(box)[0][2] == pytest.approx(1.1, abs=0.01)
         assert {c.body.object_id for c in w.contacts(box)} == {rack_id}
+
+
+def _l_prism(height: float, arm: float) -> MeshData:
+    """A closed L-shaped prism: the unit square minus its ``(1 - arm)``-sided upper right corner, extruded."""
+    outline = [(0.0, 0.0), (1.0, 0.0), (1.0, arm), (arm, arm), (arm, 1.0), (0.0, 1.0)]
+    ring = len(outline)
+    vertices = np.array([(x, y, z) for z in (0.0, height) for x, y in outline])
+    bottom = [(0, 2, 1), (0, 3, 2), (0, 4, 3), (0, 5, 4)]  # a fan about the inner corner's opposite
+    top = [(ring + a, ring + b, ring + c) for a, c, b in bottom]
+    sides = []
+    for i in range(ring):
+        j = (i + 1) % ring
+        sides += [(i, j, ring + j), (i, ring + j, ring + i)]
+    return MeshData(vertices, np.array(bottom + top + sides))
+
+
+@pytest.mark.parametrize(("arm", "decomposed"), [(0.8, False), (0.32, False), (0.2, True)])
+def test_a_part_is_decomposed_when_its_hull_is_much_larger(arm: float, decomposed: bool, tmp_path):
+    # The L's area is 1 - (1 - arm)^2 and its hull's 1 - (1 - arm)^2 / 2: their ratio is 1.02 for an
+    # arm of 0.8, 1.43 for 0.32 (both under 1.5: the hull is kept) and 1.89 for 0.2 (decomposed).
+    mesh = _l_prism(0.5, arm)
+    parts = convex_parts(mesh, cache_dir=tmp_path)
+    if decomposed:  # CoACD's pieces
+        assert len(parts) >= 2
+    else:
+        (hull,) = parts
+        # the hull's points are mesh vertices, in the mesh's order
+        index = [int(np.flatnonzero((mesh.vertices == p).all(axis=1))[0]) for p in hull]
+        assert index == sorted(index) and len(index) == 10  # the inner corner's two vertices are inside
+    for piece in parts:
+        assert piece.min() >= -1e-6 and piece[:, :2].max() <= 1.0 + 1e-6
+
+
+def test_parts_are_faces_joined_by_edges_two_faces_share():
+    # Two closed boxes touching along an edge line are separate parts; an open box (a missing face)
+    # has no volume and keeps its hull, and so does a flat square (a flat hull), after them.
+    first = MeshData.box((0.1, 0.1, 0.1), center=(0.0, 0.0, 0.0))
+    second = MeshData.box((0.1, 0.1, 0.1), center=(0.1, 0.0, 0.0))
+    open_box = MeshData.box((0.4, 0.4, 0.4), center=(2.0, 0.0, 0.0))
+    open_box = MeshData(open_box.vertices, open_box.faces[2:])
+    corners = np.array([[5.0, 0, 0], [6.0, 0, 0], [6.0, 1, 0], [5.0, 1, 0]])
+    square = MeshData(corners, np.array([[0, 1, 2], [0, 2, 3]]))
+    parts = convex_parts(MeshData.concatenate([first, second, open_box, square]))
+    assert [len(p) for p in parts] == [8, 8, 8, 4]
+    np.testing.assert_array_equal(parts[3], corners)
+    assert parts[0][:, 0].max() == pytest.approx(0.05) and parts[1][:, 0].min() == pytest.approx(0.05)
+
+
+def test_objects_near_paths():
+    scene = small_scene()  # the bathtub (id 1) at (2, 2), the table (id 2) at (6, 2), 1.2 x 0.8 m
+    assert objects_near(scene, [np.array([[6.0, -3.0, 0.0], [6.0, -1.0, 0.0]])], margin=1.0) == set()
+    assert objects_near(scene, [np.array([[6.0, -3.0, 0.0], [6.0, -1.0, 0.0]])], margin=2.5) == {2}
+    assert objects_near(scene, [np.array([[2.0, 2.0]])], margin=1.0) == {1}  # one point
+    assert objects_near(scene, [np.array([[0.0, 4.0], [9.0, 4.0]])], margin=2.5) == {1, 2}
+    assert objects_near(scene, [], margin=5.0) == set()
+
+
+def test_a_world_of_some_objects_loads_only_their_geometry():
+    # The table alone: a box dropped on it lands on its top, one dropped on the bathtub falls through
+    # to the floor; contacts are still attributed among every object.
+    with World(small_scene(), collision_cache=None, object_ids={2}) as w:
+        assert [info.object_id for info in w.objects] == [1, 2]
+        on_table, on_tub = _drop_box(w, [6.0, 2.0, 1.5]), _drop_box(w, [2.0, 2.0, 1.5])
+        for _ in range(PHYSICS_HZ):
+            w.step()
+        assert w.client.getBasePositionAndOrientation(on_table)[0][2] == pytest.approx(0.85, abs=0.01)
+        assert w.client.getBasePositionAndOrientation(on_tub)[0][2] == pytest.approx(0.1, abs=0.01)
+        assert {c.body.object_id for c in w.contacts(on_table)} == {2}
+    with World(small_scene(), collision_cache=None, object_ids=set()) as w:
+        assert w.object_bodies == ()
