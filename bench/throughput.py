@@ -13,8 +13,10 @@ Parts, each on the workspace's own built scenes and dataset:
    two in navigable area and in geodesic distance over seeded pairs of navigable points; then the i2o
    scene from scratch and incrementally (its city's tiles in a fresh tile store first), which must
    give the same bytes.
-2. **verifier** -- :mod:`bench._verifier`: the candidates verified with the old and the new settings,
-   CPU seconds per candidate by scene type, and the verdict agreement with every disagreement.
+2. **verifier** -- :mod:`bench._verifier`: navverse-mini's candidates verified scene by scene in
+   child processes by the older verifier (``--before CHECKOUT``, or this checkout with the settings
+   of the old path) and by this one, CPU seconds per candidate by scene type (world load included),
+   and the verdict agreement with every disagreement.
 3. **eval** -- ``navverse eval`` of a one-line submission (peak memory of the process tree) and of
    every eval-split episode's verified rollout as a submission (time per trajectory, and 10 000
    trajectories at that rate).
@@ -283,6 +285,9 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--split", default="eval", help="split of the eval part (eval)")
     parser.add_argument("--candidates", type=int, default=0,
                         help="verifier part: candidates per scene type (0: all)")  # fmt: skip
+    parser.add_argument("--before", type=Path, default=None, metavar="CHECKOUT",
+                        help="verifier part: a checkout of the older verifier, with its .venv "
+                             "(default: this checkout's old-path settings)")  # fmt: skip
     parser.add_argument("--json", type=Path, default=None, metavar="PATH", help="also write the results here")
     return parser.parse_args(argv)
 
@@ -300,13 +305,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         )
         console.print(navmesh_table(results["navmesh"]))
     if "verifier" in args.parts:
-        try:
-            from bench import _verifier
-        except ImportError:
-            console.print("[yellow]verifier: skipped: bench/_verifier.py is not in this checkout[/]")
-        else:
-            per_type = args.candidates or None
-            results["verifier"] = _verifier.compare(workspace, per_type=per_type, console=console)
+        from bench import _verifier
+
+        results["verifier"] = _verifier.compare(
+            workspace, per_type=args.candidates or None, before=args.before, console=console
+        )
     if "eval" in args.parts:
         results["eval"] = ev = eval_part(workspace, args.dataset, args.split, console)
         if ev:
