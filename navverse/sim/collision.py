@@ -114,8 +114,18 @@ def _closed_parts(label: np.ndarray, edge_key: np.ndarray, parts: int) -> np.nda
     return closed
 
 
-def _hull(points: np.ndarray) -> tuple[np.ndarray, float] | None:
-    """The convex hull's vertices (in the points' order) and its volume; None when degenerate."""
+def _signed_volume(corners: np.ndarray) -> np.ndarray:
+    """Six times the signed volume of each tetrahedron (origin, a, b, c) of ``corners`` (N, 3, 3)."""
+    a, b, c = corners[:, 0], corners[:, 1], corners[:, 2]
+    return (
+        a[:, 0] * (b[:, 1] * c[:, 2] - b[:, 2] * c[:, 1])
+        + a[:, 1] * (b[:, 2] * c[:, 0] - b[:, 0] * c[:, 2])
+        + a[:, 2] * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])
+    )
+
+
+def _hull(points: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """The convex hull's vertices (in the points' order) and its triangles; None when degenerate."""
     from scipy.spatial import ConvexHull, QhullError
 
     try:
@@ -125,11 +135,14 @@ def _hull(points: np.ndarray) -> tuple[np.ndarray, float] | None:
             hull = ConvexHull(points, qhull_options="QJ")
     except (QhullError, ValueError):
         return None
-    # Qhull's own volume is of the points scaled to a unit box (QbB): sum the hull's tetrahedra
-    # about an inner point instead.
-    corners = points[hull.simplices] - points[hull.vertices].mean(axis=0)
-    volume = np.abs(np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2]))).sum() / 6.0
-    return points[np.sort(hull.vertices)], float(volume)
+    return points[np.sort(hull.vertices)], hull.simplices
+
+
+def _hull_volume(points: np.ndarray, triangles: np.ndarray) -> float:
+    """Volume of a convex hull: its triangles' tetrahedra about its centroid (Qhull's own volume is of
+    the points scaled to a unit box)."""
+    corners = points[triangles] - points[np.unique(triangles)].mean(axis=0)
+    return float(np.abs(_signed_volume(corners)).sum() / 6.0)
 
 
 def convex_parts(mesh: MeshData, *, cache_dir: Path | None = None) -> ConvexParts:
@@ -158,9 +171,7 @@ def convex_parts(mesh: MeshData, *, cache_dir: Path | None = None) -> ConvexPart
         return result
     parts, label, edge_key = _face_components(faces, len(vertices))
     closed = _closed_parts(label, edge_key, parts)
-    corners = vertices[faces]
-    signed = np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2])) / 6.0
-    volumes = np.abs(np.bincount(label, weights=signed, minlength=parts))
+    volumes = np.abs(np.bincount(label, weights=_signed_volume(vertices[faces]) / 6.0, minlength=parts))
     order = np.argsort(label)  # a part's faces in the order its cached decomposition was keyed by
     bounds = np.r_[0, np.cumsum(np.bincount(label, minlength=parts))]
     for part in range(parts):
@@ -172,10 +183,10 @@ def convex_parts(mesh: MeshData, *, cache_dir: Path | None = None) -> ConvexPart
         hull = _hull(points)
         if hull is None:  # nothing solid to collide with
             continue
-        hull_points, hull_volume = hull
+        hull_points, triangles = hull
         volume = volumes[part] if closed[part] else 0.0
         small = float(np.ptp(points, axis=0).max()) < _MIN_EXTENT
-        if small or volume < _MIN_VOLUME or hull_volume <= _CONCAVE * volume:
+        if small or volume < _MIN_VOLUME or _hull_volume(points, triangles) <= _CONCAVE * volume:
             result.append(hull_points)
         else:
             remap = np.zeros(len(vertices), dtype=np.int64)
