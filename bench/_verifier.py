@@ -10,7 +10,8 @@ fresh child process (world load included, as a build does), with the stage's rec
 
 * **after**: this checkout's verifier with its default settings;
 * **before**: the verifier of ``--before`` (a checkout of the older code with its own ``.venv``) when
-  given, else this checkout with the settings that reproduce the old path (every object loaded).
+  given, else this checkout with every object loaded (``object_margin_m: null``): that measures the
+  culling of far objects alone.
 
 Each child reports its own CPU seconds. The verdicts (accepted, or the rejection reason) of both
 runs are compared candidate by candidate; every disagreement is listed with both rollouts' duration
