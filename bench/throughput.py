@@ -17,9 +17,12 @@ Parts, each on the workspace's own built scenes and dataset:
    child processes by the older verifier (``--before CHECKOUT``, or this checkout with the settings
    of the old path) and by this one, CPU seconds per candidate by scene type (world load included),
    and the verdict agreement with every disagreement.
-3. **eval** -- ``navverse eval`` of a one-line submission (peak memory of the process tree) and of
-   every eval-split episode's verified rollout as a submission (time per trajectory, and 10 000
-   trajectories at that rate).
+3. **eval** -- ``navverse eval`` of a one-line submission (peak memory of the process tree), of
+   every eval-split episode's verified rollout as a submission, and of 10 000 trajectories: the
+   split's episodes repeated under new ids (the same scenes, goals and rollouts) as a release of their
+   own, with its manifest, and its rollouts as the submission. Time and peak memory of each; the time
+   per trajectory between the split and the 10 000 (both over ``--pictures``, so both draw as many
+   episode cards: the cards are a fixed cost).
 4. **projection** -- navverse-full in CPU-hours: the scene stages' CPU per scene (the workspace's
    manifests, navmeshes as measured in part 1), verification per candidate (part 2, or the
    manifests), sampling and instructions per candidate (manifests), times the scenes and candidates
@@ -181,8 +184,61 @@ def _rollout_submission(release: Path, split: str, path: Path, *, limit: int | N
     return lines
 
 
+def _scaled_release(release: Path, split: str, count: int, folder: Path) -> Path:
+    """A release of `count` episodes: the split's, repeated in turn under new ids (``<scene>-<task>-NNNN``
+    numbered on), with the same scenes, goals, reference paths and rollouts; one split, its manifest's
+    counts and checksums its own. Returns its version directory."""
+    from navverse.dataset import file_sha256, read_json_gz, write_json_gz
+
+    manifest = json.loads((release / "manifest.json").read_text(encoding="utf-8"))
+    name = f"{manifest['name']}-x{count}"
+    root = folder / name / f"v{manifest['version']}"
+    (root / split).mkdir(parents=True)
+    tasks = sorted(p.name.removesuffix(".json.gz") for p in (release / split).glob("*.json.gz")
+                   if not p.name.endswith(".rollouts.json.gz"))  # fmt: skip
+    files = {t: read_json_gz(release / split / f"{t}.json.gz") for t in tasks}
+    rollouts = {t: read_json_gz(release / split / f"{t}.rollouts.json.gz") for t in tasks}
+    episodes: dict[str, list[dict]] = {t: [] for t in tasks}
+    trajectories: dict[str, dict[str, list]] = {t: {} for t in tasks}
+    numbers: dict[tuple[str, str], int] = defaultdict(int)
+    made = 0
+    while made < count and any(files[t]["episodes"] for t in tasks):
+        for task in tasks:
+            for episode in files[task]["episodes"][: count - made]:
+                key = (episode["scene_id"], task)
+                episode_id = f"{key[0]}-{task}-{numbers[key]:04d}"
+                numbers[key] += 1
+                episodes[task].append({**episode, "episode_id": episode_id})
+                trajectories[task][episode_id] = rollouts[task][episode["episode_id"]]
+                made += 1
+    counts: dict[str, dict[str, int]] = {}
+    for task in tasks:
+        write_json_gz({**files[task], "episodes": episodes[task]}, root / split / f"{task}.json.gz")
+        write_json_gz(trajectories[task], root / split / f"{task}.rollouts.json.gz")
+        for episode in episodes[task]:
+            counts.setdefault(task, {}).setdefault(episode["scene_type"], 0)
+            counts[task][episode["scene_type"]] += 1
+    manifest.pop("quota", None)  # the quotas of the release it repeats
+    names = [f"{split}/{task}{kind}" for task in tasks for kind in (".json.gz", ".rollouts.json.gz")]
+    manifest.update(
+        name=name,
+        splits={split: manifest["splits"][split]},
+        counts={split: counts},
+        files={n: file_sha256(root / n) for n in names},
+    )
+    text = json.dumps(manifest, indent=2, sort_keys=True) + "\n"
+    (root / "manifest.json").write_text(text, encoding="utf-8")
+    return root
+
+
+SCALED = 10_000
+"""Trajectories of the eval part's largest submission."""
+
+
 def eval_part(workspace: Path, dataset: str, split: str, console: Console) -> dict:
-    """Peak memory of a one-line ``navverse eval``; time per trajectory of the whole split."""
+    """``navverse eval``: peak memory of a one-line submission; time and peak memory of the split's
+    rollouts and of :data:`SCALED` trajectories (a release of the split's episodes repeated), and the
+    time per trajectory between the two."""
     releases = sorted((workspace / "episodes" / dataset).glob("v*/manifest.json"))
     if not releases:
         console.print(f"[yellow]eval: skipped: {workspace}/episodes/{dataset} has no release[/]")
@@ -190,19 +246,23 @@ def eval_part(workspace: Path, dataset: str, split: str, console: Console) -> di
     release = releases[-1].parent
     navverse = str(Path(sys.executable).with_name("navverse"))
     result: dict[str, Any] = {"release": str(release)}
-    with tempfile.TemporaryDirectory() as folder:
-        for name, limit in (("one_line", 1), ("split", None)):
-            submission = Path(folder) / f"{name}.jsonl"
-            lines = _rollout_submission(release, split, submission, limit=limit)
-            out = Path(folder) / f"out-{name}"
-            argv = [navverse, "eval", "--dataset", str(release), "--submission", str(submission),
+    with tempfile.TemporaryDirectory() as temporary:
+        folder = Path(temporary)
+        scaled = _scaled_release(release, split, SCALED, folder / "scaled")
+        runs = (("one_line", release, 1), ("split", release, None), ("scaled", scaled, None))
+        for name, version, limit in runs:
+            submission = folder / f"{name}.jsonl"
+            lines = _rollout_submission(version, split, submission, limit=limit)
+            out = folder / f"out-{name}"
+            argv = [navverse, "eval", "--dataset", str(version), "--submission", str(submission),
                     "--split", split, "--out", str(out), "--episodes", "submitted"]  # fmt: skip
             code, wall, peak = _peak_tree_mb(argv, cwd=workspace)
             result[name] = {"lines": lines, "exit": code, "wall_s": wall, "peak_mb": peak}
-    split_run, one = result["split"], result["one_line"]
-    per_trajectory = max(0.0, split_run["wall_s"] - one["wall_s"]) / max(1, split_run["lines"] - 1)
+    split_run, big = result["split"], result["scaled"]
+    per_trajectory = max(0.0, big["wall_s"] - split_run["wall_s"]) / max(1, big["lines"] - split_run["lines"])
     result["s_per_trajectory"] = per_trajectory
-    result["projected_10000_s"] = one["wall_s"] + 10_000 * per_trajectory
+    result["fixed_s"] = split_run["wall_s"] - split_run["lines"] * per_trajectory
+    result["projected_10000_s"] = result["fixed_s"] + 10_000 * per_trajectory
     return result
 
 
@@ -313,12 +373,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     if "eval" in args.parts:
         results["eval"] = ev = eval_part(workspace, args.dataset, args.split, console)
         if ev:
-            one, split = ev["one_line"], ev["split"]
+            one, split, big = ev["one_line"], ev["split"], ev["scaled"]
             console.print(
                 f"eval: one line {one['peak_mb']:.0f} MB peak, {one['wall_s']:.1f} s; "
                 f"{split['lines']} trajectories {split['wall_s']:.1f} s, {split['peak_mb']:.0f} MB peak; "
-                f"{1000 * ev['s_per_trajectory']:.1f} ms per trajectory: 10 000 in "
-                f"{ev['projected_10000_s']:.0f} s (exit codes {one['exit']}, {split['exit']})"
+                f"{big['lines']} trajectories {big['wall_s']:.1f} s, {big['peak_mb']:.0f} MB peak; "
+                f"{ev['fixed_s']:.1f} s + {1000 * ev['s_per_trajectory']:.2f} ms per trajectory: 10 000 in "
+                f"{ev['projected_10000_s']:.0f} s (exit codes {one['exit']}, {split['exit']}, {big['exit']})"
             )
     if "projection" in args.parts:
         results["projection"] = p = projection_part(

@@ -5,10 +5,13 @@ its imports are inside it, so the command line starts quickly."""
 from __future__ import annotations
 
 import argparse
+import gc
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager, suppress
 from functools import partial
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from rich.console import Console
 
@@ -23,6 +26,10 @@ from navverse.commands.common import (
 )
 from navverse.commands.datasets import dataset_scene_dirs, problem_count, split_of
 from navverse.commands.progress import show_progress
+from navverse.eval.selection import PICTURES
+
+if TYPE_CHECKING:
+    from navverse.scene.fields import SceneFields
 
 __all__ = ["cmd_eval", "cmd_run_agent", "register"]
 
@@ -60,7 +67,49 @@ def _eval_parser(sub: Subparsers, shared: Shared) -> None:
         "benchmark's number; default); submitted: only the episodes the submission has a line for "
         "(a partial scoring, labelled PARTIAL in every output)",
     )
+    evaluate.add_argument(
+        "--pictures", default=PICTURES, metavar="N",
+        help=f"episodes report.html draws as cards, with a bird's-eye view and keyframes (a whole number, "
+        f"default: {PICTURES}): every outcome shown, failures first, spread over tasks, scene types and "
+        "scenes; the others are rows of metrics. When at most N episodes are scored, each gets a card",
+    )  # fmt: skip
     evaluate.set_defaults(func=partial(cmd_eval, built_dir=shared.built_dir))
+
+
+def _pictures(value: str | int) -> int:
+    """``--pictures`` as a count of cards (a whole number, 0 or more), or a NavverseError saying what to
+    give (checked by the command, so that a bad value exits 1 with the message, as other bad values do)."""
+    from navverse.errors import NavverseError
+
+    count = None
+    if isinstance(value, str):
+        with suppress(ValueError):
+            count = int(value)
+    elif isinstance(value, int) and not isinstance(value, bool):
+        count = value
+    if count is None or count < 0:
+        raise NavverseError(
+            f"--pictures {value}: give the number of episode cards report.html draws, a whole number, 0 or "
+            f"more (default {PICTURES})"
+        )
+    return count
+
+
+@contextmanager
+def _long_lived() -> Iterator[Callable[[], None]]:
+    """A block in which the function given marks the objects alive as long-lived (:func:`gc.freeze`):
+    the garbage collector's full passes leave them out until the block ends (:func:`gc.unfreeze`).
+
+    ``eval`` reads the dataset's episodes and the submissions' records first and keeps them to the end:
+    at 10,000 episodes they are about a million objects, which every full pass would walk again (some
+    2 s of a 30 s eval). Nothing is frozen when the collector is off or something else froze objects.
+    """
+    own = gc.isenabled() and gc.get_freeze_count() == 0
+    try:
+        yield gc.freeze if own else lambda: None
+    finally:
+        if own:
+            gc.unfreeze()
 
 
 def _check_out_dir(out: str | os.PathLike[str]) -> Path:
@@ -122,12 +171,21 @@ def _read_for_eval(args: argparse.Namespace, dataset, scene_dirs: dict) -> list:
     return submissions
 
 
-def _score_for_eval(args: argparse.Namespace, console: Console, dataset, submissions: list, scene_dirs: dict):
-    """Each submission's :class:`~navverse.eval.scoring.EvalResult`, showing progress."""
+def _score_for_eval(
+    args: argparse.Namespace,
+    console: Console,
+    dataset,
+    submissions: list,
+    scene_dirs: dict,
+    *,
+    on_fields: Callable[[str, SceneFields], None] | None = None,
+):
+    """Each submission's :class:`~navverse.eval.scoring.EvalResult`, showing progress; `on_fields` sees
+    the first one's scenes' fields (:func:`~navverse.eval.scoring.score`)."""
     from navverse.eval.scoring import score
 
     results = []
-    for submission in submissions:
+    for index, submission in enumerate(submissions):
         with show_progress(console, f"eval: scoring {submission.path.name}", unit="episodes") as progress:
             progress(0, len(submission.records))
             results.append(
@@ -139,6 +197,7 @@ def _score_for_eval(args: argparse.Namespace, console: Console, dataset, submiss
                     embodiment=args.embodiment,
                     episodes=args.episodes,
                     progress=progress,
+                    on_fields=on_fields if index == 0 else None,
                 )
             )
     return results
@@ -160,7 +219,7 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
     from navverse import __version__
     from navverse.dataset import Dataset
     from navverse.eval.protocol import describe
-    from navverse.eval.report import write_report
+    from navverse.eval.report import PictureBackdrops, write_report
     from navverse.eval.tables import (
         instruction_type_entries,
         instruction_type_table,
@@ -169,35 +228,43 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
         write_outputs,
     )
 
+    pictures = _pictures(args.pictures)
     _check_out_dir(args.out)
-    dataset = Dataset(args.dataset)
-    dataset.verify()
-    split_of(dataset, args.split)
-    scene_dirs = dataset_scene_dirs(args, dataset, dataset.episodes(split=args.split), built_dir)
-    submissions = _read_for_eval(args, dataset, scene_dirs)
-    results = _score_for_eval(args, console, dataset, submissions, scene_dirs)
-    submission, result = submissions[0], results[0]
-    meta = {
-        "dataset": str(dataset.root),
-        "dataset_version": dataset.manifest.version,
-        "split": args.split,
-        "submission": _submission_paths(args)[0],
-        "embodiment": args.embodiment or dataset.manifest.embodiment,
-        "episodes": args.episodes,
-        "toolkit_version": __version__,
-    }
-    out = write_outputs(result, args.out, meta=meta, others=results[1:])
-    with show_progress(console, "eval: drawing the report", unit="episodes") as progress:
-        progress(0, len(result.episodes))
-        report = write_report(
-            result,
-            dataset=dataset,
-            submission=submission,
-            scene_dirs=scene_dirs,
-            out_dir=Path(out),
-            embodiment=args.embodiment,
-            progress=progress,
-        )
+    with _long_lived() as settle:
+        dataset = Dataset(args.dataset)
+        dataset.verify()
+        split_of(dataset, args.split)
+        scene_dirs = dataset_scene_dirs(args, dataset, dataset.episodes(split=args.split), built_dir)
+        submissions = _read_for_eval(args, dataset, scene_dirs)
+        settle()  # the episodes and the records, kept to the end
+        backdrops = PictureBackdrops(
+            dataset, submissions[0], split=args.split, scene_dirs=scene_dirs, embodiment=args.embodiment,
+            episodes=args.episodes, pictures=pictures,
+        )  # fmt: skip
+        results = _score_for_eval(args, console, dataset, submissions, scene_dirs, on_fields=backdrops.take)
+        submission, result = submissions[0], results[0]
+        meta = {
+            "dataset": str(dataset.root),
+            "dataset_version": dataset.manifest.version,
+            "split": args.split,
+            "submission": _submission_paths(args)[0],
+            "embodiment": args.embodiment or dataset.manifest.embodiment,
+            "episodes": args.episodes,
+            "toolkit_version": __version__,
+        }
+        out = write_outputs(result, args.out, meta=meta, others=results[1:])
+        with show_progress(console, "eval: drawing the report", unit="cards") as progress:
+            report = write_report(
+                result,
+                dataset=dataset,
+                submission=submission,
+                scene_dirs=scene_dirs,
+                out_dir=Path(out),
+                embodiment=args.embodiment,
+                pictures=pictures,
+                backdrops=backdrops,
+                progress=progress,
+            )
     if submission.problems:
         count = problem_count(submission)
         console.print(f"[yellow]{count} submission problems[/] (listed in metrics.json):")

@@ -3,8 +3,9 @@ bird's-eye views, and the colours of the termination labels.
 
 :func:`summary_figure` draws the termination label shares per task and SR per task × scene type;
 :func:`episode_figure` one episode's trajectory against its reference path, start and goals, over the
-scene's top-down fields (:class:`Backdrop`); :func:`png_data_uri` turns a figure into the
-``data:image/png`` URI the page embeds.
+scene's top-down fields (:class:`Backdrop`, or the :class:`BackdropCrop` of the picture's
+:func:`picture_limits` cut while the fields were in memory); :func:`png_data_uri` turns a figure into
+the ``data:image/png`` URI the page embeds.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from __future__ import annotations
 import base64
 import io
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +21,7 @@ from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
+from matplotlib.transforms import Bbox
 from PIL import Image
 
 from navverse.dataset import Episode
@@ -32,9 +35,11 @@ __all__ = [
     "THUMB_COLORS",
     "THUMB_SIZE_PX",
     "Backdrop",
+    "BackdropCrop",
     "episode_figure",
     "label_color",
     "label_name",
+    "picture_limits",
     "png_data_uri",
     "summary_figure",
 ]
@@ -53,6 +58,8 @@ SCENE_TYPE_COLORS = {"indoor": "#4c72b0", "outdoor": "#55a868", "i2o": "#c44e52"
 THUMB_SIZE_PX = (300, 250)
 """Width and height of an episode picture (pixels)."""
 THUMB_DPI = 100
+_THUMB_AXES = (0.01, 0.01, 0.98, 0.84)
+"""Left, bottom, width and height of an episode picture's axes (fractions of the figure)."""
 THUMB_COLORS = 96
 """Palette size the episode pictures are reduced to (keeps 300 cards to a few MB)."""
 MARGIN_M = 1.5
@@ -63,12 +70,14 @@ _TERRAIN_LIGHTEN = 0.55
 
 
 def png_data_uri(fig: Figure, *, colors: int | None = None) -> str:
-    """A figure as a ``data:image/png;base64,...`` URI, optionally reduced to a palette of `colors`."""
+    """A figure as a ``data:image/png;base64,...`` URI, optionally reduced to a palette of `colors` (from
+    the canvas's pixels, which are those a saved PNG holds: no PNG is written and read back)."""
     buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=fig.dpi, metadata={"Software": None})
-    if colors is not None:
-        image = Image.open(io.BytesIO(buffer.getvalue())).convert("RGB")
-        buffer = io.BytesIO()
+    if colors is None:
+        fig.savefig(buffer, format="png", dpi=fig.dpi, metadata={"Software": None})
+    else:
+        fig.canvas.draw()
+        image = Image.fromarray(np.ascontiguousarray(np.asarray(fig.canvas.buffer_rgba())[..., :3]))
         image.quantize(colors=colors, method=Image.Quantize.MEDIANCUT).save(
             buffer, format="PNG", optimize=True
         )
@@ -147,6 +156,57 @@ def summary_figure(result: EvalResult) -> Figure:
     return fig
 
 
+Limits = tuple[tuple[float, float], tuple[float, float]]
+"""``((x min, x max), (y min, y max))`` of a picture (m)."""
+
+
+@dataclass(frozen=True, eq=False)
+class BackdropCrop:
+    """The part of a scene's backdrop one picture shows, cut from its fields (:meth:`Backdrop.crop`), so
+    that the picture can be drawn once the fields are no longer in memory.
+
+    Parameters
+    ----------
+    codes : ndarray of uint8 or uint16, shape (H, W)
+        The cells within the limits, row 0 the lowest y, as indices into `palette` (a byte a cell when
+        the palette allows: a third of the image's size).
+    palette : ndarray of uint8, shape (C, 3)
+        The colour of each code.
+    extent : tuple of float
+        ``(x min, x max, y min, y max)`` the image covers (m).
+    limits : tuple
+        The picture's limits it was cut for.
+    pixels : int
+        The picture's width (pixels) it was cut for.
+    """
+
+    codes: np.ndarray
+    palette: np.ndarray
+    extent: tuple[float, float, float, float]
+    limits: Limits
+    pixels: int
+
+    @property
+    def image(self) -> np.ndarray:
+        """The crop's colours, shape (H, W, 3), uint8."""
+        return self.palette[self.codes]
+
+    def draw(self, ax: Axes, xlim: tuple[float, float], ylim: tuple[float, float], pixels: int) -> None:
+        """Show the crop, as :meth:`Backdrop.draw` shows the picture within the same limits.
+
+        Raises
+        ------
+        ValueError
+            If the limits or the width are not those the crop was cut for.
+        """
+        if ((tuple(xlim), tuple(ylim)), pixels) != (self.limits, self.pixels):
+            raise ValueError(
+                f"a backdrop crop cut for {self.limits} at {self.pixels} px is drawn for {(xlim, ylim)} at "
+                f"{pixels} px"
+            )
+        ax.imshow(self.image, origin="lower", extent=self.extent, interpolation="nearest", zorder=0)
+
+
 class Backdrop:
     """A scene's top-down fields drawn as a light picture: terrain classes lightened, obstacles grey.
 
@@ -156,13 +216,16 @@ class Backdrop:
     Parameters
     ----------
     scene_dir : Path
-        A built scene directory.
+        A built scene directory (its terrain classes' colours; its fields unless given).
+    fields : SceneFields, optional
+        The scene's fields, when already in memory (:func:`navverse.scene.fields.load_scene_fields` by
+        default).
     """
 
-    def __init__(self, scene_dir: Path) -> None:
+    def __init__(self, scene_dir: Path, *, fields: SceneFields | None = None) -> None:
         from navverse.scene.directory import read_annotations
 
-        self.fields: SceneFields = load_scene_fields(scene_dir)
+        self.fields: SceneFields = fields if fields is not None else load_scene_fields(scene_dir)
         classes = read_annotations(scene_dir).terrain_classes
         palette = [
             lighten(tuple(classes[n].color), _TERRAIN_LIGHTEN) if n in classes else _NO_SURFACE_RGB
@@ -170,8 +233,9 @@ class Backdrop:
         ]
         self.palette = np.array([*palette, _NO_SURFACE_RGB], dtype=np.uint8)
 
-    def draw(self, ax: Axes, xlim: tuple[float, float], ylim: tuple[float, float], pixels: int) -> None:
-        """Show the part of the picture within the limits, at most about 2 cells per output pixel."""
+    def crop(self, xlim: tuple[float, float], ylim: tuple[float, float], pixels: int) -> BackdropCrop | None:
+        """The part of the picture within the limits, at most about 2 cells per output pixel (None when
+        the limits miss the scene's grid)."""
         f = self.fields
         h, w = f.terrain.shape
         c0 = max(0, math.floor((xlim[0] - f.origin[0]) / f.cell))
@@ -179,18 +243,26 @@ class Backdrop:
         r0 = max(0, math.floor((ylim[0] - f.origin[1]) / f.cell))
         r1 = min(h, math.ceil((ylim[1] - f.origin[1]) / f.cell))
         if c1 <= c0 or r1 <= r0:
-            return
+            return None
         step = max(1, (c1 - c0) // (2 * pixels))
-        terrain = f.terrain[r0:r1:step, c0:c1:step].astype(np.int64)
-        crop = self.palette[np.where(terrain >= 0, terrain, len(self.palette) - 1)]
-        crop[f.obstacle[r0:r1:step, c0:c1:step]] = _OBSTACLE_RGB
+        terrain = f.terrain[r0:r1:step, c0:c1:step]
+        palette = np.vstack([self.palette, np.array(_OBSTACLE_RGB, dtype=np.uint8)])  # obstacles: the last
+        codes = np.where(terrain >= 0, terrain, len(self.palette) - 1)
+        codes[f.obstacle[r0:r1:step, c0:c1:step]] = len(palette) - 1
+        codes = codes.astype(np.uint8 if len(palette) <= 256 else np.uint16)
         extent = (
             f.origin[0] + c0 * f.cell,
-            f.origin[0] + (c0 + crop.shape[1] * step) * f.cell,
+            f.origin[0] + (c0 + codes.shape[1] * step) * f.cell,
             f.origin[1] + r0 * f.cell,
-            f.origin[1] + (r0 + crop.shape[0] * step) * f.cell,
+            f.origin[1] + (r0 + codes.shape[0] * step) * f.cell,
         )
-        ax.imshow(crop, origin="lower", extent=extent, interpolation="nearest", zorder=0)
+        return BackdropCrop(codes, palette, extent, (tuple(xlim), tuple(ylim)), pixels)
+
+    def draw(self, ax: Axes, xlim: tuple[float, float], ylim: tuple[float, float], pixels: int) -> None:
+        """Show the part of the picture within the limits, at most about 2 cells per output pixel."""
+        crop = self.crop(xlim, ylim, pixels)
+        if crop is not None:
+            crop.draw(ax, xlim, ylim, pixels)
 
 
 def _limits(points: np.ndarray, aspect: float) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -221,6 +293,45 @@ def _scale_bar(ax: Axes, xlim: tuple[float, float], ylim: tuple[float, float]) -
     )
 
 
+def _picture_points(
+    episode: Episode, trajectory: np.ndarray | None, success_radius: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """An episode picture's reference path, goals, their circles' radii, start and path (xy)."""
+    reference = np.asarray(episode.reference_path, dtype=float).reshape(-1, 3)[:, :2]
+    goals = np.array([g.position[:2] for g in episode.goals], dtype=float).reshape(-1, 2)
+    rims = np.array([g.radius + success_radius for g in episode.goals], dtype=float)
+    start = np.asarray(episode.start_position[:2], dtype=float)
+    path = trajectory[:, 1:3] if trajectory is not None and len(trajectory) else np.zeros((0, 2))
+    return reference, goals, rims, start, path
+
+
+def picture_limits(episode: Episode, trajectory: np.ndarray | None, *, success_radius: float) -> Limits:
+    """The limits of an episode's picture (:func:`episode_figure`): its trajectory, reference path, start
+    and goal circles with a margin, at the picture's width/height ratio.
+
+    Parameters
+    ----------
+    episode : Episode
+        The dataset episode.
+    trajectory : ndarray, shape (K, 8), or None
+        The submitted rows; None: none.
+    success_radius : float
+        The success distance (m).
+
+    Returns
+    -------
+    tuple
+        ``((x min, x max), (y min, y max))`` (m).
+    """
+    reference, goals, rims, start, path = _picture_points(episode, trajectory, success_radius)
+    extremes = [start[None], reference, path]
+    if len(goals):
+        extremes += [goals - rims[:, None], goals + rims[:, None]]
+    width_px, height_px = THUMB_SIZE_PX
+    box = Bbox.from_bounds(*_THUMB_AXES)  # the axes' place in the figure, as ``add_axes`` makes it
+    return _limits(np.concatenate(extremes), (box.width * width_px) / (box.height * height_px))
+
+
 def episode_figure(
     episode: Episode,
     trajectory: np.ndarray | None,
@@ -228,7 +339,7 @@ def episode_figure(
     label: str,
     title: str,
     success_radius: float,
-    backdrop: Backdrop | None = None,
+    backdrop: Backdrop | BackdropCrop | None = None,
 ) -> Figure:
     """A small bird's-eye view of one episode: the trajectory against the reference path and goals.
 
@@ -244,8 +355,9 @@ def episode_figure(
         The picture's title.
     success_radius : float
         The success distance (m); each goal's circle has radius goal radius + this.
-    backdrop : Backdrop, optional
-        The scene's top-down picture, drawn underneath.
+    backdrop : Backdrop or BackdropCrop, optional
+        The scene's top-down picture, drawn underneath (a crop: the one cut for this picture's
+        :func:`picture_limits`).
 
     Returns
     -------
@@ -254,17 +366,9 @@ def episode_figure(
     """
     width_px, height_px = THUMB_SIZE_PX
     fig = _new_figure(width_px, height_px, THUMB_DPI)
-    ax = fig.add_axes((0.01, 0.01, 0.98, 0.84))
-    reference = np.asarray(episode.reference_path, dtype=float).reshape(-1, 3)[:, :2]
-    goals = np.array([g.position[:2] for g in episode.goals], dtype=float).reshape(-1, 2)
-    rims = np.array([g.radius + success_radius for g in episode.goals], dtype=float)
-    start = np.asarray(episode.start_position[:2], dtype=float)
-    path = trajectory[:, 1:3] if trajectory is not None and len(trajectory) else np.zeros((0, 2))
-    extremes = [start[None], reference, path]
-    if len(goals):
-        extremes += [goals - rims[:, None], goals + rims[:, None]]
-    box = ax.get_position()
-    xlim, ylim = _limits(np.concatenate(extremes), (box.width * width_px) / (box.height * height_px))
+    ax = fig.add_axes(_THUMB_AXES)
+    reference, goals, rims, start, path = _picture_points(episode, trajectory, success_radius)
+    xlim, ylim = picture_limits(episode, trajectory, success_radius=success_radius)
     if backdrop is not None:
         backdrop.draw(ax, xlim, ylim, width_px)
     for (x, y), r in zip(goals, rims, strict=True):

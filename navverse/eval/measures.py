@@ -23,12 +23,15 @@ __all__ = [
     "EXIT_MEASURES",
     "FALL_TILT_DEG",
     "MEASURES",
+    "OUTCOME_MEASURES",
     "TIMEOUT_S",
     "TRANSITION_SCENE_TYPES",
     "EpisodeTarget",
     "Robot",
     "measure",
     "ndtw",
+    "ndtw_many",
+    "outcome",
 ]
 
 TIMEOUT_S = 300.0
@@ -49,12 +52,17 @@ POSITION_LIMIT = 1e6
 Validated records never reach it (:data:`navverse.eval.submission.MAX_ABS_COORD` is 100 km)."""
 _CHUNK_SAMPLES = 2**18
 """Coverage is computed over groups of whole episodes of about this many points."""
+_DTW_CELLS = 2**20
+"""nDTW is computed for groups of episodes whose references, padded to the longest of the group, hold
+at most this many points in all (one, when a single reference is longer), so memory stays bounded."""
 _CELL_OFFSET = 1 << 20
 """Added to cell indices (within ±POSITION_LIMIT / CELL) to make them non-negative in 21 bits."""
 TRANSITION_SCENE_TYPES = tuple(name for name, p in PROFILES.items() if p.transition_metrics)
 """Scene types whose episodes get the transition (exit) measures (their profiles say so)."""
 EXIT_MEASURES = ("reached_outdoor", "pre_exit_cells", "pre_exit_traveled", "post_exit_cells",
                  "post_exit_traveled")  # fmt: skip
+OUTCOME_MEASURES = ("dtg", "fell", "timed_out", "stopped")
+"""The measures a termination label is made of (:func:`outcome`): none reads a scene's fields."""
 MEASURES = ("dtg", "dtg_min", "dtg_start", "traveled", "duration", "cells", "collided", "clearance",
             "on_preferred", "fell", "timed_out", "stopped", "dtw_score", *EXIT_MEASURES)  # fmt: skip
 """Names of the per-episode measures :func:`measure` returns."""
@@ -142,20 +150,25 @@ def _cut(trajectories: Sequence[np.ndarray]) -> _Batch:
     )
 
 
-def _goal_distance(batch: _Batch, targets: Sequence[EpisodeTarget]) -> np.ndarray:
-    """``d_t`` of every scored row: 3-D, to the nearest goal's edge, at least 0."""
+def _goal_distance(
+    batch: _Batch, targets: Sequence[EpisodeTarget], *, rows: np.ndarray | None = None
+) -> np.ndarray:
+    """``d_t`` of every scored row (or of the batch's `rows`, one per episode: the same values, computed
+    for those rows only): 3-D, to the nearest goal's edge, at least 0."""
     most = max((len(t.goal_radii) for t in targets), default=1)
     centers = np.full((len(targets), most, 3), np.inf)
     radii = np.zeros((len(targets), most))
     for i, target in enumerate(targets):
         centers[i, : len(target.goal_radii)] = target.goal_centers
         radii[i, : len(target.goal_radii)] = target.goal_radii
-    d = np.full(len(batch.t), np.inf)
-    rows = batch.ends - batch.starts + 1  # an episode's rows are contiguous: repeat, don't gather
-    x, y, z = batch.xyz[:, 0], batch.xyz[:, 1], batch.xyz[:, 2]
+    xyz = batch.xyz if rows is None else batch.xyz[rows]
+    count = batch.ends - batch.starts + 1 if rows is None else np.ones(len(targets), dtype=np.int64)
+    d = np.full(len(xyz), np.inf)
+    x, y, z = xyz[:, 0], xyz[:, 1], xyz[:, 2]
     for g in range(most):  # goals are few; rows are many
-        cx, cy, cz = (np.repeat(centers[:, g, k], rows) for k in range(3))
-        d = np.minimum(d, _norm3(x - cx, y - cy, z - cz) - np.repeat(radii[:, g], rows))
+        # an episode's rows are contiguous: repeat, don't gather
+        cx, cy, cz = (np.repeat(centers[:, g, k], count) for k in range(3))
+        d = np.minimum(d, _norm3(x - cx, y - cy, z - cz) - np.repeat(radii[:, g], count))
     return np.maximum(d, 0.0)
 
 
@@ -355,12 +368,13 @@ def measure(
     for i, times in enumerate(collisions):
         collided[i] = bool((times <= end_time[i] + 1e-9).any()) if times is not None else footprint_hits[i]
     ndtw_values = np.full(count, np.nan)
-    for i, target in enumerate(targets):
-        if target.task == "vln" and len(target.reference_path) >= 2:
-            rows = slice(batch.starts[i], batch.ends[i] + 1)
-            ndtw_values[i] = ndtw(
-                batch.xyz[rows], target.reference_path, threshold=robot.success_distance(target.scene_type)
-            )
+    vln = [i for i, t in enumerate(targets) if t.task == "vln" and len(t.reference_path) >= 2]
+    if vln:
+        ndtw_values[vln] = ndtw_many(
+            [batch.xyz[batch.starts[i] : batch.ends[i] + 1] for i in vln],
+            [targets[i].reference_path for i in vln],
+            thresholds=[robot.success_distance(targets[i].scene_type) for i in vln],
+        )
     exits = _exit_measures(batch, targets, fields, step)
     return {
         "dtg": d[batch.ends],
@@ -377,6 +391,35 @@ def measure(
         "stopped": np.asarray(stops, dtype=np.float64),
         "dtw_score": ndtw_values,
         **exits,
+    }
+
+
+def outcome(
+    trajectories: Sequence[np.ndarray], targets: Sequence[EpisodeTarget], *, stops: Sequence[bool]
+) -> dict[str, np.ndarray]:
+    """The measures of :data:`OUTCOME_MEASURES` of a batch of valid trajectories, equal to those
+    :func:`measure` gives, computed without a scene's fields (what the termination labels need).
+
+    Parameters
+    ----------
+    trajectories : sequence of ndarray, each (K, 8)
+        ``[t, x, y, z, qx, qy, qz, qw]`` rows (validated: finite, t increasing, unit quaternions).
+    targets : sequence of EpisodeTarget
+        The episodes, in the same order.
+    stops : sequence of bool
+        Each record's stop flag.
+
+    Returns
+    -------
+    dict of ndarray
+        ``dtg``, ``fell``, ``timed_out``, ``stopped``, each (E,).
+    """
+    batch = _cut(trajectories)
+    return {
+        "dtg": _goal_distance(batch, targets, rows=batch.ends),
+        "fell": batch.fell.astype(np.float64),
+        "timed_out": batch.timed_out.astype(np.float64),
+        "stopped": np.asarray(stops, dtype=np.float64),
     }
 
 
@@ -398,16 +441,64 @@ def ndtw(trajectory: np.ndarray, reference: np.ndarray, *, threshold: float) -> 
     """Normalised dynamic time warping between a path and a reference (Ilharco et al., 2019).
 
     Both are resampled every 0.5 m in the horizontal plane (more coarsely beyond :data:`DTW_POINTS`
-    points); ``exp(-DTW / (|R| * threshold))``, in [0, 1].
+    points); ``exp(-DTW / (|R| * threshold))``, in [0, 1]. :func:`ndtw_many` of one pair.
     """
-    q = _resample(trajectory, DTW_SPACING)
-    r = _resample(reference, DTW_SPACING)
-    cost = np.linalg.norm(q[:, None, :] - r[None, :, :], axis=2)  # (|Q|, |R|)
-    previous = np.full(len(r) + 1, np.inf)
-    previous[0] = 0.0
-    for row in cost:  # D[i, j] = c[i, j] + min(D[i-1, j], D[i, j-1], D[i-1, j-1]), a row at a time
-        above = np.minimum(previous[1:], previous[:-1])  # from D[i-1, j] and D[i-1, j-1]
-        through = np.cumsum(row)
-        best = np.minimum.accumulate(row + above - through) + through  # the left chain, in closed form
-        previous = np.concatenate([[np.inf], best])
-    return float(math.exp(-previous[-1] / (len(r) * threshold)))
+    return float(ndtw_many([trajectory], [reference], thresholds=[threshold])[0])
+
+
+def ndtw_many(
+    trajectories: Sequence[np.ndarray], references: Sequence[np.ndarray], *, thresholds: Sequence[float]
+) -> np.ndarray:
+    """:func:`ndtw` of each trajectory against its reference, the pairs' recurrences run side by side.
+
+    The DTW table is filled a row (a point of the trajectory) at a time, the row in closed form:
+    ``D[i, j] = c[i, j] + min(D[i-1, j], D[i, j-1], D[i-1, j-1])``, so ``D[i, :]`` is a running minimum
+    of ``c[i, j] + min(D[i-1, j], D[i-1, j-1]) - C[i, j]`` plus ``C[i, j]``, C the running sum of the
+    row's costs. Pairs are grouped by their references' lengths (a group's references padded to its
+    longest, :data:`_DTW_CELLS` points in all), and row i of every pair of a group with an i-th point is
+    one array operation. Each entry is computed by the same operations as one pair alone (the padding
+    comes after a reference's end, and a row's sums and minima run from its start), so the values do not
+    depend on the grouping.
+
+    Parameters
+    ----------
+    trajectories, references : sequences of ndarray, each (K, 2+)
+        The paths (x, y first), pair by pair; a reference has at least 2 points.
+    thresholds : sequence of float
+        Each pair's success distance (m).
+
+    Returns
+    -------
+    ndarray
+        nDTW of each pair, in [0, 1].
+    """
+    paths = [_resample(t, DTW_SPACING) for t in trajectories]
+    refs = [_resample(r, DTW_SPACING) for r in references]
+    out = np.empty(len(paths))
+    order = sorted(range(len(paths)), key=lambda k: len(refs[k]))
+    start = 0
+    while start < len(order):  # groups of references of similar lengths, within _DTW_CELLS points
+        end = start + 1
+        while end < len(order) and (end + 1 - start) * len(refs[order[end]]) <= _DTW_CELLS:
+            end += 1
+        group = sorted(order[start:end], key=lambda k: -len(paths[k]))  # longest paths first
+        start = end
+        width = max(len(refs[k]) for k in group)
+        ref = np.zeros((len(group), width, 2))
+        for row, k in enumerate(group):
+            ref[row, : len(refs[k])] = refs[k]
+        lengths = np.array([len(paths[k]) for k in group])
+        points = np.concatenate([paths[k] for k in group])
+        first = np.cumsum(lengths) - lengths
+        table = np.full((len(group), width + 1), np.inf)  # [D[i-1, -1], D[i-1, :]] of each pair
+        table[:, 0] = 0.0
+        for i in range(int(lengths[0])):
+            n = int(np.count_nonzero(lengths > i))  # the pairs whose path has an i-th point: a prefix
+            cost = np.linalg.norm(points[first[:n] + i][:, None, :] - ref[:n], axis=2)  # (n, width)
+            above = np.minimum(table[:n, 1:], table[:n, :-1])  # from D[i-1, j] and D[i-1, j-1]
+            through = np.cumsum(cost, axis=1)
+            table[:n, 1:] = np.minimum.accumulate(cost + above - through, axis=1) + through
+            table[:n, 0] = np.inf  # D[i, -1]: only the first row starts from D[-1, -1] = 0
+        for row, k in enumerate(group):
+            out[k] = math.exp(-table[row, len(refs[k])] / (len(refs[k]) * thresholds[k]))
+    return out

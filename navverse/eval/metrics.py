@@ -63,7 +63,7 @@ import numpy as np
 from navverse.eval.measures import TRANSITION_SCENE_TYPES
 
 __all__ = ["LABELS", "METRICS", "STATISTICS", "UNITS", "Metric", "Statistic", "compute_metrics", "definition",
-           "metric", "statistic"]  # fmt: skip
+           "metric", "statistic", "termination_labels"]  # fmt: skip
 
 CE_EPSILON = 1.0
 """``max(P, ε)`` in CE (m): a robot that does not move covers its own cell per meter."""
@@ -645,6 +645,26 @@ def _failures(rows: Sequence[Mapping[str, object]]) -> int:
 )
 def _post_exit_failures(rows: Sequence[Mapping[str, object]]) -> int:
     return sum(row.get("post_exit_timeout") is not None for row in rows)
+
+
+def termination_labels(inputs: Mapping[str, np.ndarray]) -> np.ndarray:
+    """The termination label of each episode, as :func:`compute_metrics` gives it, from only the inputs
+    the label needs (``fell``, ``dtg``, ``stopped``, ``success_distance``, ``valid``).
+
+    Parameters
+    ----------
+    inputs : mapping
+        Per-episode arrays (other keys are ignored).
+
+    Returns
+    -------
+    ndarray of str
+        Strings of :data:`LABELS`.
+    """
+    spec = METRICS["_label"]
+    arguments = {need: np.asarray(inputs[need], dtype=np.float64) for need in spec.needs}
+    code = np.asarray(spec.function(**arguments), dtype=np.float64)
+    return np.array(LABELS, dtype=object)[code.astype(int)]
 
 
 def compute_metrics(inputs: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:

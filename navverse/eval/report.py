@@ -13,11 +13,21 @@
   their declarations in :mod:`navverse.eval.metrics`; the scored episode ids (collapsed); the
   submission's problems;
 * a summary picture: termination label shares per task (stacked bars) and SR per task × scene type;
-* one card per episode, failures first, grouped by termination label: a small bird's-eye view of the
-  submitted trajectory against the episode's reference path, the start, and each goal with its success
-  circle (goal radius + success distance), over the scene's top-down fields
-  (:func:`navverse.scene.fields.load_scene_fields`: terrain classes lightened, obstacles grey). An episode
-  without a valid record gets a card with the submission's problems for it instead of a picture.
+* the episodes grouped by termination label, failures first. A bounded selection of them
+  (:func:`navverse.eval.selection.pictured_episodes`: at most ``pictures``, every episode when there are
+  no more; otherwise among those with a valid trajectory, every outcome shown, failures first, spread
+  over tasks, scene types and scenes; the page says how they were chosen) get a card each: a small
+  bird's-eye view of the submitted trajectory against the episode's reference path, the start, and each
+  goal with its success circle (goal radius + success distance), over the scene's top-down fields
+  (:func:`navverse.scene.fields.load_scene_fields`: terrain classes lightened, obstacles grey), and a
+  strip of first-person keyframes; an episode without a valid record, the submission's problems for it
+  instead. Every other episode is a row of a compact table under its label: its facts and metrics, as a
+  card's caption shows them (and its first problem when it has no valid record).
+
+The pictures are drawn scene by scene: a scene's bird's-eye views over its fields, then its keyframe
+strips with its renderer, so that a scene's fields and its renderer are never in memory together. Given
+the :class:`PictureBackdrops` that scoring filled (:func:`~navverse.eval.scoring.score`'s ``on_fields``),
+the report reads no scene's fields at all: their backdrops were cut while scoring held the fields.
 
 :func:`navverse.eval.screenshot.screenshot_report` renders it in headless Chromium.
 """
@@ -27,7 +37,7 @@ from __future__ import annotations
 import base64
 import html
 import io
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from importlib import resources
 from pathlib import Path
 
@@ -37,17 +47,21 @@ from PIL import Image
 from navverse.dataset import Dataset, Episode
 from navverse.eval.figures import (
     THUMB_COLORS,
+    THUMB_SIZE_PX,
     Backdrop,
+    BackdropCrop,
     episode_figure,
     label_color,
     label_name,
+    picture_limits,
     png_data_uri,
     summary_figure,
 )
 from navverse.eval.measures import Robot
 from navverse.eval.metrics import LABELS, definition
 from navverse.eval.protocol import describe
-from navverse.eval.scoring import EvalResult, robot_for
+from navverse.eval.scoring import EvalResult, labelled_episodes, robot_for
+from navverse.eval.selection import CARD_ORDER, NO_TRAJECTORY, PICTURES, pictured_episodes, selection_text
 from navverse.eval.submission import Submission
 from navverse.eval.tables import (
     HEADERS,
@@ -60,18 +74,25 @@ from navverse.eval.tables import (
     table_rows,
 )
 from navverse.files import atomic_write
+from navverse.scene.fields import SceneFields
 
-__all__ = ["REPORT_HTML", "write_report"]
+__all__ = ["REPORT_HTML", "PictureBackdrops", "write_report"]
 
 REPORT_HTML = "report.html"
 REPORT_CSS = "report.css"
 """The page's style sheet, package data of :mod:`navverse.eval`, inlined in the page."""
+ROWS_CSS = (
+    "table.episodes{margin:6px 0 4px}\n"
+    ".episodes td:nth-child(-n+5),.episodes th:nth-child(-n+5),.episodes .why{text-align:left}\n"
+    ".episodes td:first-child{font-family:ui-monospace,monospace}\n"
+)
+"""The style of the episode rows, added to the page's when it has rows (episodes without a card)."""
 KEYFRAMES = 4
 """First-person keyframes per episode card."""
 KEYFRAME_SIZE = (144, 108)
 """Width and height of one keyframe (pixels)."""
-CARD_ORDER = ("invalid", "fall", "timeout", "wrong_goal", "success")
-"""Order of the episode card groups: failures first."""
+ROW_FACTS = ("success", "spl", "ne", "path_length", "ndtw", "sdtw")
+"""The metrics of an episode row (and of a card's caption)."""
 HEADLINE = ("success", "spl", "soft_spl", "os", "ne", "cr", "ado", "nsr", "ce", "ndtw", "sdtw")
 """Overall metrics shown as headline numbers (those undefined for the result are left out)."""
 TABLE_TITLES = {
@@ -246,6 +267,47 @@ def _card_html(
     )
 
 
+def _row_columns(rows: Iterable[Mapping[str, object]]) -> list[str]:
+    """The metrics of the episode rows: those of :data:`ROW_FACTS` some of the rows define."""
+    rows = list(rows)
+    return [n for n in ROW_FACTS if any(row.get(n) is not None for row in rows)]
+
+
+def _rows_html(
+    rows: Sequence[Mapping[str, object]],
+    problems_of: Mapping[str, Sequence[str]],
+    *,
+    names: Sequence[str],
+    invalid: bool,
+) -> str:
+    """The table of a label's episodes without a card: a row each, with the facts and metrics (`names`) a
+    card's caption shows (and, for episodes without a valid record, their first problem)."""
+    header = ["episode", "task", "scene", "scene type", "difficulty", *(HEADERS.get(n, n) for n in names)]
+    tips = ["", "", "", "", "", *(definition(n).title for n in names)]
+    head = "".join(
+        f'<th title="{_e(tip)}">{_e(h)}</th>' if tip else f"<th>{_e(h)}</th>"
+        for h, tip in zip(header, tips, strict=True)
+    )
+    if invalid:
+        head += '<th class="why" title="the first problem of the episode\'s line">why</th>'
+    body = []
+    for row in rows:
+        episode_id = _e(row["episode_id"])
+        cells = [row["task"], row["scene_id"], row["scene_type"], row.get("difficulty") or "–"]
+        cells += [_value(row, n) for n in names]
+        why = ""
+        if invalid:
+            problems = problems_of.get(str(row["episode_id"]), [])
+            more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
+            text = problems[0] + more if problems else "no record in the submission"
+            why = f'<td class="why">{_e(text)}</td>'
+        body.append(
+            f'<tr id="ep-{episode_id}"><td>{episode_id}</td>' + "".join(f"<td>{_e(c)}</td>" for c in cells)
+            + f"{why}</tr>"
+        )  # fmt: skip
+    return f'<table class="episodes"><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table>'
+
+
 class _KeyframeStrips:
     """First-person keyframe strips of trajectories, one renderer per scene (built when first needed)."""
 
@@ -255,7 +317,7 @@ class _KeyframeStrips:
         self._renderers: dict[str, object] = {}
 
     def strip(self, scene: str, scene_dir: Path, trajectory: np.ndarray, count: int) -> str:
-        """A PNG data URI of `count` frames side by side, along the trajectory, start on the left."""
+        """A JPEG data URI of `count` frames side by side, along the trajectory, start on the left."""
         from navverse.scene.directory import read_scene
         from navverse.sim.camera import CameraIntrinsics
         from navverse.sim.embodiments import make_embodiment
@@ -275,6 +337,73 @@ class _KeyframeStrips:
         return "data:image/jpeg;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
 
 
+class PictureBackdrops:
+    """The backdrops of the episodes a report pictures, cut from each scene's fields while scoring holds
+    them, so that the report reads no scene's fields again.
+
+    Made before scoring: the pictured episodes (:func:`~navverse.eval.selection.pictured_episodes`) are
+    chosen by the labels :func:`~navverse.eval.scoring.labelled_episodes` gives, which need no fields and
+    equal the scored ones. Give :meth:`take` to :func:`~navverse.eval.scoring.score` as ``on_fields``,
+    then this object to :func:`write_report` as ``backdrops`` (with the same ``pictures`` and
+    embodiment: a report of another embodiment, whose goal circles differ, does not use the crops).
+    Memory: one crop per pictured episode (about the cells its picture shows), whatever the scenes'
+    sizes.
+
+    Parameters
+    ----------
+    dataset, submission
+        As given to :func:`~navverse.eval.scoring.score`.
+    split : str
+        The split scored.
+    scene_dirs : mapping
+        Built scene directory by scene id (the terrain classes' colours).
+    embodiment : str, optional
+        The robot scored (the success circles); the dataset's by default.
+    episodes : str
+        ``all`` or ``submitted``, as given to :func:`~navverse.eval.scoring.score`.
+    pictures : int
+        The most episodes pictured, as given to :func:`write_report`.
+    """
+
+    def __init__(
+        self,
+        dataset: Dataset,
+        submission: Submission,
+        *,
+        split: str,
+        scene_dirs: Mapping[str, Path],
+        embodiment: str | None = None,
+        episodes: str = "all",
+        pictures: int = PICTURES,
+    ) -> None:
+        rows = labelled_episodes(dataset, submission, split=split, embodiment=embodiment, episodes=episodes)
+        chosen = {i for i in pictured_episodes(rows, pictures) if i in submission.records}
+        self.embodiment: str = embodiment or dataset.manifest.embodiment
+        """The embodiment the crops were cut for (its success distances size the pictures)."""
+        self._robot = robot_for(self.embodiment)
+        self._submission = submission
+        self._scene_dirs = scene_dirs
+        self._wanted: dict[str, list[Episode]] = {}
+        for episode in dataset.episodes(split=split):
+            if episode.episode_id in chosen:
+                self._wanted.setdefault(episode.scene_id, []).append(episode)
+        self.crops: dict[str, BackdropCrop | None] = {}
+        """Each pictured episode's crop once its scene was taken (None: its picture misses the grid)."""
+
+    def take(self, scene: str, fields: SceneFields) -> None:
+        """Cut the backdrops of the scene's pictured episodes from its fields (``score``'s ``on_fields``)."""
+        wanted = self._wanted.get(scene)
+        if not wanted or scene not in self._scene_dirs:
+            return
+        backdrop = Backdrop(Path(self._scene_dirs[scene]), fields=fields)
+        for episode in wanted:
+            trajectory = self._submission.records[episode.episode_id].trajectory
+            limits = picture_limits(
+                episode, trajectory, success_radius=self._robot.success_distance(episode.scene_type)
+            )
+            self.crops[episode.episode_id] = backdrop.crop(*limits, THUMB_SIZE_PX[0])
+
+
 def _split_of(dataset: Dataset, scene_ids: set[str]) -> list[str]:
     return sorted(s for s, scenes in dataset.manifest.splits.items() if scene_ids & set(scenes))
 
@@ -286,10 +415,13 @@ def _scene_figures(
     *,
     robot: Robot,
     scene_dir: Path | None,
+    crops: Mapping[str, BackdropCrop | None],
 ) -> dict[str, str]:
     """The top-down pictures (PNG data URIs) of one scene's episodes, ``{episode id: picture}``, over
-    the scene's backdrop (its fields are in memory only while they are drawn)."""
-    backdrop = Backdrop(scene_dir) if scene_dir is not None else None
+    the scene's backdrop: the `crops` cut while scoring held the fields when they hold every episode's,
+    else the scene's fields (in memory only while they are drawn)."""
+    cut = all(str(row["episode_id"]) in crops for row in rows)
+    backdrop = Backdrop(scene_dir) if scene_dir is not None and not cut else None
     figures = {}
     for row in rows:
         episode_id, label = str(row["episode_id"]), str(row["label"])
@@ -298,7 +430,7 @@ def _scene_figures(
                    f"SPL {_value(row, 'spl')}")  # fmt: skip
         fig = episode_figure(episode, record.trajectory, label=label, title=heading,
                              success_radius=robot.success_distance(episode.scene_type),
-                             backdrop=backdrop)  # fmt: skip
+                             backdrop=crops[episode_id] if cut else backdrop)  # fmt: skip
         figures[episode_id] = png_data_uri(fig, colors=THUMB_COLORS)
     return figures
 
@@ -309,18 +441,23 @@ def _episode_pictures(
     submission: Submission,
     scene_dirs: Mapping[str, Path],
     *,
+    chosen: set[str],
     robot: Robot,
     embodiment: str,
     keyframes: int,
+    crops: Mapping[str, BackdropCrop | None],
     progress: Callable[[int, int], None] | None,
 ) -> dict[str, tuple[str | None, str | None]]:
-    """The top-down picture and the keyframe strip (data URIs) of every episode with a trajectory to
-    draw, ``{episode id: (picture, strip)}``, drawn scene by scene: a scene's pictures over its fields,
-    then its strips with its renderer, so that one scene's fields or its renderer are in memory at a
-    time, and memory grows with the submission, not with the scenes."""
+    """The top-down picture and the keyframe strip (data URIs) of every `chosen` episode with a
+    trajectory to draw, ``{episode id: (picture, strip)}``, drawn scene by scene: a scene's pictures over
+    its backdrop, then its strips with its renderer, so that one scene's fields or its renderer are in
+    memory at a time, and memory grows with the pictures, not with the scenes."""
     by_scene: dict[str, list[Mapping[str, object]]] = {}
-    drawn, total = 0, len(result.episodes)
-    for row in result.episodes:
+    cards = [row for row in result.episodes if str(row["episode_id"]) in chosen]
+    drawn, total = 0, len(cards)
+    if progress is not None:
+        progress(drawn, total)
+    for row in cards:
         episode = episodes.get(str(row["episode_id"]))
         if (
             submission.records.get(str(row["episode_id"])) is None
@@ -335,7 +472,7 @@ def _episode_pictures(
     pictures: dict[str, tuple[str | None, str | None]] = {}
     for scene, rows in sorted(by_scene.items()):
         scene_dir = Path(scene_dirs[scene]) if scene in scene_dirs else None
-        figures = _scene_figures(rows, episodes, submission, robot=robot, scene_dir=scene_dir)
+        figures = _scene_figures(rows, episodes, submission, robot=robot, scene_dir=scene_dir, crops=crops)
         strips = _KeyframeStrips(embodiment) if keyframes and scene_dir is not None else None
         for row in rows:
             episode_id = str(row["episode_id"])
@@ -360,6 +497,8 @@ def write_report(
     title: str | None = None,
     embodiment: str | None = None,
     keyframes: int = KEYFRAMES,
+    pictures: int = PICTURES,
+    backdrops: PictureBackdrops | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> Path:
     """Write ``<out_dir>/report.html``, a self-contained page of the evaluation (atomically).
@@ -385,14 +524,28 @@ def write_report(
     keyframes : int
         First-person frames per episode card, evenly spaced along its trajectory, as the robot's
         camera sees them (0: none).
+    pictures : int
+        The most episodes drawn as cards (:func:`~navverse.eval.selection.pictured_episodes`); every
+        other episode is a row of its label's table.
+    backdrops : PictureBackdrops, optional
+        The pictured episodes' backdrops, cut while scoring held each scene's fields (made with the
+        same ``pictures`` and embodiment); without it (or for a scene with an episode it lacks) the
+        report reads the scene's fields.
     progress : callable, optional
-        Called with (episode cards drawn, episodes) after each card.
+        Called with (episode cards drawn, cards to draw), first with none drawn, then after each card.
 
     Returns
     -------
     Path
         The report file.
+
+    Raises
+    ------
+    ValueError
+        If `pictures` is negative.
     """
+    if pictures < 0:
+        raise ValueError(f"pictures must be 0 or more, not {pictures}")
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     manifest = dataset.manifest
@@ -413,28 +566,37 @@ def write_report(
     if result.groups.get("overall"):
         picture = png_data_uri(summary_figure(result))
         summary = f'<img class="summary" src="{picture}" alt="summary" width="960" height="330">'
-    pictures = _episode_pictures(
-        result, episodes, submission, scene_dirs, robot=robot, embodiment=embodiment, keyframes=keyframes,
-        progress=progress,
+    chosen = set(pictured_episodes(result.episodes, pictures))
+    crops = backdrops.crops if backdrops is not None and backdrops.embodiment == embodiment else {}
+    listed_columns = _row_columns(r for r in result.episodes if str(r["episode_id"]) not in chosen)
+    drawn = _episode_pictures(
+        result, episodes, submission, scene_dirs, chosen=chosen, robot=robot, embodiment=embodiment,
+        keyframes=keyframes, crops=crops, progress=progress,
     )  # fmt: skip
     groups: dict[str, list[str]] = {}
     order = [*CARD_ORDER, *sorted({str(r["label"]) for r in result.episodes} - set(CARD_ORDER))]
     for label in order:
         rows = sorted((r for r in result.episodes if r["label"] == label), key=lambda r: str(r["episode_id"]))
-        cards = []
+        cards, listed = [], []
         for row in rows:
             episode_id = str(row["episode_id"])
-            picture, strip = pictures.get(episode_id, (None, None))
+            if episode_id not in chosen:
+                listed.append(row)
+                continue
+            picture, strip = drawn.get(episode_id, (None, None))
             cards.append(_card_html(row, picture, problems_of.get(episode_id, []), strip=strip))
-        if cards:
+        if rows:
             color = label_color(label)
             groups[label] = [
                 f'<h3 id="label-{_e(label)}"><span class="swatch" style="background:{color}"></span>'
-                f"{_e(label_name(label))} ({len(cards)})</h3>",
-                '<div class="cards">',
-                *cards,
-                "</div>",
+                f"{_e(label_name(label))} ({len(rows)})</h3>"
             ]
+            if cards:
+                groups[label] += ['<div class="cards">', *cards, "</div>"]
+            if listed:
+                groups[label].append(
+                    _rows_html(listed, problems_of, names=listed_columns, invalid=label == NO_TRAJECTORY)
+                )
 
     meta = [
         ("dataset", f"{manifest.name} v{manifest.version}"),
@@ -462,7 +624,11 @@ def write_report(
         f"({reach or '–'})</span><span>grey: obstacles</span>"
     )
     css = resources.files("navverse.eval").joinpath(REPORT_CSS).read_text(encoding="utf-8")
+    if len(chosen) < len(result.episodes):
+        css += ROWS_CSS
     nav = "".join(f'<a href="#label-{_e(label)}">{_e(label_name(label))}</a>' for label in groups)
+    said = selection_text(len(chosen), len(result.episodes), pictures)
+    chosen_text = [f'<p class="chosen">{said}</p>'] if result.episodes else []
     page = "\n".join(
         [
             "<!DOCTYPE html>",
@@ -477,10 +643,13 @@ def write_report(
             "<h2>Tables</h2>",
             _tables_html(result),
             _thresholds_html(result),
-            _glossary_html(list(dict.fromkeys([*_headline_names(result), *shown_columns(result)]))),
+            _glossary_html(
+                list(dict.fromkeys([*_headline_names(result), *shown_columns(result), *listed_columns]))
+            ),
             _scored_html(result),
             _problems_html(result.problems),
             f'<h2 id="episodes">Episodes ({len(result.episodes)})</h2>',
+            *chosen_text,
             f'<div class="legend">{legend}</div>',
             f"<nav>{nav}</nav>",
             *(line for label in groups for line in groups[label]),

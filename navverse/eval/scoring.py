@@ -21,15 +21,16 @@ from pathlib import Path
 import numpy as np
 
 from navverse.dataset import Dataset, Episode
-from navverse.eval.measures import MEASURES, TRANSITION_SCENE_TYPES, EpisodeTarget, Robot, measure
-from navverse.eval.metrics import METRICS, STATISTICS, compute_metrics
+from navverse.eval.measures import MEASURES, TRANSITION_SCENE_TYPES, EpisodeTarget, Robot, measure, outcome
+from navverse.eval.metrics import METRICS, STATISTICS, compute_metrics, termination_labels
 from navverse.eval.protocol import UNSPECIFIED, describe
 from navverse.eval.submission import Submission, SubmissionError
 from navverse.scene.fields import SceneFields, load_scene_fields
 from navverse.scene_types import SCENE_TYPES
 
 __all__ = ["EXTRA_SURFACES", "GROUPINGS", "EvalResult", "chosen_episodes", "group_means",
-           "instruction_type_of", "metric_rows", "robot_for", "score", "submission_track"]  # fmt: skip
+           "instruction_type_of", "labelled_episodes", "metric_rows", "robot_for", "score",
+           "submission_track"]  # fmt: skip
 
 EXTRA_SURFACES = {"spot": frozenset({"curb", "green", "ground"}), "turtlebot": frozenset()}
 """Navigable classes an embodiment also counts as preferred for NSR, beyond the classes the scene marks
@@ -201,6 +202,17 @@ def _target(episode: Episode) -> EpisodeTarget:
     )
 
 
+def _facts(episode: Episode) -> dict[str, str]:
+    """The facts of an episode's row: ids, task, scene type, difficulty."""
+    return {
+        "episode_id": episode.episode_id,
+        "scene_id": episode.scene_id,
+        "task": episode.task,
+        "scene_type": episode.scene_type,
+        "difficulty": episode.info.difficulty,
+    }
+
+
 def _preferred(fields: SceneFields, scene_dir: Path, robot: Robot) -> np.ndarray:
     from navverse.scene.directory import read_annotations
 
@@ -229,6 +241,7 @@ def score(
     embodiment: str | None = None,
     episodes: str = "all",
     progress: Callable[[int, int], None] | None = None,
+    on_fields: Callable[[str, SceneFields], None] | None = None,
 ) -> EvalResult:
     """Score a submission on one split of a dataset.
 
@@ -250,6 +263,11 @@ def score(
         :attr:`EvalResult.scope`).
     progress : callable, optional
         Called with (episodes scored, episodes).
+    on_fields : callable, optional
+        Called with each scene's id and fields once its episodes are measured, while the fields are in
+        memory (one scene's at a time; scenes without a valid record are not loaded): the report crops
+        its pictures' backdrops there (:class:`navverse.eval.report.PictureBackdrops`), so that no
+        scene's fields are read twice.
 
     Raises
     ------
@@ -290,23 +308,15 @@ def score(
             done += len(batch)
             if progress is not None:
                 progress(done, len(scored))
+        if on_fields is not None:
+            on_fields(scene, fields[scene])
         del fields, preferred
     inputs = {name: measures.get(name, np.full(count, np.nan)) for name in MEASURES}
     inputs["geodesic"] = np.array([e.info.geodesic_distance for e in episodes], dtype=float)
     inputs["success_distance"] = np.array([robot.success_distance(e.scene_type) for e in episodes])
     inputs["valid"] = valid
     values = compute_metrics(inputs)
-    facts = [
-        {
-            "episode_id": e.episode_id,
-            "scene_id": e.scene_id,
-            "task": e.task,
-            "scene_type": e.scene_type,
-            "difficulty": e.info.difficulty,
-        }
-        for e in episodes
-    ]
-    rows = metric_rows(facts, values)
+    rows = metric_rows([_facts(e) for e in episodes], values)
     return EvalResult(
         episodes=rows,
         groups=group_means(rows),
@@ -327,6 +337,52 @@ def score(
     )
 
 
+def labelled_episodes(
+    dataset: Dataset,
+    submission: Submission,
+    *,
+    split: str,
+    embodiment: str | None = None,
+    episodes: str = "all",
+) -> list[dict]:
+    """The episodes :func:`score` scores, each with its termination label, from the trajectories alone.
+
+    The labels are those :func:`score` gives (the same measures, :func:`~navverse.eval.measures.outcome`,
+    and the same rule, :func:`~navverse.eval.metrics.termination_labels`), but no scene's fields are read,
+    so they are known before scoring: the report chooses the episodes it pictures by them, and takes
+    their backdrops while scoring holds each scene's fields.
+
+    Parameters
+    ----------
+    dataset, submission, split, embodiment, episodes
+        As given to :func:`score`.
+
+    Returns
+    -------
+    list of dict
+        In the order of :attr:`EvalResult.episodes`: ``episode_id``, ``scene_id``, ``task``,
+        ``scene_type``, ``difficulty`` and ``label``.
+    """
+    chosen = chosen_episodes(list(dataset.episodes(split=split)), submission, episodes)
+    robot = robot_for(embodiment or dataset.manifest.embodiment)
+    count = len(chosen)
+    inputs = {name: np.full(count, np.nan) for name in ("dtg", "fell", "stopped")}
+    scored = [i for i, e in enumerate(chosen) if e.episode_id in submission.records]
+    records = [submission.records[chosen[i].episode_id] for i in scored]
+    for batch in _batches([len(r.trajectory) for r in records], BATCH_ROWS):
+        values = outcome(
+            [records[b].trajectory for b in batch],
+            [_target(chosen[scored[b]]) for b in batch],
+            stops=[records[b].stop for b in batch],
+        )
+        for name, array in inputs.items():
+            array[[scored[b] for b in batch]] = values[name]
+    inputs["success_distance"] = np.array([robot.success_distance(e.scene_type) for e in chosen])
+    inputs["valid"] = np.array([e.episode_id in submission.records for e in chosen], dtype=np.float64)
+    labels = termination_labels(inputs)
+    return [{**_facts(e), "label": str(labels[i])} for i, e in enumerate(chosen)]
+
+
 def metric_rows(facts: Sequence[Mapping[str, str]], values: Mapping[str, np.ndarray]) -> list[dict]:
     """One row per episode: its facts, label and every public metric (None where undefined).
 
@@ -342,14 +398,18 @@ def metric_rows(facts: Sequence[Mapping[str, str]], values: Mapping[str, np.ndar
     list of dict
         A metric is None when it is NaN or does not apply to the episode's task or scene type.
     """
+    public = [(name, spec) for name, spec in METRICS.items() if not name.startswith("_")]
+    columns = [np.asarray(values[name], dtype=np.float64).tolist() for name, _ in public]  # Python floats
+    labels = [str(label) for label in values["label"]]
+    applying: dict[tuple[str, str], list[bool]] = {}  # per task and scene type: which metrics apply
     rows = []
     for i, fact in enumerate(facts):
-        row = {**fact, "label": str(values["label"][i])}
-        for name, spec in METRICS.items():
-            if name.startswith("_"):
-                continue
-            v = float(values[name][i])
-            applies = spec.applies(fact["task"], fact["scene_type"])
+        kind = (fact["task"], fact["scene_type"])
+        if kind not in applying:
+            applying[kind] = [spec.applies(*kind) for _, spec in public]
+        row = {**fact, "label": labels[i]}
+        for (name, _), column, applies in zip(public, columns, applying[kind], strict=True):
+            v = column[i]
             row[name] = round(v, 6) if applies and math.isfinite(v) else None
         rows.append(row)
     return rows

@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from navverse.eval.measures import EpisodeTarget, Robot, measure, ndtw
+from navverse.eval import measures
+from navverse.eval.measures import DTW_SPACING, EpisodeTarget, Robot, _resample, measure, ndtw, ndtw_many
 from navverse.eval.metrics import compute_metrics
 from navverse.scene.fields import SceneFields
 
@@ -146,6 +147,55 @@ def test_ndtw():
     assert m["ndtw"][0] == pytest.approx(1.0) and m["sdtw"][0] == pytest.approx(1.0)
 
 
+def _ndtw_row_by_row(trajectory: np.ndarray, reference: np.ndarray, threshold: float) -> float:
+    """nDTW of one pair, its table filled a row at a time (how :func:`ndtw` computed it before pairs were
+    run side by side)."""
+    q, r = _resample(trajectory, DTW_SPACING), _resample(reference, DTW_SPACING)
+    cost = np.linalg.norm(q[:, None, :] - r[None, :, :], axis=2)
+    previous = np.full(len(r) + 1, np.inf)
+    previous[0] = 0.0
+    for row in cost:
+        above = np.minimum(previous[1:], previous[:-1])
+        through = np.cumsum(row)
+        previous = np.concatenate([[np.inf], np.minimum.accumulate(row + above - through) + through])
+    return float(math.exp(-previous[-1] / (len(r) * threshold)))
+
+
+def _ndtw_textbook(trajectory: np.ndarray, reference: np.ndarray, threshold: float) -> float:
+    """nDTW by the recurrence D[i, j] = c[i, j] + min(D[i-1, j], D[i, j-1], D[i-1, j-1]), in plain loops."""
+    q, r = _resample(trajectory, DTW_SPACING), _resample(reference, DTW_SPACING)
+    table = np.full((len(q) + 1, len(r) + 1), np.inf)
+    table[0, 0] = 0.0
+    for i in range(1, len(q) + 1):
+        for j in range(1, len(r) + 1):
+            c = math.dist(q[i - 1], r[j - 1])
+            table[i, j] = c + min(table[i - 1, j], table[i, j - 1], table[i - 1, j - 1])
+    return math.exp(-table[-1, -1] / (len(r) * threshold))
+
+
+def test_ndtw_of_many_pairs_equals_each_pair_alone(monkeypatch: pytest.MonkeyPatch):
+    rng = np.random.default_rng(5)
+    trajectories, references, thresholds = [], [], []
+    for k in range(120):
+        path = np.cumsum(rng.normal(0.0, rng.uniform(0.05, 2.0), (int(rng.integers(1, 90)), 3)), axis=0)
+        reference = np.cumsum(rng.normal(0.0, rng.uniform(0.05, 2.0), (int(rng.integers(2, 40)), 3)), axis=0)
+        if k % 11 == 0:  # standing still: one point
+            path[:] = path[0]
+        if k % 13 == 0:  # a reference of no length
+            reference[:] = reference[0]
+        trajectories.append(path)
+        references.append(reference)
+        thresholds.append(float(rng.uniform(0.5, 2.0)))
+    alone = [_ndtw_row_by_row(*pair) for pair in zip(trajectories, references, thresholds, strict=True)]
+    assert ndtw_many(trajectories, references, thresholds=thresholds).tolist() == alone  # exactly
+    for k in (0, 1, 7, 50):
+        assert ndtw(trajectories[k], references[k], threshold=thresholds[k]) == alone[k]
+        assert alone[k] == pytest.approx(_ndtw_textbook(trajectories[k], references[k], thresholds[k]))
+    monkeypatch.setattr(measures, "_DTW_CELLS", 40)  # groups of a few pairs, or one: the same values
+    assert ndtw_many(trajectories, references, thresholds=thresholds).tolist() == alone
+    assert ndtw_many([], [], thresholds=[]).tolist() == []
+
+
 def test_batched_equals_one_at_a_time():
     trajectories, targets = [A, B, A], [target(), target(), target(goal=(1.05, 9.05, 0.55))]
     together = score(trajectories, targets, stops=[True, False, True])
@@ -155,3 +205,32 @@ def test_batched_equals_one_at_a_time():
             assert alone[name][0] == values[i] or (
                 alone[name][0] != alone[name][0] and values[i] != values[i]
             )
+
+
+def test_metric_rows_hold_each_defined_value_rounded_and_none_elsewhere():
+    from navverse.eval.metrics import LABELS, METRICS
+    from navverse.eval.scoring import metric_rows
+
+    rng = np.random.default_rng(2)
+    kinds = [("objnav", "indoor"), ("vln", "i2o"), ("placenav", "outdoor"), ("objnav", "i2o")]
+    facts = [
+        {"episode_id": f"e{i}", "scene_id": "s", "task": kinds[i % 4][0], "scene_type": kinds[i % 4][1],
+         "difficulty": "easy"}
+        for i in range(40)
+    ]  # fmt: skip
+    values = {name: rng.normal(0.0, 10.0, 40) for name in METRICS}
+    values["success"] = rng.random(40) < 0.5  # a bool array: its rows hold floats
+    values["spl"][::7] = np.nan
+    values["ne"][::9] = np.inf
+    values["label"] = np.array(LABELS, dtype=object)[rng.integers(0, len(LABELS), 40)]
+    rows = metric_rows(facts, values)
+    for i, (fact, row) in enumerate(zip(facts, rows, strict=True)):
+        assert row["label"] == values["label"][i] and {k: row[k] for k in fact} == fact
+        for name, spec in METRICS.items():
+            if name.startswith("_"):
+                assert name not in row
+                continue
+            v = float(values[name][i])
+            defined = spec.applies(fact["task"], fact["scene_type"]) and math.isfinite(v)
+            assert row[name] == (round(v, 6) if defined else None), (i, name)
+            assert row[name] is None or type(row[name]) is float

@@ -24,8 +24,8 @@ from navverse.dataset import (
 )
 from navverse.eval import figures, screenshot
 from navverse.eval.metrics import METRICS, STATISTICS
-from navverse.eval.report import HEADLINE, write_report
-from navverse.eval.scoring import EvalResult, score
+from navverse.eval.report import HEADLINE, PictureBackdrops, write_report
+from navverse.eval.scoring import EvalResult, labelled_episodes, score
 from navverse.eval.screenshot import ScreenshotError, find_browser, screenshot_report
 from navverse.eval.submission import Submission, read_submission
 from navverse.eval.tables import HEADERS, TABLES, table_rows
@@ -157,6 +157,7 @@ def test_the_report_holds_the_header_tables_and_one_card_per_episode(scored):
             assert re.search(rf'<th( title="[^"]+")?>{re.escape(html.escape(cell))}</th>', text), (name, cell)
     assert "objnav: easy &lt; 4.00 m" in text  # the difficulty thresholds
     assert "Submission problems (1)" in text and "holds NaN or infinity" in text
+    assert '<p class="chosen">Every episode has a card (a report draws at most 60:' in text
     # One card per episode, failures first; the invalid ones say why, without a picture.
     cards = re.findall(r'<div class="card" id="ep-([^"]+)" data-label="([^"]+)"', text)
     assert sorted(cards) == sorted(LABELS.items())
@@ -259,7 +260,7 @@ def test_rewriting_replaces_the_report_atomically(scored, tmp_path: Path):
         result, dataset=dataset, submission=submission, scene_dirs=scene_dirs, out_dir=target,
         progress=lambda done, total: calls.append((done, total)),
     )  # fmt: skip
-    assert calls == [(i, 6) for i in range(1, 7)]
+    assert calls == [(i, 6) for i in range(7)]  # every episode has a card: none drawn, then each
     assert first == second and [p.name for p in target.iterdir()] == ["report.html"]
     assert "Evaluation of toy.jsonl" in second.read_text() and "Run &lt;1&gt;" not in second.read_text()
 
@@ -362,3 +363,122 @@ def test_a_scene_s_fields_and_its_renderer_are_never_in_memory_together(
     )
     assert len(live_at_strips) == 4 and not any(live_at_strips)  # four cards have a trajectory
     assert again.read_bytes() == out.read_bytes()
+
+
+# ------------------------------------------------------------------------------------------ pictured cards
+
+
+def _cards_and_rows(text: str) -> tuple[list[str], list[str]]:
+    cards = re.findall(r'<div class="card" id="ep-([^"]+)"', text)
+    rows = re.findall(r'<tr id="ep-([^"]+)">', text)
+    return cards, rows
+
+
+def _card(text: str, episode_id: str) -> str:
+    """The HTML of an episode's card: its pictures, up to the end of its caption."""
+    start = text.index(f'<div class="card" id="ep-{episode_id}"')
+    end = text.index("</div></div>", text.index('<div class="cap">', start))
+    return text[start:end]
+
+
+def test_a_report_draws_at_most_pictures_cards_and_lists_every_other_episode_as_a_row(scored, tmp_path: Path):
+    result, dataset, submission, scene_dirs, out = scored
+    calls = []
+    text = write_report(
+        result, dataset=dataset, submission=submission, scene_dirs=scene_dirs, out_dir=tmp_path, pictures=3,
+        progress=lambda done, total: calls.append((done, total)),
+    ).read_text(encoding="utf-8")  # fmt: skip
+    assert calls == [(i, 3) for i in range(4)]
+    cards, rows = _cards_and_rows(text)
+    # The labels of the episodes with a trajectory take turns, failures first: the fall, the timeout,
+    # the wrong goal; the success and the episodes without a valid record are rows.
+    assert cards == ["room-objnav-0002", "room-vln-0000", "room-objnav-0001"]
+    assert sorted(rows) == ["room-objnav-0000", "room-objnav-0003", "room-vln-0001"]
+    assert sorted(cards + rows) == sorted(LABELS)  # each once: every link of the scored ids leads somewhere
+    assert "3 of the 6 episodes have a card (a report draws at most 3:" in text
+    assert "the termination labels take turns (fall, timeout, wrong goal, success)" in text
+    # Under its label's heading, a row holds what a card's caption shows; an invalid one, its problem.
+    success = _between(text, 'id="label-success"', "</table>")
+    assert "success (1)" in success and '<tr id="ep-room-objnav-0000"><td>room-objnav-0000</td>' in success
+    assert "<td>objnav</td><td>tiny_room</td><td>i2o</td><td>easy</td><td>100.0</td>" in success
+    invalid = _between(text, 'id="label-invalid"', "</table>")
+    assert "invalid (2)" in invalid and '<div class="card"' not in invalid
+    assert '<td class="why">no record in the submission</td>' in invalid
+    assert '<td class="why">line 5 (room-vln-0001): trajectory row 1 holds NaN or infinity' in invalid
+    glossary = _between(text, '<h2 id="metrics">', "</table>")
+    for column in ("SR (%)", "SPL (%)", "NE (m)", "P (m)"):  # the rows' columns are defined
+        assert f"<td>{html.escape(column)}</td>" in glossary, column
+    # The pictured cards are those of the report that pictures every episode.
+    full = out.read_text(encoding="utf-8")
+    for episode_id in cards:
+        assert _card(text, episode_id) == _card(full, episode_id)
+    assert len(re.findall(r"data:image/png;base64,", text)) == 1 + 3  # the summary and the three cards
+
+
+def test_a_report_without_cards_lists_every_episode(scored, tmp_path: Path):
+    result, dataset, submission, scene_dirs, _ = scored
+    text = write_report(
+        result, dataset=dataset, submission=submission, scene_dirs=scene_dirs, out_dir=tmp_path, pictures=0
+    ).read_text(encoding="utf-8")
+    cards, rows = _cards_and_rows(text)
+    assert cards == [] and sorted(rows) == sorted(LABELS) and "0 of the 6 episodes have a card" in text
+    with pytest.raises(ValueError, match="pictures must be 0 or more"):
+        write_report(result, dataset=dataset, submission=submission, scene_dirs=scene_dirs, out_dir=tmp_path,
+                     pictures=-1)  # fmt: skip
+
+
+def test_the_scoring_s_fields_serve_the_report_s_pictures(
+    scored, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+):
+    from navverse.eval import figures, scoring
+
+    _, dataset, submission, scene_dirs, out = scored
+    monkeypatch.setenv("NAVVERSE_CACHE_DIR", str(out.parent.parent / "cache"))
+    loads: list[str] = []
+    for module in (scoring, figures):
+        load = module.load_scene_fields
+        monkeypatch.setattr(module, "load_scene_fields", lambda d, load=load: loads.append(str(d)) or load(d))
+    backdrops = PictureBackdrops(dataset, submission, split="eval", scene_dirs=scene_dirs)
+    again = score(dataset, submission, split="eval", scene_dirs=scene_dirs, on_fields=backdrops.take)
+    assert len(loads) == 2  # once per scene with a valid record, by the scoring
+    assert sorted(backdrops.crops) == sorted(e for e, label in LABELS.items() if label != "invalid")
+    page = write_report(
+        again, dataset=dataset, submission=submission, scene_dirs=scene_dirs, out_dir=tmp_path,
+        backdrops=backdrops,
+    )  # fmt: skip
+    assert len(loads) == 2  # and never again by the report
+    assert page.read_bytes() == out.read_bytes()  # the same pictures as over the fields themselves
+
+
+def test_backdrops_cut_for_another_robot_are_not_used(
+    scored, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+):
+    # The turtlebot's success circles are smaller: its pictures' limits, and crops, differ from spot's.
+    _, dataset, submission, scene_dirs, out = scored
+    monkeypatch.setenv("NAVVERSE_CACHE_DIR", str(out.parent.parent / "cache"))
+    backdrops = PictureBackdrops(
+        dataset, submission, split="eval", scene_dirs=scene_dirs, embodiment="turtlebot"
+    )
+    result = score(dataset, submission, split="eval", scene_dirs=scene_dirs, on_fields=backdrops.take)
+    assert backdrops.embodiment == "turtlebot" and len(backdrops.crops) == 4
+    page = write_report(
+        result,
+        dataset=dataset,
+        submission=submission,
+        scene_dirs=scene_dirs,
+        out_dir=tmp_path,
+        backdrops=backdrops,
+    )  # spot's report, over the scenes' fields
+    assert page.read_bytes() == out.read_bytes()
+
+
+def test_the_labels_known_before_scoring_are_the_scored_ones(scored, monkeypatch: pytest.MonkeyPatch):
+    _, dataset, submission, scene_dirs, out = scored
+    monkeypatch.setenv("NAVVERSE_CACHE_DIR", str(out.parent.parent / "cache"))
+    keys = ("episode_id", "scene_id", "task", "scene_type", "difficulty", "label")
+    for which in ("all", "submitted"):
+        again = score(dataset, submission, split="eval", scene_dirs=scene_dirs, episodes=which)
+        early = labelled_episodes(dataset, submission, split="eval", episodes=which)
+        assert early == [{k: row[k] for k in keys} for row in again.episodes]
+        assert len(early) == (6 if which == "all" else 5)  # one episode has no line
+    assert {row["label"] for row in early} == set(LABELS.values())  # every label

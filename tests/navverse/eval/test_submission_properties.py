@@ -168,3 +168,24 @@ def test_the_line_scan_counts_what_a_character_loop_counts(raw: bytes):
         finally:
             submission._SCAN_BYTES = original
         assert (found.containers, found.commas, found.deepest) == expected
+
+
+@given(
+    json_values.map(lambda v: json.dumps(v).encode())
+    | st.binary(max_size=200)
+    | st.text(alphabet='[]{}",ab', max_size=200).map(str.encode)
+)
+def test_the_scan_of_a_line_without_escapes_counts_what_a_character_loop_counts(raw: bytes):
+    from navverse.eval import submission
+
+    raw = raw.replace(b"\\", b"")  # the fast scan's lines: no backslash, any number of quotes
+    expected = _reference_structure(raw)
+    for size in (2, 5, submission._SCAN_BYTES):
+        original = submission._SCAN_BYTES
+        submission._SCAN_BYTES = size
+        try:
+            found = submission._plain_structure(raw)
+        finally:
+            submission._SCAN_BYTES = original
+        assert (found.containers, found.commas, found.deepest) == expected
+        assert found.in_string == raw.count(b'"') % 2
