@@ -14,6 +14,9 @@ from pathlib import Path
 import pytest
 import yaml
 
+from pipeline.workspace import Workspace
+from tests.stages.conftest import build_all
+
 REPO = Path(__file__).resolve().parents[1]
 NAVVERSE = str(Path(sys.executable).parent / "navverse")
 
@@ -27,11 +30,13 @@ def run(root: Path, *args: str, timeout: float = 600) -> subprocess.CompletedPro
 
 
 def copy_recipes(root: Path, *, only: str | None = None) -> Path:
+    """The shipped recipes and raw data in a workspace at ``root``; with ``only`` (a glob, or globs
+    joined by ``|``), only the scene recipes it matches, and no dataset (its scenes are gone)."""
     shutil.copytree(REPO / "recipes", root / "recipes")
     shutil.copytree(REPO / "data" / "raw", root / "data" / "raw")  # the files recipes read
-    if only is not None:  # these scene recipes, and no dataset (its scenes are gone)
+    if only is not None:
         for path in (root / "recipes" / "scenes").rglob("*.yaml"):
-            if not path.match(only):
+            if not any(path.match(pattern) for pattern in only.split("|")):
                 path.unlink()
         shutil.rmtree(root / "recipes" / "datasets")
     return root
@@ -94,9 +99,12 @@ def test_unknown_target_and_missing_scene_are_clean_errors(tmp_path):
     assert "Traceback" not in result.stderr
 
 
+@pytest.mark.slow(seconds=15)
 def test_build_twice_then_edit_one_recipe(tmp_path):
+    # The stages run in the command's process (--jobs 0): what is built is this test's concern, the
+    # workers are test_sigkill_mid_build_then_resume_matches_clean_build's.
     copy_recipes(tmp_path, only="*corridor.yaml")
-    first = run(tmp_path, "build", "--jobs", "2")
+    first = run(tmp_path, "build", "--jobs", "0")
     assert first.returncode == 0, first.stderr + first.stdout
     assert "4 built" in first.stdout  # blockout and navmesh of each corridor
     second = run(tmp_path, "build")
@@ -106,7 +114,7 @@ def test_build_twice_then_edit_one_recipe(tmp_path):
     recipe = tmp_path / "recipes" / "scenes" / "blockout" / "corridor.yaml"
     recipe.write_text(recipe.read_text().replace("radius: 0.25", "radius: 0.3"))
     assert "1 stale" in run(tmp_path, "status").stdout
-    third = run(tmp_path, "build")
+    third = run(tmp_path, "build", "--jobs", "0")
     assert third.returncode == 0
     assert (
         "built corridor:blockout" in third.stdout
@@ -122,11 +130,15 @@ def test_build_twice_then_edit_one_recipe(tmp_path):
     assert shown.returncode == 0 and out.stat().st_size > 10_000
 
 
+@pytest.mark.slow(seconds=35)
 def test_sigkill_mid_build_then_resume_matches_clean_build(tmp_path):
-    # The blockout scenes (blockout and navmesh stages): enough stage runs to land the kill mid-build.
-    clean = copy_recipes(tmp_path / "clean", only="*/blockout/*.yaml")
-    killed = copy_recipes(tmp_path / "killed", only="*/blockout/*.yaml")
-    assert run(clean, "build", "--jobs", "2").returncode == 0
+    # Three blockout scenes (blockout and navmesh stages): six stage runs, each in a worker of its own,
+    # so the kill lands mid-build. The clean build, what the resumed one must match, is made in this
+    # process.
+    scenes = "*/box-room.yaml|*/corridor.yaml|*/two-rooms.yaml"
+    clean = copy_recipes(tmp_path / "clean", only=scenes)
+    killed = copy_recipes(tmp_path / "killed", only=scenes)
+    assert build_all(Workspace(clean)).report.ok
     env = {**os.environ, "NAVVERSE_ROOT": str(killed)}
     process = subprocess.Popen(
         [NAVVERSE, "build", "--jobs", "2"],

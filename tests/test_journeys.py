@@ -29,7 +29,6 @@ from PIL import Image
 REPO = Path(__file__).resolve().parents[1]
 MARKER = re.compile(r"^<!-- journey: ([a-z0-9-]+) -->\n```(bash|python)\n(.*?)^```", re.M | re.S)
 
-pytestmark = pytest.mark.slow
 TIMEOUT = 1200
 """Seconds a journey's step may take (a hang, e.g. a worker waiting for its parent's lock, fails)."""
 
@@ -73,6 +72,7 @@ def test_a_journey_shown_twice_must_be_the_same(tmp_path: Path):
         journeys([tmp_path / "a.md", tmp_path / "b.md"])
 
 
+@pytest.mark.slow(seconds=120)
 def test_own_city_then_the_python_api_run_as_documented(tmp_path: Path):
     found = journeys()
     language, commands, _ = found["own-city"]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -37,13 +38,9 @@ def toy_workspace(root: Path, recipes: dict[str, str]) -> Path:
 
 def start(root: Path, *args: str, marker: str | None = None) -> subprocess.Popen[str]:
     """Start ``navverse <args>`` in its own session, every process of it tagged with ``marker``."""
-    env = {
-        **os.environ,
-        "NAVVERSE_ROOT": str(root),
-        "PYTHONPATH": str(REPO),
-        "NAVVERSE_TEST_MARKER": marker or uuid.uuid4().hex,
-    }
-    return subprocess.Popen(
+    marker = marker or uuid.uuid4().hex
+    env = {**os.environ, "NAVVERSE_ROOT": str(root), "PYTHONPATH": str(REPO), "NAVVERSE_TEST_MARKER": marker}
+    process = subprocess.Popen(
         [sys.executable, str(root / "drive.py"), *args],
         env=env,
         cwd=root,
@@ -52,6 +49,25 @@ def start(root: Path, *args: str, marker: str | None = None) -> subprocess.Popen
         stderr=subprocess.PIPE,
         text=True,
     )
+    _started.append((process, marker))
+    return process
+
+
+_started: list[tuple[subprocess.Popen[str], str]] = []
+"""The commands :func:`start` started, with their markers, since :func:`end_leftovers` last ran."""
+
+
+def end_leftovers() -> None:
+    """Kill every process of the commands :func:`start` started that still runs, found by its marker:
+    a test that failed midway leaves its build waiting at a gate (on Ray, a whole cluster), which
+    would otherwise share the machine with the tests that follow."""
+    for process, marker in _started:
+        for member in marked(marker):
+            with contextlib.suppress(psutil.Error):
+                member.kill()
+        with contextlib.suppress(subprocess.TimeoutExpired):  # reaped and its pipes closed (a no-op if done)
+            process.communicate(timeout=30)
+    _started.clear()
 
 
 def run(root: Path, *args: str, timeout: float = 120) -> subprocess.CompletedProcess[str]:

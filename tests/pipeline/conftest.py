@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import textwrap
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -10,6 +11,7 @@ import pytest
 import tests.pipeline.example_stages  # noqa: F401  (registers the example stages)
 from pipeline.stage import registered_stages
 from pipeline.workspace import Workspace
+from tests.pipeline.cli_helpers import end_leftovers
 
 EXAMPLE_STAGES = (
     *("ex_numbers", "ex_sum", "ex_gather", "ex_slow", "ex_read_file"),
@@ -21,6 +23,14 @@ def write(path: Path, text: str) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(textwrap.dedent(text).lstrip())
     return path
+
+
+@pytest.fixture(autouse=True)
+def no_build_left_running() -> Iterator[None]:
+    """After each test, end the builds it started that still run (it failed midway), so that no later
+    test of the worker shares the machine with them."""
+    yield
+    end_leftovers()
 
 
 @pytest.fixture

@@ -121,6 +121,7 @@ def test_map_error_on_ray_leaves_the_caller_running(ray_instance):
     assert run_map(fails_early, [1, 3], fanout=FanOut("ray", 2), chunksize=1) == [-1, -3]
 
 
+@pytest.mark.slow(seconds=25)
 def test_ctrl_c_on_a_ray_build_ends_every_process_and_the_build_resumes(tmp_path):
     root = toy_workspace(tmp_path / "ws", {"slow.yaml": GATED.format(child="true")})
     marker = f"ray-interrupt-{os.getpid()}"

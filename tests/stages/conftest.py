@@ -1,8 +1,9 @@
 """Build shipped scene recipes through the engine, in this process, in a throw-away workspace.
 
-Also the tiny dataset (ObjNav and VLN over ``apartment-s0``/``-s1``) that the dataset, run-agent and
-report tests share (fixtures ``built`` and ``dataset``, built once per test module), and
-:func:`navverse_command` to run the ``navverse`` command in such a workspace.
+Also the tiny dataset (ObjNav and VLN over ``apartment-s0``/``-s1``) that the dataset, run-agent,
+merge and review tests share (built once per test process by the session fixture ``tiny_build`` of
+``tests/conftest.py``; fixtures ``built`` and ``dataset`` give each test module a copy of its own),
+and :func:`navverse_command` to run the ``navverse`` command in such a workspace.
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ import os
 import shutil
 import subprocess
 import sys
-from collections.abc import Iterable
+from collections.abc import Callable, Collection, Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -64,9 +65,10 @@ def workspace_with(root: Path, recipes: Iterable[str], extra: dict[str, str] | N
     return workspace
 
 
-def build_all(workspace: Workspace) -> Built:
-    """Build every target of the workspace in this process."""
+def build_all(workspace: Workspace, *, only: Collection[str] | None = None) -> Built:
+    """Build every target of the workspace (``only`` those named, when given) in this process."""
     targets = RecipeLoader(workspace, stages=discover("stages")).load()
+    targets = [target for target in targets if only is None or target.id in only]
     store = ArtifactStore(workspace.built_dir)
     report = run_build(build_graph(targets), store, lambda: make_executor(0), console=Console(quiet=True))
     return Built(workspace, store, report)
@@ -93,13 +95,27 @@ stages:
 """
 
 
-@pytest.fixture(scope="module")
-def built(tmp_path_factory: pytest.TempPathFactory) -> Built:
-    """A workspace with the apartment scenes and the tiny dataset built."""
-    workspace = workspace_with(tmp_path_factory.mktemp("ds"), [SCENES], {"datasets/tiny.yaml": DATASET})
-    result = build_all(workspace)
+def build_tiny(root: Path) -> Built:
+    """The apartment scenes (``apartment-s0``, ``-s1``) and the tiny dataset built in a new workspace
+    at ``root``, in this process."""
+    result = build_all(workspace_with(root, [SCENES], {"datasets/tiny.yaml": DATASET}))
     assert result.report.ok, result.report
     return result
+
+
+def copy_built(built: Built, root: Path) -> Built:
+    """A copy of the workspace of ``built`` at ``root`` (recipes and build store; the store's links
+    are relative), to change as a test pleases; its report is the original build's."""
+    shutil.copytree(built.workspace.root, root, symlinks=True)
+    workspace = Workspace(root)
+    return Built(workspace, ArtifactStore(workspace.built_dir), built.report)
+
+
+@pytest.fixture(scope="module")
+def built(tiny_build: Built, tmp_path_factory: pytest.TempPathFactory) -> Built:
+    """A workspace with the apartment scenes and the tiny dataset built (a copy of the test process's
+    :func:`~tests.conftest.tiny_build`, shared by the module's tests)."""
+    return copy_built(tiny_build, tmp_path_factory.mktemp("ds") / "ws")
 
 
 @pytest.fixture(scope="module")
@@ -117,3 +133,23 @@ def navverse_command(root: Path, *args: str) -> subprocess.CompletedProcess[str]
     """Run ``navverse ARGS`` with ``root`` as the workspace; its output is captured."""
     env = {**os.environ, "NAVVERSE_ROOT": str(root)}
     return subprocess.run([NAVVERSE, *args], env=env, capture_output=True, text=True, cwd=root, timeout=600)
+
+
+@pytest.fixture
+def navverse_here(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> Callable[..., subprocess.CompletedProcess[str]]:
+    """:func:`navverse_command`, but in this process (``navverse.cli.main``), with ``root`` as the
+    working folder too: for build commands, whose engine hashes the code of the stages once per
+    process, seconds that every new ``navverse`` process spends again."""
+    from navverse.cli import main
+
+    def run(root: Path, *args: str) -> subprocess.CompletedProcess[str]:
+        monkeypatch.setenv("NAVVERSE_ROOT", str(root))
+        monkeypatch.chdir(root)
+        capsys.readouterr()  # not what came before
+        code = main(list(args))
+        out, err = capsys.readouterr()
+        return subprocess.CompletedProcess(["navverse", *args], code, out, err)
+
+    return run

@@ -24,25 +24,38 @@ extends: i2o
 stages:
   assemble_i2o: {options}
 links:
-  city: {{artifact: geometry, targets: [city]}}
+  city: {{artifact: geometry, targets: [{city}]}}
   building: {{artifact: geometry, targets: [cafe]}}
 """
+RULED_CITY = """\
+extends: outdoor-city
+stages:
+  synthetic_city: {size: [200, 200], sidewalk: 3.5}
+  populate: {exclude: [street_lamp, sedan, suv], clear_width: 2.0}
+  storefronts: {categories: [bank, pharmacy]}
+"""
+EXCLUDED = {"street_lamp", "sedan", "suv"}
 
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory: pytest.TempPathFactory) -> Built:
+    """The cafe joined to a city of default settings (``cafe-city``) and to a city of its own rules
+    (``ruled-cafe-city``, over ``ruled-city``)."""
     workspace = workspace_with(
         tmp_path_factory.mktemp("i2o") / "ws",
         [],
         {
             "scenes/city.yaml": CITY,
+            "scenes/ruled-city.yaml": RULED_CITY,
             "scenes/cafe.yaml": CAFE,
-            "scenes/cafe-city.yaml": I2O.format(options="{}"),
+            "scenes/cafe-city.yaml": I2O.format(options="{}", city="city"),
+            "scenes/ruled-cafe-city.yaml": I2O.format(options="{storefronts_nearby: 6}", city="ruled-city"),
         },
     )
     return build_all(workspace)
 
 
+@pytest.mark.slow(seconds=40)  # the module's build
 def test_a_cafe_joined_to_a_city_is_an_i2o_scene(built: Built) -> None:
     assert not built.report.failed
     scene = read_annotations(built.output("cafe-city", "scene"))
@@ -73,7 +86,7 @@ def test_the_neighbourhood_of_the_exit_is_densified(built: Built) -> None:
 
 def test_a_building_that_fits_no_facade_is_refused_and_nothing_is_written(built: Built) -> None:
     root = built.workspace.root
-    recipe = I2O.format(options="{max_road_distance: 0.5}")  # no facade faces a road that near
+    recipe = I2O.format(options="{max_road_distance: 0.5}", city="city")  # no facade faces a road that near
     (root / "recipes" / "scenes" / "cafe-wide.yaml").write_text(recipe)
     result = navverse_command(root, "build", "cafe-wide")
     output = result.stdout + result.stderr
@@ -82,17 +95,7 @@ def test_a_building_that_fits_no_facade_is_refused_and_nothing_is_written(built:
     assert not (root / "data" / "built" / "targets" / "cafe-wide").exists()
 
 
-RULED_CITY = """\
-extends: outdoor-city
-stages:
-  synthetic_city: {size: [200, 200], sidewalk: 3.5}
-  populate: {exclude: [street_lamp, sedan, suv], clear_width: 2.0}
-  storefronts: {categories: [bank, pharmacy]}
-"""
-EXCLUDED = {"street_lamp", "sedan", "suv"}
-
-
-def test_densification_follows_the_city_s_own_settings(tmp_path_factory: pytest.TempPathFactory) -> None:
+def test_densification_follows_the_city_s_own_settings(built: Built) -> None:
     """The settings travel: the neighbourhood of the exit is densified by the linked city's
     population and storefront settings (carried in its city_settings.json), not by defaults."""
     from navverse.city.city_settings import load_city_settings
@@ -101,25 +104,15 @@ def test_densification_follows_the_city_s_own_settings(tmp_path_factory: pytest.
     from navverse.city.map import read_city_map
     from navverse.city.street_life.zones import street_zones
 
-    workspace = workspace_with(
-        tmp_path_factory.mktemp("i2o-rules") / "ws",
-        [],
-        {
-            "scenes/city.yaml": RULED_CITY,
-            "scenes/cafe.yaml": CAFE,
-            "scenes/cafe-city.yaml": I2O.format(options="{storefronts_nearby: 6}"),
-        },
-    )
-    built = build_all(workspace)
     assert not built.report.failed
-    city_dir = built.output("city", "geometry")
+    city_dir = built.output("ruled-city", "geometry")
     carried = load_city_settings(city_dir / "city_settings.json")
     assert set(carried.populate.exclude) == EXCLUDED and carried.populate.clear_width == 2.0
     assert carried.storefronts.categories == ["bank", "pharmacy"]
 
     city = read_annotations(city_dir)
-    scene = read_annotations(built.output("cafe-city", "scene"))
-    added = built.manifest("cafe-city", "geometry")["stats"]["densified"]
+    scene = read_annotations(built.output("ruled-cafe-city", "scene"))
+    added = built.manifest("ruled-cafe-city", "geometry")["stats"]["densified"]
     assert sum(added["objects"].values()) > 0 and sum(added["cars"].values()) > 0
     assert not EXCLUDED & set(added["objects"]) and not EXCLUDED & set(added["cars"])
     assert not EXCLUDED & {o.category for o in scene.objects}

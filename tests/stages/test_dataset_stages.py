@@ -181,7 +181,9 @@ def test_splits_that_miss_a_scene_fail_the_build_with_what_to_change(built: Buil
     assert "apartment-s1" in str(report) and "split" in str(report)
 
 
-def test_a_quota_keeps_that_many_and_a_shortfall_warns(built: Built, dataset: Dataset, tmp_path: Path):
+def test_a_quota_keeps_that_many_and_a_shortfall_warns(
+    built: Built, dataset: Dataset, tmp_path: Path, navverse_here
+):
     counts = dataset.manifest.counts
     available = sum(counts["eval"]["objnav"].values())
     assert available >= 2  # the quota below must bite
@@ -192,7 +194,7 @@ def test_a_quota_keeps_that_many_and_a_shortfall_warns(built: Built, dataset: Da
     root = tmp_path / "w"
     workspace = workspace_with(root, [SCENES], {"datasets/tiny.yaml": text})
     shutil.copytree(built.workspace.built_dir, workspace.built_dir, symlinks=True)
-    result = navverse_command(root, "build", "tiny", "--jobs", "1")
+    result = navverse_here(root, "build", "tiny", "--jobs", "0")  # only the packaging runs
     output = " ".join((result.stdout + result.stderr).split())
     assert result.returncode == 0, output
     vln = sum(counts["eval"]["vln"].values())
@@ -251,19 +253,28 @@ def test_dataset_commands_refuse_bad_datasets_cleanly(dataset: Dataset, tmp_path
     assert result.returncode == 1 and message in result.stderr and "Traceback" not in result.stderr
 
 
-def test_building_a_published_version_with_other_content_is_refused(built: Built, tmp_path: Path):
+@pytest.mark.slow(seconds=15)
+def test_building_a_published_version_with_other_content_is_refused(
+    built: Built, tmp_path: Path, navverse_here
+):
     root = tmp_path / "w"
     workspace = workspace_with(root, [SCENES], {"datasets/tiny.yaml": DATASET})
     shutil.copytree(built.workspace.built_dir, workspace.built_dir, symlinks=True)
-    first = navverse_command(root, "build", "tiny", "--jobs", "1")
+    # The command and its stages run in this process: publishing is what this test is about.
+    first = navverse_here(root, "build", "tiny", "--jobs", "0")
     assert first.returncode == 0, first.stderr
     assert "published: episodes/tiny/v1.0" in first.stdout
     published = Dataset(root / "episodes" / "tiny" / "v1.0")
-    again = navverse_command(root, "build", "tiny", "--jobs", "1")
+    again = navverse_here(root, "build", "tiny", "--jobs", "0")
     assert again.returncode == 0 and "up to date: episodes/tiny/v1.0" in again.stdout
-    # Other seeds, same version: refused, and the published files are untouched.
-    (workspace.recipes_dir / "datasets" / "tiny.yaml").write_text(DATASET.replace("seed: 3", "seed: 4"))
-    changed = navverse_command(root, "build", "tiny", "--jobs", "1")
+    # Other content, same version: refused, and the published files are untouched. The scenes' splits
+    # swapped: only the packaging runs again.
+    swapped = DATASET.replace(
+        'splits: {train: ["*-s0"], eval: ["*-s1"]}', 'splits: {train: ["*-s1"], eval: ["*-s0"]}'
+    )
+    assert swapped != DATASET
+    (workspace.recipes_dir / "datasets" / "tiny.yaml").write_text(swapped)
+    changed = navverse_here(root, "build", "tiny", "--jobs", "0")
     assert changed.returncode == 1 and "Traceback" not in changed.stderr
     assert (
         "already published with different content" in changed.stderr
@@ -272,10 +283,13 @@ def test_building_a_published_version_with_other_content_is_refused(built: Built
     assert published.verify_checksums() == []
     # A new version is published beside it.
     (workspace.recipes_dir / "datasets" / "tiny.yaml").write_text(
-        DATASET.replace("seed: 3", "seed: 4").replace('version: "1.0"', 'version: "1.1"')
+        swapped.replace('version: "1.0"', 'version: "1.1"')
     )
-    bumped = navverse_command(root, "build", "tiny", "--jobs", "1")
+    bumped = navverse_here(root, "build", "tiny", "--jobs", "0")
     assert bumped.returncode == 0 and "published: episodes/tiny/v1.1" in bumped.stdout
+    assert [e.episode_id for e in Dataset(root / "episodes" / "tiny" / "v1.1").episodes(split="eval")] == [
+        e.episode_id for e in published.episodes(split="train")
+    ]
 
 
 def _oracle_lines(dataset: Dataset, split: str) -> list[dict]:

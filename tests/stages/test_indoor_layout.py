@@ -46,15 +46,12 @@ def test_builds_a_complete_scene(built: Built):
 
 
 def test_same_recipe_and_seed_give_the_same_bytes(built: Built, tmp_path: Path):
-    again = build_all(workspace_with(tmp_path, [RECIPE]))
-    for target in ("cafe-s0", "cafe-s1"):
-        for artifact in ("raw_geometry", "geometry", "scene"):
-            first, second = (
-                SceneFiles(built.output(target, artifact)),
-                SceneFiles(again.output(target, artifact)),
-            )
-            assert _digest(first.annotations) == _digest(second.annotations), (target, artifact)
-            assert _digest(first.usd) == _digest(second.usd), (target, artifact)
+    again = build_all(workspace_with(tmp_path, [RECIPE]), only={"cafe-s0"})  # one seed built again
+    assert again.report.ok, again.report.failed
+    for artifact in ("raw_geometry", "geometry", "scene"):
+        first, second = (SceneFiles(b.output("cafe-s0", artifact)) for b in (built, again))
+        assert _digest(first.annotations) == _digest(second.annotations), artifact
+        assert _digest(first.usd) == _digest(second.usd), artifact
     a = json.loads(SceneFiles(built.output("cafe-s0", "scene")).annotations.read_text())
     b = json.loads(SceneFiles(built.output("cafe-s1", "scene")).annotations.read_text())
     assert a["buildings"] != b["buildings"] or a["objects"] != b["objects"]

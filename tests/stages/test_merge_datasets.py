@@ -4,10 +4,12 @@ difficulty relabelled over the whole; parts over the same scene are refused."""
 
 from __future__ import annotations
 
+import shutil
+
 import pytest
 
 from navverse.dataset import Dataset, built_version
-from tests.stages.conftest import SCENES, Built, build_all, navverse_command, workspace_with
+from tests.stages.conftest import SCENES, Built, build_all, workspace_with
 
 PART = """\
 extends: dataset
@@ -34,13 +36,17 @@ stages:
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory: pytest.TempPathFactory) -> Built:
+def built(tiny_build: Built, tmp_path_factory: pytest.TempPathFactory) -> Built:
+    """The parts and their merge built over the apartment scenes the test process has built
+    (:func:`~tests.conftest.tiny_build`: its store is copied, so the scenes are cached)."""
     extra = {
         "datasets/part-a.yaml": PART.format(scene="apartment-s0", split="train"),
         "datasets/part-b.yaml": PART.format(scene="apartment-s1", split="eval"),
         "datasets/merged.yaml": MERGED,
     }
-    result = build_all(workspace_with(tmp_path_factory.mktemp("merge"), [SCENES], extra))
+    workspace = workspace_with(tmp_path_factory.mktemp("merge"), [SCENES], extra)
+    shutil.copytree(tiny_build.workspace.built_dir, workspace.built_dir, symlinks=True)
+    result = build_all(workspace)
     assert result.report.ok, result.report
     return result
 
@@ -64,7 +70,7 @@ def test_the_merged_dataset_holds_both_parts_with_their_splits(built: Built) -> 
     assert [p["name"] for p in stats["parts"]] == ["part-a", "part-b"]
 
 
-def test_parts_over_the_same_scene_are_refused(built: Built) -> None:
+def test_parts_over_the_same_scene_are_refused(built: Built, navverse_here) -> None:
     root = built.workspace.root
     (root / "recipes" / "datasets" / "part-c.yaml").write_text(
         PART.format(scene="apartment-s1", split="eval")
@@ -72,7 +78,7 @@ def test_parts_over_the_same_scene_are_refused(built: Built) -> None:
     (root / "recipes" / "datasets" / "overlap.yaml").write_text(
         MERGED.replace("part-a, part-b", "part-b, part-c")
     )
-    result = navverse_command(root, "build", "overlap")
+    result = navverse_here(root, "build", "overlap", "--jobs", "0")
     output = " ".join((result.stdout + result.stderr).split())
     assert result.returncode == 1 and "Traceback" not in output
     assert "scene 'apartment-s1' is in both part-b v1.0 and part-c v1.0" in output

@@ -41,6 +41,7 @@ def _records(path: Path) -> list[dict]:
     return [json.loads(line) for line in text.splitlines()]
 
 
+@pytest.mark.slow(seconds=25)
 def test_the_oracle_run_is_scored_as_all_successes_whatever_the_process_count(
     built: Built, dataset: Dataset, tmp_path: Path
 ):
@@ -63,6 +64,7 @@ def test_the_oracle_run_is_scored_as_all_successes_whatever_the_process_count(
     assert in_process.read_bytes() == out.read_bytes()
 
 
+@pytest.mark.slow(seconds=12)
 def test_a_failing_agent_is_reported_and_the_run_resumes_once_it_is_fixed(
     built: Built, dataset: Dataset, tmp_path: Path
 ):

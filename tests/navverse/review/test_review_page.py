@@ -31,7 +31,7 @@ from navverse.review.decisions import (
     with_decision,
 )
 from tests.navverse.review.browser import Browser
-from tests.stages.conftest import DATASET, SCENES, Built, build_all, workspace_with
+from tests.stages.conftest import DATASET, Built, build_all, copy_built
 
 REVIEW = f"tiny{REVIEW_SUFFIX}"
 AT = "2025-01-31T09:30:00+00:00"
@@ -46,12 +46,11 @@ def _digests(root: Path) -> dict[str, str]:
 
 
 @pytest.fixture(scope="module")
-def published(tmp_path_factory: pytest.TempPathFactory) -> Built:
-    """The apartment scenes and the tiny dataset built, v1.0 published to the workspace's episodes/."""
-    workspace = workspace_with(tmp_path_factory.mktemp("review"), [SCENES], {"datasets/tiny.yaml": DATASET})
-    built = build_all(workspace)
-    assert built.report.ok, built.report
-    publish(built_version(built.output("tiny", "dataset")), workspace.root / "episodes")
+def published(tiny_build: Built, tmp_path_factory: pytest.TempPathFactory) -> Built:
+    """The apartment scenes and the tiny dataset built (a copy of the test process's
+    :func:`~tests.conftest.tiny_build`), v1.0 published to the workspace's episodes/."""
+    built = copy_built(tiny_build, tmp_path_factory.mktemp("review") / "ws")
+    publish(built_version(built.output("tiny", "dataset")), built.workspace.root / "episodes")
     return built
 
 
@@ -121,6 +120,7 @@ def _pixels_of(image: np.ndarray, rgb: tuple[int, int, int], tolerance: int = 40
 # ---------------------------------------------------------------------------------------------- the page
 
 
+@pytest.mark.slow(seconds=35)
 def test_rejecting_two_episodes_in_the_browser_publishes_a_new_minor_version_without_them(
     published: Built, served: str
 ):
