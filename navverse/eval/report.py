@@ -318,7 +318,7 @@ class _KeyframeStrips:
 
     def strip(self, scene: str, scene_dir: Path, trajectory: np.ndarray, count: int) -> str:
         """A JPEG data URI of `count` frames side by side, along the trajectory, start on the left."""
-        from navverse.scene.directory import read_scene
+        from navverse.scene.scene_cache import cached_scene
         from navverse.sim.camera import CameraIntrinsics
         from navverse.sim.embodiments import make_embodiment
         from navverse.sim.keyframes import render_keyframes
@@ -328,7 +328,7 @@ class _KeyframeStrips:
             self._camera = np.asarray(make_embodiment(self._embodiment).camera_to_base, dtype=float)
         if scene not in self._renderers:
             intrinsics = CameraIntrinsics.from_hfov(*KEYFRAME_SIZE, 90.0)
-            self._renderers[scene] = SceneRenderer(read_scene(scene_dir), intrinsics=intrinsics)
+            self._renderers[scene] = SceneRenderer(cached_scene(scene_dir), intrinsics=intrinsics)
         frames = render_keyframes(self._renderers[scene], trajectory, self._camera, count)
         gap = np.full((KEYFRAME_SIZE[1], 2, 3), 255, dtype=np.uint8)
         row = np.concatenate([part for frame in frames for part in (frame, gap)][:-1], axis=1)

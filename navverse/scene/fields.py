@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import math
 import os
+import zipfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -188,7 +189,7 @@ class SceneFields:
                     class_names=tuple(str(n) for n in data["class_names"]),
                     indoor=data["indoor"].astype(bool),
                 )
-        except (OSError, KeyError, ValueError):
+        except (OSError, zipfile.BadZipFile, KeyError, ValueError):
             return None
 
 

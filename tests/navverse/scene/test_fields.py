@@ -194,3 +194,7 @@ def test_the_cache_round_trips_and_rebuilds_files_of_the_old_format(
         assert SceneFields.load(path) is None
         again = load_scene_fields(scene_dir)
         assert again.has_indoor and SceneFields.load(path) is not None
+    # A file cut short (a full disk, a copy stopped midway) is recomputed too.
+    path.write_bytes(path.read_bytes()[:100])
+    assert SceneFields.load(path) is None
+    assert np.array_equal(load_scene_fields(scene_dir).terrain, fields.terrain)
