@@ -17,7 +17,9 @@ Parts, each on the workspace's own built scenes and dataset:
    child processes by the older verifier (``--before CHECKOUT``, or this checkout with the settings
    of the old path) and by this one, CPU seconds per candidate by scene type (world load included),
    and the verdict agreement with every disagreement.
-3. **eval** -- ``navverse eval`` of a one-line submission (peak memory of the process tree), of
+3. **eval** -- ``navverse eval`` of a one-line submission (peak memory of the process tree; the
+   first time, with the caches of the scene's fields and geometry to fill, and again; with
+   ``--before``, also that checkout's ``navverse``), of
    every eval-split episode's verified rollout as a submission, and of 10 000 trajectories: the
    split's episodes repeated under new ids (the same scenes, goals and rollouts) as a release of their
    own, with its manifest, and its rollouts as the submission. Time and peak memory of each; the time
@@ -154,10 +156,10 @@ def navmesh_table(rows: list[dict]) -> Table:
 # -- eval ------------------------------------------------------------------------------------------
 
 
-def _peak_tree_mb(argv: list[str], *, cwd: Path) -> tuple[int, float, float]:
+def _peak_tree_mb(argv: list[str], *, cwd: Path, env: dict[str, str]) -> tuple[int, float, float]:
     """Run ``argv``: (exit code, wall s, peak RSS of its process tree in MB, sampled every 20 ms)."""
     started = time.perf_counter()
-    process = subprocess.Popen(argv, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    process = subprocess.Popen(argv, cwd=cwd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     root, peak = psutil.Process(process.pid), 0
     while process.poll() is None:
         try:
@@ -235,28 +237,39 @@ SCALED = 10_000
 """Trajectories of the eval part's largest submission."""
 
 
-def eval_part(workspace: Path, dataset: str, split: str, console: Console) -> dict:
-    """``navverse eval``: peak memory of a one-line submission; time and peak memory of the split's
-    rollouts and of :data:`SCALED` trajectories (a release of the split's episodes repeated), and the
-    time per trajectory between the two."""
+def eval_part(workspace: Path, dataset: str, split: str, console: Console, *, before: Path | None) -> dict:
+    """``navverse eval``: peak memory of a one-line submission, the first time on this machine (cold
+    caches: a fresh ``$NAVVERSE_CACHE_DIR``) and again (warm), and with the ``before`` checkout's
+    ``navverse`` (warm); time and peak memory of the split's rollouts (cold, then warm) and of
+    :data:`SCALED` trajectories (a release of the split's episodes repeated, warm), and the time per
+    trajectory between the two warm runs."""
     releases = sorted((workspace / "episodes" / dataset).glob("v*/manifest.json"))
     if not releases:
         console.print(f"[yellow]eval: skipped: {workspace}/episodes/{dataset} has no release[/]")
         return {}
     release = releases[-1].parent
     navverse = str(Path(sys.executable).with_name("navverse"))
+    old = str(before / ".venv" / "bin" / "navverse") if before is not None else None
     result: dict[str, Any] = {"release": str(release)}
     with tempfile.TemporaryDirectory() as temporary:
         folder = Path(temporary)
         scaled = _scaled_release(release, split, SCALED, folder / "scaled")
-        runs = (("one_line", release, 1), ("split", release, None), ("scaled", scaled, None))
-        for name, version, limit in runs:
+        runs = [
+            ("one_line_cold", navverse, release, 1), ("one_line", navverse, release, 1),
+            ("split_cold", navverse, release, None),  # fills the caches of the split's other scenes
+            ("split", navverse, release, None), ("scaled", navverse, scaled, None),
+        ]  # fmt: skip
+        if old is not None:  # its caches its own: the first run fills them
+            runs += [("one_line_before_cold", old, release, 1), ("one_line_before", old, release, 1)]
+        for name, command, version, limit in runs:
             submission = folder / f"{name}.jsonl"
             lines = _rollout_submission(version, split, submission, limit=limit)
             out = folder / f"out-{name}"
-            argv = [navverse, "eval", "--dataset", str(version), "--submission", str(submission),
+            argv = [command, "eval", "--dataset", str(version), "--submission", str(submission),
                     "--split", split, "--out", str(out), "--episodes", "submitted"]  # fmt: skip
-            code, wall, peak = _peak_tree_mb(argv, cwd=workspace)
+            cache = folder / ("cache-before" if "before" in name else "cache")
+            env = {**os.environ, "NAVVERSE_ROOT": str(workspace), "NAVVERSE_CACHE_DIR": str(cache)}
+            code, wall, peak = _peak_tree_mb(argv, cwd=workspace, env=env)
             result[name] = {"lines": lines, "exit": code, "wall_s": wall, "peak_mb": peak}
     split_run, big = result["split"], result["scaled"]
     per_trajectory = max(0.0, big["wall_s"] - split_run["wall_s"]) / max(1, big["lines"] - split_run["lines"])
@@ -371,11 +384,21 @@ def main(argv: Sequence[str] | None = None) -> int:
             workspace, per_type=args.candidates or None, before=args.before, console=console
         )
     if "eval" in args.parts:
-        results["eval"] = ev = eval_part(workspace, args.dataset, args.split, console)
+        results["eval"] = ev = eval_part(workspace, args.dataset, args.split, console, before=args.before)
         if ev:
-            one, split, big = ev["one_line"], ev["split"], ev["scaled"]
+            one, cold, split, big = ev["one_line"], ev["one_line_cold"], ev["split"], ev["scaled"]
+            first = ev["split_cold"]
+            if "one_line_before" in ev:
+                was = ev["one_line_before"]
+                console.print(
+                    f"eval: one line before {was['peak_mb']:.0f} MB peak (exit {was['exit']}), now "
+                    f"{one['peak_mb']:.0f} MB: {was['peak_mb'] / one['peak_mb']:.1f}x less"
+                )
             console.print(
-                f"eval: one line {one['peak_mb']:.0f} MB peak, {one['wall_s']:.1f} s; "
+                f"eval: one line {one['peak_mb']:.0f} MB peak, {one['wall_s']:.1f} s (the first time on this "
+                f"machine, cold caches: {cold['peak_mb']:.0f} MB, {cold['wall_s']:.1f} s); "
+                f"{first['lines']} trajectories with cold caches {first['wall_s']:.1f} s, "
+                f"{first['peak_mb']:.0f} MB peak; warm: "
                 f"{split['lines']} trajectories {split['wall_s']:.1f} s, {split['peak_mb']:.0f} MB peak; "
                 f"{big['lines']} trajectories {big['wall_s']:.1f} s, {big['peak_mb']:.0f} MB peak; "
                 f"{ev['fixed_s']:.1f} s + {1000 * ev['s_per_trajectory']:.2f} ms per trajectory: 10 000 in "

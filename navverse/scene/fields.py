@@ -53,7 +53,7 @@ from scipy import ndimage
 
 from navverse.cache import cache_root
 from navverse.files import atomic_write
-from navverse.scene.geometry import MeshData, Scene
+from navverse.scene.geometry import LabeledMesh, MeshData, Scene
 from navverse.scene_types import scene_profile
 
 __all__ = [
@@ -80,6 +80,9 @@ NO_SURFACE = -1
 """``terrain`` where no terrain surface is below the cell."""
 _GROUND_TOLERANCE = 1e-3
 """A non-navigable terrain face at most this far below the walkable ground is at ground level (m)."""
+RAYS_PER_BAND = 1 << 20
+"""Cells cast at a time by :func:`scene_fields` (about 100 MB of working memory)."""
+
 _FORMAT = 3
 """Version of the cached ``.npz``; a file of another version is recomputed (2 added ``indoor``; 3: the
 obstacles are the body band above the walkable ground, no longer the top surfaces)."""
@@ -280,7 +283,9 @@ def indoor_raster(
     return inside
 
 
-def scene_fields(scene: Scene, *, cell: float | None = None) -> SceneFields:
+def scene_fields(
+    scene: Scene, *, cell: float | None = None, rays_per_band: int = RAYS_PER_BAND
+) -> SceneFields:
     """Compute the fields of a scene (see the module's description).
 
     Parameters
@@ -291,7 +296,17 @@ def scene_fields(scene: Scene, *, cell: float | None = None) -> SceneFields:
         Cell size (m); by default the ``field_cell_m`` of the scene type's profile
         (:mod:`navverse.scene_types`: 0.05 m indoors, 0.1 m elsewhere), coarsened so that the longer
         side has at most 8000 cells.
+    rays_per_band : int
+        About how many cells are cast at a time (in bands of whole rows): bounds the ray-casting
+        working memory, not the result.
+
+    Raises
+    ------
+    ValueError
+        If `rays_per_band` is not positive.
     """
+    if rays_per_band < 1:
+        raise ValueError(f"rays_per_band must be positive, got {rays_per_band}")
     ann = scene.annotations
     (x0, y0, _), (x1, y1, z1) = ann.bounds.min, ann.bounds.max
     longer = max(x1 - x0, y1 - y0)
@@ -312,21 +327,62 @@ def scene_fields(scene: Scene, *, cell: float | None = None) -> SceneFields:
     for mesh in (walkable.mesh, solid.mesh, objects):
         if mesh.num_faces:
             top = max(top, float(mesh.vertices[:, 2].max()) + 1.0)
-    gx, gy = np.meshgrid((np.arange(shape[1]) + 0.5) * cell, (np.arange(shape[0]) + 0.5) * cell)
-    xy = np.column_stack([gx.ravel(), gy.ravel()])
+    casters = _Casters(
+        ground=_Caster([walkable.mesh], origin),
+        band=_Caster([solid.mesh, objects], origin),
+        surface=_Caster([solid.mesh], origin),
+    )
+    terrain = np.empty(shape, dtype=np.int16)
+    obstacle = np.empty(shape, dtype=bool)
+    xs = (np.arange(shape[1]) + 0.5) * cell
+    rows_per_band = max(1, rays_per_band // shape[1])
+    for r0 in range(0, shape[0], rows_per_band):  # each cell's rays are its own: bands change nothing
+        r1 = min(shape[0], r0 + rows_per_band)
+        gx, gy = np.meshgrid(xs, (np.arange(r0, r1) + 0.5) * cell)
+        band_terrain, band_obstacle = _cast_cells(
+            casters, np.column_stack([gx.ravel(), gy.ravel()]), top, walkable, solid
+        )
+        terrain[r0:r1], obstacle[r0:r1] = (
+            band_terrain.reshape(-1, shape[1]),
+            band_obstacle.reshape(-1, shape[1]),
+        )
+
+    distance = (
+        _obstacle_distance(obstacle, cell, rows_per_band)
+        if obstacle.any()
+        else np.full(shape, np.float32(np.hypot(*shape) * cell))
+    )
+    indoor = indoor_raster(ann.indoor_polygons, origin, shape, cell)
+    return SceneFields((float(x0), float(y0)), cell, terrain, obstacle, distance, names, indoor)
+
+
+@dataclass(frozen=True)
+class _Casters:
+    """The three ray casters of :func:`scene_fields`: the walkable ground, the body band (part 0 the
+    non-navigable terrain, part 1 the objects) and the non-navigable terrain alone."""
+
+    ground: _Caster
+    band: _Caster
+    surface: _Caster
+
+
+def _cast_cells(
+    casters: _Casters, xy: np.ndarray, top: float, walkable: LabeledMesh, solid: LabeledMesh
+) -> tuple[np.ndarray, np.ndarray]:
+    """The terrain class and the obstacle flag of the cells centred at `xy` (relative to the grid
+    origin), from rays cast down from height `top`."""
     count = len(xy)
 
     # 1. The walkable ground: the top navigable surface.
-    ground_hits = _Caster([walkable.mesh], origin).cast_down(xy, np.full(count, top))
+    ground_hits = casters.ground.cast_down(xy, np.full(count, top))
     ground = ground_hits.height
     has_ground = np.isfinite(ground)
     terrain = np.full(count, NO_SURFACE, dtype=np.int16)
     terrain[has_ground] = walkable.class_index[ground_hits.face[has_ground]]
 
-    # 2. The body band above the ground, and the columns with no ground, in one batch (part 0 is the
-    #    non-navigable terrain, part 1 the objects).
+    # 2. The body band above the ground, and the columns with no ground, in one batch.
     on, off = np.flatnonzero(has_ground), np.flatnonzero(~has_ground)
-    band = _Caster([solid.mesh, objects], origin).cast_down(
+    band = casters.band.cast_down(
         np.concatenate([xy[on], xy[off]]), np.concatenate([ground[on] + BODY_HEIGHT, np.full(len(off), top)])
     )
     level, part, exits = band.height[: len(on)], band.part[: len(on)], band.exits[: len(on)]
@@ -341,18 +397,30 @@ def scene_fields(scene: Scene, *, cell: float | None = None) -> SceneFields:
 
     # 3. The class where nothing is walkable: the top visible (hence non-navigable) terrain surface.
     if len(off):
-        surface = _Caster([solid.mesh], origin).cast_down(xy[off], np.full(len(off), top))
+        surface = casters.surface.cast_down(xy[off], np.full(len(off), top))
         hit = surface.part >= 0
         terrain[off[hit]] = solid.class_index[surface.face[hit]]
+    return terrain, obstacle
 
-    terrain, obstacle = terrain.reshape(shape), obstacle.reshape(shape)
-    distance = (
-        ndimage.distance_transform_edt(~obstacle).astype(np.float32) * np.float32(cell)
-        if obstacle.any()
-        else np.full(shape, np.float32(np.hypot(*shape) * cell))
-    )
-    indoor = indoor_raster(ann.indoor_polygons, origin, shape, cell)
-    return SceneFields((float(x0), float(y0)), cell, terrain, obstacle, distance, names, indoor)
+
+def _obstacle_distance(obstacle: np.ndarray, cell: float, rows_per_band: int) -> np.ndarray:
+    """The Euclidean distance (m, float32) of every cell to the nearest obstacle cell.
+
+    SciPy's exact transform gives each cell its nearest obstacle; the distances are then taken in bands
+    of rows, with the same arithmetic as ``ndimage.distance_transform_edt`` (so the same values), whose
+    float64 tables of the whole grid would take four times the nearest-cell table.
+    """
+    nearest = np.empty((2, *obstacle.shape), dtype=np.int32)
+    ndimage.distance_transform_edt(~obstacle, return_distances=False, return_indices=True, indices=nearest)
+    distance = np.empty(obstacle.shape, dtype=np.float32)
+    columns = np.arange(obstacle.shape[1], dtype=np.int32)
+    for r0 in range(0, obstacle.shape[0], rows_per_band):
+        r1 = min(obstacle.shape[0], r0 + rows_per_band)
+        rows = np.arange(r0, r1, dtype=np.int32)[:, None]
+        dr = (nearest[0, r0:r1] - rows).astype(np.float64)
+        dc = (nearest[1, r0:r1] - columns).astype(np.float64)
+        distance[r0:r1] = np.sqrt(dr * dr + dc * dc).astype(np.float32) * np.float32(cell)
+    return distance
 
 
 def fields_cache_path(scene_dir: str | os.PathLike[str]) -> Path:

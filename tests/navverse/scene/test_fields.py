@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy import ndimage
 
 from navverse.scene.compose import ObjectPart, object_parts, replace_parts
 from navverse.scene.directory import write_scene_dir
@@ -198,3 +199,25 @@ def test_the_cache_round_trips_and_rebuilds_files_of_the_old_format(
     path.write_bytes(path.read_bytes()[:100])
     assert SceneFields.load(path) is None
     assert np.array_equal(load_scene_fields(scene_dir).terrain, fields.terrain)
+
+
+def test_fields_cast_in_bands_of_any_size_are_the_same(tiny_scene: Scene, fields: SceneFields) -> None:
+    columns = fields.terrain.shape[1]
+    for rays in (1, columns - 1, 3 * columns + 5):  # a row at a time (1 and rows - 1), and bands cut mid-grid
+        banded = scene_fields(tiny_scene, rays_per_band=rays)
+        for name in ("terrain", "obstacle", "distance", "indoor"):
+            assert np.array_equal(getattr(banded, name), getattr(fields, name)), (rays, name)
+    with pytest.raises(ValueError, match="rays_per_band must be positive"):
+        scene_fields(tiny_scene, rays_per_band=0)
+
+
+def test_the_obstacle_distance_is_scipy_s_exact_transform_bit_for_bit() -> None:
+    from navverse.scene.fields import _obstacle_distance
+
+    rng = np.random.default_rng(3)
+    for shape, density in (((37, 53), 0.02), ((64, 9), 0.3), ((5, 200), 0.001)):
+        obstacle = rng.random(shape) < density
+        obstacle[0, 0] = True
+        expected = ndimage.distance_transform_edt(~obstacle).astype(np.float32) * np.float32(0.1)
+        for rows in (1, 4, shape[0]):
+            assert _obstacle_distance(obstacle, 0.1, rows).tobytes() == expected.tobytes()
