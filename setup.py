@@ -1,4 +1,5 @@
-"""Build hook: compiles navverse.nav's RecastNavigation extension (``navverse.nav._recast``).
+"""Build hook: compiles navverse.nav's RecastNavigation extension (``navverse.nav._recast``) and the
+Spot model's leg forces (``navverse.sim._legs``).
 
 The extension links against the system RecastNavigation (Debian/Ubuntu package ``librecast-dev``,
 which ``make setup`` installs). Set ``RECAST_INCLUDE_DIR`` / ``RECAST_LIBRARY_DIR`` to use a copy
@@ -52,4 +53,13 @@ ext = Pybind11Extension(
     extra_compile_args=["-O2"],
 )
 
-setup(ext_modules=[ext], cmdclass={"build_ext": build_ext})
+# The Spot model's leg forces (navverse/sim/spot.py): the same IEEE double arithmetic as the Python
+# formulas, so no fused multiply-adds.
+legs = Pybind11Extension(
+    "navverse.sim._legs",
+    sources=[str(Path("navverse") / "sim" / "csrc" / "legs.cpp")],
+    cxx_std=17,
+    extra_compile_args=["-O2", "-ffp-contract=off"],
+)
+
+setup(ext_modules=[ext, legs], cmdclass={"build_ext": build_ext})

@@ -63,6 +63,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from navverse.sim._legs import LegModel
 from navverse.sim.bullet import pybullet
 from navverse.sim.embodiment import RobotBody, camera_mount, clip_command
 from navverse.sim.world import GRAVITY, OBJECT_FRICTION
@@ -115,6 +116,21 @@ _TRUNK_INERTIA = tuple(
     MASS / 12.0 * (BODY_SIZE[(k + 1) % 3] ** 2 + BODY_SIZE[(k + 2) % 3] ** 2) for k in range(3)
 )
 _SHARE = MASS / 4.0 * TRACTION_GAIN  # traction per unit velocity error of one foot (N s/m)
+_LEGS = LegModel(
+    _HIP_OFFSETS,
+    share=_SHARE,
+    stiffness=LEG_STIFFNESS,
+    damping=LEG_DAMPING,
+    max_push=LEG_MAX_FORCE,
+    rest=LEG_REST,
+    min_length=LEG_MIN,
+    reach=LEG_REACH,
+    ray_start=_RAY_START,
+    ray_length=_RAY_LENGTH,
+    traction_max=TRACTION_MAX,
+    default_friction=OBJECT_FRICTION,
+)
+"""The leg forces of one physics step: the formulas of this module's docstring."""
 
 
 class Spot(RobotBody):
@@ -197,73 +213,18 @@ class Spot(RobotBody):
         self._command = clip_command(vx, vy, wz, self.max_velocity)
 
     def before_step(self) -> None:
-        """Cast the leg rays and apply the legs' spring, damping and traction forces for one step."""
+        """Cast the leg rays and apply the legs' spring, damping and traction forces for one step.
+
+        The forces are the module's formulas, computed by :class:`navverse.sim._legs.LegModel` (native
+        code, the same double-precision operations in the same order as in Python).
+        """
         body = self.body
-        (px, py, pz), (qx, qy, qz, qw) = self._state(body)
-        (vx, vy, vz), (wx, wy, wz) = self._velocity(body)
-        # The rotation matrix (body to world); its last column (r02, r12, r22) is the legs' axis.
-        xx, yy, zz = qx * qx, qy * qy, qz * qz
-        xy, xz, yz, wxq, wyq, wzq = qx * qy, qx * qz, qy * qz, qw * qx, qw * qy, qw * qz
-        r00, r01, r02 = 1.0 - 2.0 * (yy + zz), 2.0 * (xy - wzq), 2.0 * (xz + wyq)
-        r10, r11, r12 = 2.0 * (xy + wzq), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wxq)
-        r20, r21, r22 = 2.0 * (xz - wyq), 2.0 * (yz + wxq), 1.0 - 2.0 * (xx + yy)
-        # Commanded velocity field: heading from the body x axis projected on the ground plane.
-        cvx, cvy, cwz = self._command
-        hn = math.hypot(r00, r10) or 1.0
-        hx, hy = r00 / hn, r10 / hn
-        tvx, tvy = cvx * hx - cvy * hy, cvx * hy + cvy * hx
-        share, stiffness, damping, max_push = _SHARE, LEG_STIFFNESS, LEG_DAMPING, LEG_MAX_FORCE
-        friction, legs = self._friction, self._legs
-        fx = fy = fz = tx = ty = tz = 0.0
+        state = self._state(body)
         hits = self._rays(self._ray_from, self._ray_to, parentObjectUniqueId=body, parentLinkIndex=-1)
-        # Stance: each leg's rest length keeps the trunk level over the mean height of the ground found.
-        grounds = [hit[3][2] for hit in hits if hit[0] >= 0 and hit[0] != body]
-        mean_ground = sum(grounds) / len(grounds) if grounds else 0.0
-        for i, (hit_body, _, fraction, hp, (nx, ny, nz)) in enumerate(hits):
-            if hit_body < 0 or hit_body == body:
-                legs[i] = 0.0
-                continue
-            rest = LEG_REST + mean_ground - hp[2]
-            rest = LEG_MIN if rest < LEG_MIN else (LEG_REACH if rest > LEG_REACH else rest)
-            lx, ly, lz = _HIP_OFFSETS[i]
-            # Hip offset from the base origin (world) and the hip's velocity.
-            ox = r00 * lx + r01 * ly + r02 * lz
-            oy = r10 * lx + r11 * ly + r12 * lz
-            oz = r20 * lx + r21 * ly + r22 * lz
-            hvx, hvy, hvz = vx + wy * oz - wz * oy, vy + wz * ox - wx * oz, vz + wx * oy - wy * ox
-            length = _RAY_START + fraction * _RAY_LENGTH
-            push = stiffness * (rest - length) - damping * (hvx * r02 + hvy * r12 + hvz * r22)
-            push = 0.0 if push < 0.0 else (max_push if push > max_push else push)
-            legs[i] = push
-            along = r02 * nx + r12 * ny + r22 * nz  # leg axis . ground normal
-            normal_load = push * along if along > 0.0 else 0.0
-            # Traction: towards the commanded rigid-body velocity at this foot, in the ground plane.
-            ex, ey, ez = tvx - cwz * oy - hvx, tvy + cwz * ox - hvy, -hvz
-            en = ex * nx + ey * ny + ez * nz
-            gx, gy, gz = share * (ex - en * nx), share * (ey - en * ny), share * (ez - en * nz)
-            if nz > 0.5:
-                # Feed-forward: the tangential force that makes this foot's reaction vertical, so the
-                # legs hold the robot on a slope (and cancel their own push along a tilted leg axis).
-                hold = normal_load / nz
-                gx -= hold * nz * nx + push * (r02 - along * nx)
-                gy -= hold * nz * ny + push * (r12 - along * ny)
-                gz += hold * (1.0 - nz * nz) - push * (r22 - along * nz)
-            limit = friction.get(hit_body, OBJECT_FRICTION) * normal_load
-            if limit > TRACTION_MAX:
-                limit = TRACTION_MAX
-            magnitude = math.sqrt(gx * gx + gy * gy + gz * gz)
-            if magnitude > limit:
-                scale = limit / magnitude
-                gx, gy, gz = gx * scale, gy * scale, gz * scale
-            # The foot's force, applied at the foot point (the ray hit).
-            ffx, ffy, ffz = push * r02 + gx, push * r12 + gy, push * r22 + gz
-            rx, ry, rz = hp[0] - px, hp[1] - py, hp[2] - pz
-            fx, fy, fz = fx + ffx, fy + ffy, fz + ffz
-            tx += ry * ffz - rz * ffy
-            ty += rz * ffx - rx * ffz
-            tz += rx * ffy - ry * ffx
-        self._force(body, -1, (fx, fy, fz), (px, py, pz), pybullet.WORLD_FRAME)
-        self._torque(body, -1, (tx, ty, tz), pybullet.WORLD_FRAME)
+        out = _LEGS.forces(state, self._velocity(body), self._command, hits, self._friction, body)
+        self._legs = out[6:]
+        self._force(body, -1, out[:3], state[0], pybullet.WORLD_FRAME)
+        self._torque(body, -1, out[3:6], pybullet.WORLD_FRAME)
 
     # ------------------------------------------------------------------ state
 
