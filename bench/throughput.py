@@ -254,20 +254,21 @@ def eval_part(workspace: Path, dataset: str, split: str, console: Console, *, be
     with tempfile.TemporaryDirectory() as temporary:
         folder = Path(temporary)
         scaled = _scaled_release(release, split, SCALED, folder / "scaled")
+        now = (navverse, folder / "cache")  # a fresh cache: the first run fills it
         runs = [
-            ("one_line_cold", navverse, release, 1), ("one_line", navverse, release, 1),
-            ("split_cold", navverse, release, None),  # fills the caches of the split's other scenes
-            ("split", navverse, release, None), ("scaled", navverse, scaled, None),
+            ("one_line_cold", *now, release, 1), ("one_line", *now, release, 1),
+            ("split_cold", *now, release, None),  # fills the caches of the split's other scenes
+            ("split", *now, release, None), ("scaled", *now, scaled, None),
         ]  # fmt: skip
-        if old is not None:  # its caches its own: the first run fills them
-            runs += [("one_line_before_cold", old, release, 1), ("one_line_before", old, release, 1)]
-        for name, command, version, limit in runs:
+        if old is not None:  # with caches of its own
+            was = (old, folder / "cache-before")
+            runs += [("one_line_before_cold", *was, release, 1), ("one_line_before", *was, release, 1)]
+        for name, command, cache, version, limit in runs:
             submission = folder / f"{name}.jsonl"
             lines = _rollout_submission(version, split, submission, limit=limit)
             out = folder / f"out-{name}"
             argv = [command, "eval", "--dataset", str(version), "--submission", str(submission),
                     "--split", split, "--out", str(out), "--episodes", "submitted"]  # fmt: skip
-            cache = folder / ("cache-before" if "before" in name else "cache")
             env = {**os.environ, "NAVVERSE_ROOT": str(workspace), "NAVVERSE_CACHE_DIR": str(cache)}
             code, wall, peak = _peak_tree_mb(argv, cwd=workspace, env=env)
             result[name] = {"lines": lines, "exit": code, "wall_s": wall, "peak_mb": peak}

@@ -70,6 +70,7 @@ def _save(scene: Scene, path: Path) -> None:
     """Write the scene's meshes and textures to ``path`` (atomically); textures shared by meshes once."""
     arrays: dict[str, np.ndarray] = {}
     textures: dict[int, int] = {}  # id of a Texture -> its index in the file
+    texture_names: list[str] = []  # by that index
     meshes = []
     for index, mesh in enumerate(_meshes(scene)):
         arrays[f"m{index}_vertices"], arrays[f"m{index}_faces"] = mesh.vertices, mesh.faces
@@ -78,13 +79,10 @@ def _save(scene: Scene, path: Path) -> None:
                 arrays[f"m{index}_{name}"] = getattr(mesh, name)
         for texture in mesh.textures:
             if id(texture) not in textures:
+                arrays[f"t{len(textures)}"] = texture.image
                 textures[id(texture)] = len(textures)
-                arrays[f"t{textures[id(texture)]}"] = texture.image
+                texture_names.append(texture.name)
         meshes.append([textures[id(t)] for t in mesh.textures])
-    texture_names = [""] * len(textures)
-    for mesh in _meshes(scene):
-        for texture in mesh.textures:
-            texture_names[textures[id(texture)]] = texture.name
     index = {
         "format": _FORMAT,
         "scene_id": scene.scene_id,
