@@ -38,6 +38,7 @@ from shapely.strtree import STRtree
 from navverse.city.geometry.prisms import HeightFn, polygon_prism, polygons_of
 from navverse.city.geometry.surfaces import crosswalk_polygons
 from navverse.city.map import CityMap
+from navverse.city.precision import difference, intersection, union, union_of
 from navverse.city.shape_grid import ShapeGrid
 from navverse.scene.geometry import MeshData, Surface
 from navverse.settings import Settings
@@ -144,9 +145,9 @@ def _crosswalk_parts(
     each ramp gives way only to the earlier ramps it meets, so the work grows with the number of
     crosswalks, not with its square.
     """
-    carriageway = shapely.union_all([plan["road"], plan["crosswalk"]])
+    carriageway = union(plan["road"], plan["crosswalk"])
     window = box(*city.window)
-    edges = _Nearby(carriageway.boundary.difference(window.exterior.buffer(1e-6)))
+    edges = _Nearby(shapely.difference(carriageway.boundary, window.exterior.buffer(1e-6)))
     crosswalk_plan = _Nearby(plan["crosswalk"])
     ramps: list[tuple[BaseGeometry, float, BaseGeometry]] = []
     taken = ShapeGrid(25.0)
@@ -164,16 +165,16 @@ def _crosswalk_parts(
         if edge.is_empty:
             continue
         band = edge.buffer(settings.ramp_length, quad_segs=2)
-        piece = polygon.intersection(crosswalk_plan.near(polygon)).intersection(band)
+        piece = intersection(intersection(polygon, crosswalk_plan.near(polygon)), band)
         for earlier in taken.meeting(piece):
-            piece = piece.difference(earlier)
+            piece = difference(piece, earlier)
         if not piece.is_empty:
             ramps.append((piece, settings.lowered_curb_height if lip is None else lip, edge))
             taken.add(piece)
     flat_rest = plan["crosswalk"]
     if ramps:
-        flat_rest = flat_rest.difference(shapely.union_all([p for p, _, _ in ramps]))
-    raised_curb = plan["lowered_curb"].intersection(shapely.union_all(raised)) if raised else Polygon()
+        flat_rest = difference(flat_rest, union_of(p for p, _, _ in ramps))
+    raised_curb = intersection(plan["lowered_curb"], union_of(raised))
     return ramps, flat_rest, raised_curb
 
 
@@ -224,7 +225,7 @@ def ground_surfaces(
             continue
         if surface_class == "lowered_curb" and not raised_curb.is_empty:
             add("curb", raised_curb, terrain)
-            geometry = geometry.difference(raised_curb)
+            geometry = difference(geometry, raised_curb)
         level = {"road": -depth, "water": -settings.water_depth}.get(surface_class, 0.0)
         add(terrain_class, geometry, _offset(terrain, level) if level else terrain)
     return [

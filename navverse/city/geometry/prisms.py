@@ -2,8 +2,8 @@
 
 Every 3-D part of a city is one of these: a curb strip, a stretch of sidewalk, a crosswalk ramp, a
 building. Tops are triangulated with shapely's constrained Delaunay triangulation (GEOS), which keeps
-the polygon's own vertices, so a wall shares the top's vertices along each ring and a closed prism
-is watertight.
+the polygon's own vertices (manifold3d's ear clipping, on the same vertices, where GEOS gives up), so
+a wall shares the top's vertices along each ring and a closed prism is watertight.
 """
 
 from __future__ import annotations
@@ -44,12 +44,17 @@ def triangulate(polygon: Polygon) -> tuple[np.ndarray, np.ndarray]:
     triangles : ndarray, shape (M, 3)
         Indices into ``points``, counter-clockwise seen from +z.
     """
-    triangles = shapely.get_parts(shapely.constrained_delaunay_triangles(polygon))
-    if len(triangles) == 0:
+    try:
+        triangles = shapely.get_parts(shapely.constrained_delaunay_triangles(polygon))
+    except shapely.errors.GEOSException:  # a valid polygon GEOS cannot triangulate (sliver holes)
+        corners = _ear_clipped(polygon)
+    else:
+        if len(triangles) == 0:
+            return np.zeros((0, 2)), np.zeros((0, 3), dtype=np.int64)
+        rings = shapely.get_coordinates(shapely.get_exterior_ring(triangles))
+        corners = rings.reshape(len(triangles), 4, 2)[:, :3]
+    if len(corners) == 0:
         return np.zeros((0, 2)), np.zeros((0, 3), dtype=np.int64)
-    corners = shapely.get_coordinates(shapely.get_exterior_ring(triangles)).reshape(len(triangles), 4, 2)[
-        :, :3
-    ]
     points, inverse = np.unique(corners.reshape(-1, 2), axis=0, return_inverse=True)
     faces = inverse.reshape(-1, 3).astype(np.int64)
     a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
@@ -57,6 +62,18 @@ def triangulate(polygon: Polygon) -> tuple[np.ndarray, np.ndarray]:
     clockwise = cross < 0
     faces[clockwise] = faces[clockwise][:, [0, 2, 1]]
     return points, faces[cross != 0]
+
+
+def _ear_clipped(polygon: Polygon) -> np.ndarray:
+    """Triangle corners ``(M, 3, 2)`` of ``polygon`` by manifold3d's ear clipping, on its own vertices."""
+    import manifold3d
+
+    oriented = shapely.orient_polygons(polygon)
+    rings = [
+        np.asarray(ring.coords, dtype=np.float64)[:-1] for ring in (oriented.exterior, *oriented.interiors)
+    ]
+    triangles = np.asarray(manifold3d.triangulate(rings), dtype=np.int64).reshape(-1, 3)
+    return np.concatenate(rings)[triangles]
 
 
 def _ring_edges(polygon: Polygon, points: np.ndarray) -> np.ndarray:

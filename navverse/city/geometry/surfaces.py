@@ -17,19 +17,20 @@
 - ``ground``: whatever is left.
 
 Overlaps are settled by :data:`PRIORITY` (a building wins over the sidewalk at its facade, a road
-over the park it crosses). Everything is clipped to the window.
+over the park it crosses). Everything is clipped to the window. Every overlay is made on the 1 mm grid
+of :mod:`navverse.city.precision`, so nearly-degenerate shapes of real maps cannot break the plan.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
 
 import shapely
-from shapely.geometry import LineString, MultiPolygon, Polygon, box
+from shapely.geometry import LineString, Polygon, box
 from shapely.geometry.base import BaseGeometry
 
 from navverse.city.map import CityMap, Polygon2, Road
+from navverse.city.precision import difference, intersection, snapped, union, union_of
 
 __all__ = [
     "CROSSWALK_WIDTH",
@@ -38,11 +39,9 @@ __all__ = [
     "QUAD_SEGMENTS",
     "SHARED_SURFACE_HIGHWAYS",
     "SURFACE_CLASSES",
-    "areal",
     "carriageways",
     "crosswalk_polygons",
     "plan_surfaces",
-    "union_of",
 ]
 
 CURB_WIDTH = 0.15
@@ -73,22 +72,7 @@ SURFACE_CLASSES = (*PRIORITY, "ground")
 
 
 def _polygon(shape: Polygon2) -> BaseGeometry:
-    polygon = Polygon(shape.exterior, shape.holes)
-    return polygon if polygon.is_valid else shapely.make_valid(polygon)
-
-
-def areal(geometry: BaseGeometry) -> BaseGeometry:
-    """The polygonal part of ``geometry`` (a difference can leave lines and points behind)."""
-    parts = [g for g in getattr(geometry, "geoms", [geometry]) if isinstance(g, Polygon | MultiPolygon)]
-    if not parts:
-        return Polygon()
-    return shapely.union_all(parts)
-
-
-def union_of(geometries: Iterable[BaseGeometry]) -> BaseGeometry:
-    """The union of the non-empty ``geometries`` (an empty polygon if there are none)."""
-    items = [g for g in geometries if not g.is_empty]
-    return shapely.union_all(items) if items else Polygon()
+    return snapped(Polygon(shape.exterior, shape.holes))
 
 
 def _carriageway(road: Road) -> BaseGeometry:
@@ -192,13 +176,13 @@ def plan_surfaces(city: CityMap, *, curb_width: float, crosswalk_width: float) -
     )
     crosswalks = union_of(p for _, p in crosswalk_polygons(city, crosswalk_width=crosswalk_width))
     sidewalk_area = union_of([*(s for road in city.roads for s in _sidewalk_strips(road)), walkway_area])
-    walked = union_of([sidewalk_area, crosswalks])
-    edge_strip = road_area.buffer(curb_width, join_style="mitre").difference(road_area)
-    curb = edge_strip.intersection(walked)
-    lowered = curb.intersection(crosswalks)
+    walked = union(sidewalk_area, crosswalks)
+    edge_strip = difference(road_area.buffer(curb_width, join_style="mitre"), road_area)
+    curb = intersection(edge_strip, walked)
+    lowered = intersection(curb, crosswalks)
     by_class: dict[str, BaseGeometry] = {
         "building": union_of(_polygon(b.footprint) for b in city.buildings),
-        "crosswalk": crosswalks.intersection(road_area),
+        "crosswalk": intersection(crosswalks, road_area),
         "road": road_area,
         "shared": shared_area,
         "lowered_curb": lowered,
@@ -210,8 +194,12 @@ def plan_surfaces(city: CityMap, *, curb_width: float, crosswalk_width: float) -
     taken: BaseGeometry = Polygon()
     plan: dict[str, BaseGeometry] = {}
     for cls in PRIORITY:
-        own = areal(by_class[cls].intersection(window).difference(taken))
+        inside = by_class[cls]
+        if not window.contains(inside.envelope):
+            inside = intersection(inside, window)
+        own = difference(inside, taken)
         plan[cls] = own
-        taken = taken.union(own)  # binary: union_all can drop a small piece here (GEOS 3.14)
-    plan["ground"] = areal(window.difference(taken))
+        if not own.is_empty:
+            taken = union(taken, own)
+    plan["ground"] = difference(window, taken)
     return plan

@@ -41,8 +41,8 @@ from shapely.affinity import affine_transform
 from shapely.geometry import LineString, Point, Polygon
 
 from navverse.city.geometry.street_plan import StreetPlan
-from navverse.city.geometry.surfaces import union_of
 from navverse.city.places.storefronts import WALKABLE_FRONT, FacadeReach, object_box
+from navverse.city.precision import union_of
 from navverse.errors import NavverseError, SceneError
 from navverse.scene.annotations import BuildingAnnotation, ExitAnnotation, FacadeAnnotation
 from navverse.scene.compose import merge_scenes, object_parts, remove_inside, replace_parts, transform_scene

@@ -52,8 +52,8 @@ from navverse.assets.facade.storefronts import (
     storefront,
 )
 from navverse.city.geometry.street_plan import StreetPlan
-from navverse.city.geometry.surfaces import union_of
 from navverse.city.map import CityMap, Poi
+from navverse.city.precision import union_of
 from navverse.city.synthetic.pois import POI_TABLE
 from navverse.errors import SceneError
 from navverse.scene.annotations import (

@@ -38,14 +38,9 @@ from shapely.prepared import prep
 from shapely.strtree import STRtree
 
 from navverse.city.geometry.street_plan import StreetPlan
-from navverse.city.geometry.surfaces import (
-    QUAD_SEGMENTS,
-    SHARED_SURFACE_HIGHWAYS,
-    areal,
-    carriageways,
-    union_of,
-)
+from navverse.city.geometry.surfaces import QUAD_SEGMENTS, SHARED_SURFACE_HIGHWAYS, carriageways
 from navverse.city.map import CityMap, Road
+from navverse.city.precision import difference, intersection, snapped, union_of
 from navverse.settings import Settings
 
 __all__ = [
@@ -174,7 +169,7 @@ def _junctions(city: CityMap, lanes: dict[str, BaseGeometry], grow: float) -> Ba
             if b <= a:
                 continue
             meets.append(lanes[road_id].intersection(lanes[ids[b]]))
-    return _grow(union_of(meets), grow) if meets else Polygon()
+    return snapped(_grow(union_of(meets), grow)) if meets else Polygon()
 
 
 def _curbside(road: Road, sign: float, walk_width: float | None, settings: ZoneSettings) -> bool:
@@ -207,7 +202,7 @@ def street_zones(city: CityMap, plan: StreetPlan, settings: ZoneSettings | None 
     crosswalks = classes["crosswalk"].union(classes["lowered_curb"])
     lanes = carriageways(city)
     junctions = _junctions(city, lanes, settings.corner_clearance)
-    near_crossing = _grow(crosswalks, settings.crosswalk_margin)
+    near_crossing = snapped(_grow(crosswalks, settings.crosswalk_margin))
     driveways = _grow(
         union_of([lanes[r.id] for r in city.roads if r.highway == "service"]), settings.driveway_margin
     )
@@ -234,17 +229,17 @@ def street_zones(city: CityMap, plan: StreetPlan, settings: ZoneSettings | None 
             elif _curbside(r, sign, walk_width, settings):
                 curbside.append(_band(line, sign, half - settings.curbside_band, half))
     keep_clear = union_of([near_crossing, junctions])
-    furniture_zone = areal(union_of(furniture).intersection(sidewalk).difference(keep_clear))
-    frontage_zone = areal(
-        union_of(frontage).intersection(sidewalk).difference(keep_clear).difference(furniture_zone)
+    furniture_zone = difference(intersection(union_of(furniture), sidewalk), keep_clear)
+    frontage_zone = difference(
+        difference(intersection(union_of(frontage), sidewalk), keep_clear), furniture_zone
     )
-    walkway = areal(sidewalk.difference(furniture_zone).difference(frontage_zone))
+    walkway = difference(difference(sidewalk, furniture_zone), frontage_zone)
     open_land = union_of([classes["ground"], classes["green"], classes["plaza"]])
-    verge_zone = areal(union_of(verge).intersection(open_land).difference(keep_clear))
+    verge_zone = difference(intersection(union_of(verge), open_land), keep_clear)
     on_road_clear = union_of([near_crossing, junctions, driveways])
-    parking_zone = areal(union_of(parking).intersection(road).difference(on_road_clear))
-    curbside_zone = areal(
-        union_of(curbside).intersection(road).difference(on_road_clear).difference(parking_zone)
+    parking_zone = difference(intersection(union_of(parking), road), on_road_clear)
+    curbside_zone = difference(
+        difference(intersection(union_of(curbside), road), on_road_clear), parking_zone
     )
     return StreetZones(
         furniture=furniture_zone,
