@@ -33,7 +33,8 @@ class OsmCityParams(Params, OsmWindow):
 
     The window is ``center`` ``[lat, lon]`` with ``size_m`` ``[east-west, north-south]`` (default
     1000 m × 1000 m), or ``bbox`` ``[min_lat, min_lon, max_lat, max_lon]``; with neither, the centre of
-    the file's declared bounds. Validation reads the file's header: the centre must lie inside the
+    the file's declared bounds (the node nearest the median of its nodes, for a file that declares none).
+    Validation reads the file's header: the centre must lie inside the
     bounds it declares.
     """
 

@@ -45,8 +45,9 @@ __all__ = [
     "write_city_map",
 ]
 
-CITY_MAP_FORMAT = "1.1"
-"""Format of ``city_map.json``: a reader reads its own major version (1.1 added furniture ``shelter``)."""
+CITY_MAP_FORMAT = "1.2"
+"""Format of ``city_map.json``: a reader reads its own major version (1.1 added furniture ``shelter``,
+1.2 building ``type`` and ``outline``)."""
 MAX_COORDINATE = 1e6
 """Largest |x| or |y| in a map (m): a city is far smaller; anything larger is a projection error."""
 
@@ -56,9 +57,10 @@ Length = Annotated[float, Field(gt=0.0, le=10_000.0, allow_inf_nan=False)]
 Height = Annotated[float, Field(ge=0.0, le=1000.0, allow_inf_nan=False)]
 FeatureId = Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*-[0-9]+$")]
 OsmRef = Annotated[str, Field(pattern=r"^(node|way|relation)/-?[0-9]+$")]
-AreaClass = Literal["green", "water", "ground", "parking", "plaza", "pedestrian"]
+AreaClass = Literal["green", "water", "ground", "parking", "plaza", "pedestrian", "rail"]
 """Land classes: parks and lawns, water (not navigable), bare or unclassified open land, parking
-areas, paved squares, pedestrian areas. Open land that no area covers is ``ground``."""
+areas, paved squares, pedestrian areas, railway track beds (not navigable). Open land that no area
+covers is ``ground``."""
 
 
 class CityMapError(NavverseError):
@@ -188,7 +190,12 @@ class LandArea(_Model):
 
 
 class Building(_Model):
-    """A building footprint with its heights, entrances and what is in it (POIs refer to it)."""
+    """A building footprint with its heights, entrances and what is in it (POIs refer to it).
+
+    A building mapped in parts (``building:part``) is a feature per part, each naming the building's
+    ``outline`` (and one for the rest of the outline no part covers, without it); ``type`` is the
+    ``building=*`` value (``house``, ``apartments``, ``yes``...), for a part its building's.
+    """
 
     id: FeatureId
     osm: OsmRef | None = None
@@ -199,6 +206,8 @@ class Building(_Model):
     levels: Annotated[float, Field(ge=0.0, le=300.0)] | None = None
     entrances: list[Point2] = []
     name: str | None = None
+    type: Annotated[str, Field(min_length=1, max_length=100)] | None = None
+    outline: OsmRef | None = None
 
     @model_validator(mode="after")
     def _top_above_base(self) -> Building:

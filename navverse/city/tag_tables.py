@@ -24,15 +24,18 @@ __all__ = [
     "MAX_BUILDING_HEIGHT",
     "PARKING_WIDTHS",
     "POI_AMENITIES",
+    "RAIL_WIDTHS",
     "ROAD_HIGHWAYS",
     "TYPE_RANK",
     "WALKWAY_HIGHWAYS",
+    "WATERWAY_WIDTHS",
     "building_value",
     "count_problems",
     "drawn_storeys",
     "furniture_kind",
     "is_area",
     "is_oneway",
+    "is_raised",
     "kerb_of",
     "land_class",
     "parking_sides",
@@ -57,6 +60,7 @@ FEATURE_KEYS = (
     "office",
     "emergency",
     "entrance",
+    "railway",
 )
 """Tag keys the reader keeps objects for; objects with none of them are skipped."""
 
@@ -165,6 +169,20 @@ _KERBS = {
     "regular": "raised",
     "normal": "raised",
 }
+RAIL_WIDTHS = {
+    "rail": 3.5,
+    "light_rail": 3.0,
+    "narrow_gauge": 3.0,
+    "subway": 3.5,
+    "funicular": 2.5,
+    "preserved": 3.0,
+    "monorail": 2.0,
+}
+"""Width of the ballast strip of a ``railway=*`` track at ground level (m): the track bed a robot must
+not cross but at a level crossing (a road or footway over it). ``railway=tram`` is not here: trams
+run in the street, level with it."""
+WATERWAY_WIDTHS = {"river": 12.0, "canal": 8.0, "stream": 2.5, "ditch": 1.5, "drain": 1.5}
+"""Width of a ``waterway=*`` line with no ``width`` tag (m); rivers mapped as areas are areas."""
 TYPE_RANK = {"node": 0, "way": 1, "relation": 2}
 """Sort rank of OSM object types: features are numbered by (type, id, part)."""
 
@@ -183,6 +201,15 @@ def text_value(value: str | None) -> str | None:
 def is_area(tags: Mapping[str, str]) -> bool:
     """Whether a way is tagged ``area=yes`` (a highway area, not a line)."""
     return tag_value(tags, "area") == "yes"
+
+
+def is_raised(tags: Mapping[str, str]) -> bool:
+    """Whether a way is a bridge: ``bridge=*`` (not ``no``), ``man_made=bridge``, or ``layer`` above 0."""
+    bridge = tag_value(tags, "bridge")
+    if (bridge is not None and bridge not in ("no", "false", "0")) or tag_value(tags, "man_made") == "bridge":
+        return True
+    layer = (tags.get("layer") or "").strip()
+    return layer.isdigit() and int(layer) > 0
 
 
 def is_oneway(tags: Mapping[str, str]) -> bool:

@@ -46,6 +46,7 @@ DEFAULT_TERRAIN_CLASSES: Mapping[str, TerrainClass] = MappingProxyType(
             _tc("crosswalk", 0.85, (240, 228, 140), navigable=True, preferred=True),  # pale yellow
             _tc("green", 0.55, (108, 168, 82), navigable=True),  # grass
             _tc("water", 0.05, (72, 132, 204), navigable=False),  # blue
+            _tc("rail", 0.6, (84, 70, 60), navigable=False),  # ballast and sleepers
             _tc("building", 0.8, (150, 128, 116), navigable=False),  # brownish grey
             _tc("ground", 0.8, (176, 154, 112), navigable=True),  # bare earth
             _tc("parking", 0.85, (104, 108, 118), navigable=True),  # lighter asphalt

@@ -15,7 +15,7 @@ lowered curb    0 (the curb strip where a crosswalk meets it: terrain class ``cr
 curb            0: the curb's top strip; its vertical face down to the road is the curb face
 sidewalk, plaza 0
 green, ground,  0 (land under buildings is ``ground``)
-parking
+parking, rail
 water           ``-water_depth`` (not navigable)
 ==============  ===========================================================================================
 
@@ -52,6 +52,7 @@ TERRAIN_OF_SURFACE = {
     "lowered_curb": "crosswalk",
     "curb": "curb",
     "sidewalk": "sidewalk",
+    "rail": "rail",
     "water": "water",
     "parking": "parking",
     "plaza": "plaza",

@@ -13,7 +13,8 @@
   ``lowered_curb`` where that strip meets a crosswalk (the geometry stage lowers it);
 - ``sidewalk``: the strips beside roads (each side its width, from the map) and mapped walkways;
 - ``building``: footprints (courtyards are holes, so they get the class beneath);
-- ``water``, ``parking``, ``plaza``, ``pedestrian``, ``green``: land areas;
+- ``rail``, ``water``, ``parking``, ``plaza``, ``pedestrian``, ``green``: land areas (``rail``: railway
+  track beds, which roads and walkways cross at level crossings);
 - ``ground``: whatever is left.
 
 Overlaps are settled by :data:`PRIORITY` (a building wins over the sidewalk at its facade, a road
@@ -60,6 +61,7 @@ PRIORITY = (
     "lowered_curb",
     "curb",
     "sidewalk",
+    "rail",
     "water",
     "parking",
     "plaza",
@@ -189,7 +191,7 @@ def plan_surfaces(city: CityMap, *, curb_width: float, crosswalk_width: float) -
         "curb": curb,
         "sidewalk": sidewalk_area,
     }
-    for cls in ("water", "parking", "plaza", "pedestrian", "green"):
+    for cls in ("rail", "water", "parking", "plaza", "pedestrian", "green"):
         by_class[cls] = union_of(_polygon(a.polygon) for a in city.areas if a.cls == cls)
     taken: BaseGeometry = Polygon()
     plan: dict[str, BaseGeometry] = {}

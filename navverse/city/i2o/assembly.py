@@ -51,7 +51,7 @@ from navverse.scene.heights import SurfaceHeights
 
 __all__ = ["AssemblyError", "AssemblySettings", "I2OAssembly", "assemble_i2o", "generate_i2o"]
 
-_BLOCKING = ("road", "curb", "lowered_curb", "crosswalk", "sidewalk", "water", "shared")
+_BLOCKING = ("road", "curb", "lowered_curb", "crosswalk", "sidewalk", "rail", "water", "shared")
 """Street plan classes a building's footprint may not cover."""
 _STEP = 1.0  # spacing of the exit positions tried along a facade (m)
 _TOLERANCE = 0.05  # m² of overlap forgiven (a wall's width on a shared edge)

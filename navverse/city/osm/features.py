@@ -8,13 +8,16 @@ same map.
 
 from __future__ import annotations
 
+import math
 from collections import Counter
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
+from itertools import pairwise
 from typing import Any
 
 import numpy as np
-from shapely.geometry import MultiPolygon, Point, Polygon
+from shapely import unary_union
+from shapely.geometry import LineString, MultiPolygon, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 from shapely.strtree import STRtree
 
@@ -41,14 +44,17 @@ from navverse.city.osm.geometry import (
 from navverse.city.osm.stream import OsmExtract, OsmMultipolygon, OsmWay
 from navverse.city.tag_tables import (
     MAX_BUILDING_HEIGHT,
+    RAIL_WIDTHS,
     ROAD_HIGHWAYS,
     TYPE_RANK,
+    WATERWAY_WIDTHS,
     building_value,
     count_problems,
     drawn_storeys,
     furniture_kind,
     is_area,
     is_oneway,
+    is_raised,
     kerb_of,
     land_class,
     parking_sides,
@@ -71,6 +77,19 @@ from navverse.city.tags import (
 __all__ = ["Features", "build_features"]
 
 _DUPLICATE_OUTLINE = "way repeating its multipolygon's outline (the multipolygon is kept)"
+_BUILDING_KINDS = ("building", "part")
+_SIDEWALK_KINDS = frozenset({"sidewalk", "footway", "path"})
+"""Mapped walkways that stand for a road's sidewalk when they run beside it."""
+_SEPARATE_REACH = 6.0
+"""How far beyond a road's edge a mapped walkway beside it may run and still be its sidewalk (m)."""
+_SEPARATE_SHARE = 0.5
+"""Share of a road's length a mapped walkway beside it must run along to replace its inferred sidewalk."""
+_PARALLEL_DEG = 25.0
+"""Largest angle between a road and a walkway running along it (degrees)."""
+_SMALLEST_PIECE = 1.0
+"""Smallest area of a building part kept (m²)."""
+_SLIVER = 0.25
+"""Half the width of the thinnest rest of an outline its parts leave uncovered that still stands (m)."""
 Key = tuple[int, int, int]
 
 
@@ -119,6 +138,96 @@ class _Builder:
 
     # Lines ---------------------------------------------------------------------------------------
 
+    def grounded(self, roads: list[Road], walkways: list[Walkway]) -> tuple[list[Road], list[Walkway]]:
+        """Roads and walkways without the bridges that pass over a way at ground level.
+
+        A bridge (``bridge=*``, or a ``layer`` above 0) that crosses no way at ground level spans water,
+        a railway or open land: it is kept, level with the streets it joins. One that crosses a road
+        or walkway below it (an overpass, a footbridge over a street) is left out, so no junction is
+        made where there is none. Both are counted.
+        """
+        raised = {way.id for way in self.ways if is_raised(way.tags)}
+        if not raised:
+            return roads, walkways
+
+        def way_id(feature: Road | Walkway) -> int:
+            return int((feature.osm or "way/0").split("/")[1])
+
+        features = [*roads, *walkways]
+        below = [as_line(f.centerline) for f in features if way_id(f) not in raised]
+        tree = STRtree(below) if below else None
+        left_out: set[str] = set()
+        for feature in features:
+            if way_id(feature) not in raised:
+                continue
+            line = as_line(feature.centerline)
+            crossed = tree is not None and len(tree.query(line, predicate="crosses")) > 0
+            if crossed:
+                left_out.add(feature.id)
+                self.dropped["bridge over a way at ground level (left out)"] += 1
+            else:
+                self.dropped["bridge kept level with the streets (it spans no way)"] += 1
+        return [r for r in roads if r.id not in left_out], [w for w in walkways if w.id not in left_out]
+
+    def line_areas(self) -> list[tuple[Key, dict[str, Any]]]:
+        """Railway track beds and waterways mapped as lines, as land areas of their width.
+
+        ``railway=*`` tracks of :data:`~navverse.city.tag_tables.RAIL_WIDTHS` at ground level become
+        ``rail``; ``waterway=*`` lines of :data:`~navverse.city.tag_tables.WATERWAY_WIDTHS` (``width``
+        when tagged) at ground level become ``water`` (culverts are tunnels, so left out).
+        """
+        drafts: list[tuple[Key, dict[str, Any]]] = []
+        for way in self.ways:
+            if is_area(way.tags) or land_class(way.tags, relation=False) is not None:
+                continue
+            railway, waterway = tag_value(way.tags, "railway"), tag_value(way.tags, "waterway")
+            if railway in RAIL_WIDTHS:
+                cls, width = "rail", RAIL_WIDTHS[railway]
+            elif waterway in WATERWAY_WIDTHS:
+                cls, width = "water", parse_length(way.tags.get("width")).value or WATERWAY_WIDTHS[waterway]
+            else:
+                continue
+            if not at_ground_level(way.tags) or is_raised(way.tags):
+                self.dropped[f"{cls} line not at ground level (tunnel, bridge or layer)"] += 1
+                continue
+            lines = [as_line(piece) for piece in clip_line_pieces(way.xy, self.rect, self.dropped)]
+            if not lines:
+                continue
+            strip = unary_union([line.buffer(width / 2.0, cap_style="flat") for line in lines])
+            for n, (_, polygon) in enumerate(self._parts(strip)):
+                drafts.append(((1, way.id, n), {"osm": f"way/{way.id}", "cls": cls, "polygon": polygon}))
+        return drafts
+
+    def undoubled(self, roads: list[Road], walkways: list[Walkway]) -> list[Road]:
+        """Roads without the inferred sidewalks that a mapped one beside them already is.
+
+        A side whose sidewalk comes from the class rule (the way says nothing of its sidewalks) loses
+        it when mapped sidewalks, footways or paths run parallel to the road (within
+        :data:`_PARALLEL_DEG`) within :data:`_SEPARATE_REACH` of its edge along at least
+        :data:`_SEPARATE_SHARE` of its length.
+        """
+        lines = [as_line(w.centerline) for w in walkways if w.kind in _SIDEWALK_KINDS]
+        if not lines:
+            return roads
+        tree = STRtree(lines)
+        kept = []
+        for road in roads:
+            if road.sidewalk_source != "rule" or (road.sidewalk_left is None and road.sidewalk_right is None):
+                kept.append(road)
+                continue
+            line = as_line(road.centerline)
+            update: dict[str, None] = {}
+            for side, sign in (("sidewalk_left", 1.0), ("sidewalk_right", -1.0)):
+                if getattr(road, side) is None:
+                    continue
+                band = line.buffer(sign * (road.width / 2.0 + _SEPARATE_REACH), single_sided=True)
+                near = [lines[i] for i in tree.query(band, predicate="intersects").tolist()]
+                if _parallel_length(line, near, band) >= _SEPARATE_SHARE * line.length:
+                    update[side] = None
+                    self.dropped["inferred sidewalk left out (a mapped sidewalk runs beside the road)"] += 1
+            kept.append(road.model_copy(update=update) if update else road)
+        return kept
+
     def _road_fields(self, way: OsmWay) -> tuple[dict[str, Any], bool]:
         tags = way.tags
         width, width_source, problems = road_width(tags)
@@ -149,8 +258,8 @@ class _Builder:
                 fields[a], fields[b] = fields[b], fields[a]
         return fields, reverse
 
-    def roads(self) -> tuple[list[Road], dict[int, list[tuple[str, Any]]]]:
-        """Roads, numbered, and for each road way its pieces (id, line) for the crossings."""
+    def roads(self) -> list[Road]:
+        """Roads, numbered."""
         drafts: list[tuple[Key, dict[str, Any]]] = []
         for way in self.ways:
             if tag_value(way.tags, "highway") not in ROAD_HIGHWAYS or is_area(way.tags):
@@ -166,11 +275,7 @@ class _Builder:
                 if reverse:
                     piece = Path2(points=piece.points[::-1])
                 drafts.append(((1, way.id, n), {**fields, "centerline": piece}))
-        roads = _numbered(drafts, "road", Road)
-        by_way: dict[int, list[tuple[str, Any]]] = {}
-        for road in roads:
-            by_way.setdefault(int(road.osm.split("/")[1]), []).append((road.id, as_line(road.centerline)))
-        return roads, by_way
+        return _numbered(drafts, "road", Road)
 
     def walkways(self) -> list[Walkway]:
         """Walkways (sidewalks, footways, paths, steps, crossings, cycleways, pedestrian ways)."""
@@ -239,9 +344,12 @@ class _Builder:
                 self.dropped["building not at ground level (layer < 0)"] += 1
                 return None
             return "building"
+        if tag_value(tags, "building:part") not in (None, "no"):
+            if not at_ground_level(tags):
+                self.dropped["building:part not at ground level (layer < 0)"] += 1
+                return None
+            return "part"
         cls = land_class(tags, relation=relation)
-        if cls is None and "building:part" in tags:
-            self.dropped["building:part (ignored; the building outline carries the building)"] += 1
         if cls is not None and not at_ground_level(tags):
             self.dropped["area not at ground level (tunnel, covered or layer < 0)"] += 1
             return None
@@ -298,10 +406,11 @@ class _Builder:
         return outlines
 
     def areas(self, outlines: list[_Outline]) -> list[LandArea]:
-        """Land areas: the land-class outlines clipped to the window, a feature per part."""
-        drafts: list[tuple[Key, dict[str, Any]]] = []
+        """Land areas: the land-class outlines clipped to the window, a feature per part, and the
+        railways and waterways mapped as lines (:meth:`line_areas`)."""
+        drafts: list[tuple[Key, dict[str, Any]]] = self.line_areas()
         for outline in outlines:
-            if outline.kind == "building":
+            if outline.kind in _BUILDING_KINDS:
                 continue
             for n, part in enumerate(self._parts(outline.geometry)):
                 fields = {
@@ -320,7 +429,12 @@ class _Builder:
             else:
                 yield part, polygon
 
-    def _height(self, outline: _Outline) -> dict[str, Any]:
+    def _height(self, outline: _Outline, *, inherited: dict[str, Any] | None = None) -> dict[str, Any]:
+        """Height, base, where the height came from and levels of a building or part.
+
+        An untagged part takes the height of its building (``inherited``); an untagged building
+        gets drawn storeys.
+        """
         tags = outline.tags
         height, base, source, problems = building_height(tags)
         count_problems(problems, self.dropped)
@@ -328,46 +442,114 @@ class _Builder:
         if (height is not None and height > MAX_BUILDING_HEIGHT) or base > MAX_BUILDING_HEIGHT / 2:
             self.dropped["implausible building height (a height is drawn instead)"] += 1
             height, base = None, 0.0
+        if height is None and inherited is not None and inherited["height"] > base:
+            return {**inherited, "base_height": base}
         if height is None:
             storeys = drawn_storeys(tags, seed=self.seed, osm_type=outline.osm_type, osm_id=outline.osm_id)
             height, source = base + storeys * STOREY_HEIGHT, "drawn"
             levels = levels or float(storeys)
         return {"height": height, "base_height": base, "height_source": source, "levels": levels}
 
-    def buildings(self, outlines: list[_Outline]) -> tuple[list[Building], list[tuple[Key, str, Polygon]]]:
-        """Buildings (a feature per clipped part) and, per part, its key, id and shape for the POIs."""
+    def _parts_of(
+        self, outlines: list[_Outline]
+    ) -> tuple[dict[tuple[int, int], list[_Outline]], list[_Outline]]:
+        """The ``building:part`` outlines of each building (by its key), and the parts of no building.
+
+        A part belongs to the smallest building outline holding most of it (half its area or more);
+        the others stand as buildings of their own.
+        """
+        buildings = [o for o in outlines if o.kind == "building"]
+        tree = STRtree([o.geometry for o in buildings]) if buildings else None
+        parts_of: dict[tuple[int, int], list[_Outline]] = {}
+        loose: list[_Outline] = []
+        for part in (o for o in outlines if o.kind == "part"):
+            hosts = [] if tree is None else [buildings[i] for i in tree.query(part.geometry).tolist()]
+            area = part.geometry.area
+            hosts = [h for h in hosts if h.geometry.intersection(part.geometry).area >= 0.5 * area]
+            if hosts:
+                host = min(hosts, key=lambda h: (h.geometry.area, h.key))
+                parts_of.setdefault(host.key, []).append(part)
+            else:
+                loose.append(part)
+        return parts_of, loose
+
+    def _pieces(
+        self, outline: _Outline, parts: list[_Outline]
+    ) -> list[tuple[_Outline, BaseGeometry, dict[str, Any]]]:
+        """What stands on a building's outline: its parts (clipped to it, each with its heights) and
+        the rest of the outline no part covers (with the outline's heights), or the outline alone."""
+        own = self._height(outline)
+        if not parts:
+            return [(outline, outline.geometry, own)]
+        pieces = []
+        for part in parts:
+            shape = repaired(part.geometry.intersection(outline.geometry), self.dropped)
+            if shape is not None and shape.area >= _SMALLEST_PIECE:
+                pieces.append((part, shape, self._height(part, inherited=own)))
+        rest = outline.geometry.difference(unary_union([part.geometry for part in parts]))
+        rest = repaired(rest, self.dropped) if not rest.is_empty else None
+        if rest is not None and not rest.buffer(-_SLIVER).is_empty:
+            pieces.append((outline, rest, own))
+        return sorted(pieces, key=lambda piece: piece[0].key)
+
+    def buildings(
+        self, outlines: list[_Outline]
+    ) -> tuple[list[Building], dict[tuple[int, int], tuple[str, Polygon]]]:
+        """Buildings (a feature per clipped part of each building or ``building:part``) and, for the
+        POIs, the id and shape of each outline's largest ground-level feature by the outline's key.
+
+        A building mapped with ``building:part`` outlines stands as its parts (each with its own
+        heights, an untagged one with the building's), plus the rest of its outline no part covers;
+        the outline is not counted twice. Parts inside no building stand on their own.
+        """
         entrances = {n.id: n.xy for n in self.nodes if tag_value(n.tags, "entrance") not in (None, "no")}
+        parts_of, loose = self._parts_of(outlines)
         drafts: list[tuple[Key, dict[str, Any]]] = []
-        shapes: dict[Key, Polygon] = {}
-        for outline in outlines:
-            if outline.kind != "building":
-                continue
-            parts = list(self._parts(outline.geometry))
-            if not parts:
-                continue
-            common = {"osm": f"{outline.osm_type}/{outline.osm_id}", **self._height(outline)}
-            common["name"] = text_value(outline.tags.get("name"))
-            doors = [entrances[ref] for ref in outline.refs if ref in entrances]
-            for n, (shape, footprint) in enumerate(parts):
-                on = sorted(_point(xy) for xy in doors if shape.distance(Point(xy)) <= 0.01)
-                key = (*outline.key, n)
-                drafts.append((key, {**common, "footprint": footprint, "entrances": on}))
-                shapes[key] = shape
+        shapes: dict[Key, tuple[tuple[int, int], Polygon, float]] = {}
+        owners = [(o, parts_of.get(o.key, [])) for o in outlines if o.kind == "building"]
+        owners += [(part, []) for part in loose]
+        for outline, parts in owners:
+            kind = building_value(outline.tags) or tag_value(outline.tags, "building:part")
+            refs = set(outline.refs).union(*(part.refs for part in parts))
+            doors = [entrances[ref] for ref in sorted(refs) if ref in entrances]
+            for source, geometry, heights in self._pieces(outline, parts):
+                common = {"osm": f"{source.osm_type}/{source.osm_id}", **heights}
+                common["name"] = text_value(outline.tags.get("name"))
+                common["type"] = kind
+                if source is not outline:
+                    common["outline"] = f"{outline.osm_type}/{outline.osm_id}"
+                for n, (shape, footprint) in enumerate(self._parts(geometry)):
+                    on = sorted(_point(xy) for xy in doors if shape.distance(Point(xy)) <= 0.01)
+                    key = (*source.key, n)
+                    if key in shapes:  # a part shared by two buildings is drawn once
+                        continue
+                    drafts.append((key, {**common, "footprint": footprint, "entrances": on}))
+                    shapes[key] = (outline.key, shape, heights["base_height"])
         order = sorted(shapes)
         buildings = _numbered(drafts, "building", Building)
-        return buildings, [(key, b.id, shapes[key]) for key, b in zip(order, buildings, strict=True)]
+        largest: dict[tuple[int, int], tuple[float, str, Polygon]] = {}
+        for key, building in zip(order, buildings, strict=True):
+            owner, shape, base = shapes[key]
+            rank = (base > 0.0, -shape.area)
+            if owner not in largest or rank < largest[owner][0]:
+                largest[owner] = (rank, building.id, shape)
+        return buildings, {owner: (bid, shape) for owner, (_, bid, shape) in largest.items()}
 
     # Points --------------------------------------------------------------------------------------
 
-    def pois(self, outlines: list[_Outline], buildings: list[tuple[Key, str, Polygon]]) -> list[Poi]:
+    def pois(
+        self,
+        outlines: list[_Outline],
+        buildings: list[Building],
+        by_outline: dict[tuple[int, int], tuple[str, Polygon]],
+    ) -> list[Poi]:
         """Places of building outlines (inside them) and of nodes (naming the building they are in)."""
         drafts: list[tuple[Key, dict[str, Any]]] = []
-        first_part = {key[:2]: (building_id, shape) for key, building_id, shape in buildings if key[2] == 0}
         for outline in outlines:
-            poi = poi_of(outline.tags) if outline.kind == "building" else None
-            if poi is None or outline.key not in first_part:
+            poi = poi_of(outline.tags) if outline.kind in _BUILDING_KINDS else None
+            if poi is None or outline.key not in by_outline:
                 continue
-            building_id, shape = first_part[outline.key]
+            building_id, shape = by_outline[outline.key]
             position = _point(shape.representative_point().coords[0])
             drafts.append(
                 (
@@ -375,7 +557,8 @@ class _Builder:
                     self._poi(outline.osm_type, outline.osm_id, poi, outline.tags, position, building_id),
                 )
             )
-        tree = STRtree([shape for _, _, shape in buildings]) if buildings else None
+        ground = [(b, _shape(b)) for b in buildings if b.base_height == 0.0]
+        tree = STRtree([shape for _, shape in ground]) if ground else None
         for node in self.nodes:
             poi = poi_of(node.tags)
             if poi is None:
@@ -383,9 +566,9 @@ class _Builder:
             inside = None
             if tree is not None:
                 point = Point(node.xy)
-                hits = [buildings[i] for i in tree.query(point, predicate="intersects")]
+                hits = [ground[i] for i in tree.query(point, predicate="intersects")]
                 if hits:
-                    inside = min(hits, key=lambda hit: (hit[2].area, hit[0]))[1]
+                    inside = min(hits, key=lambda hit: (hit[1].area, int(hit[0].id.split("-")[1])))[0].id
             drafts.append(
                 ((0, node.id, 0), self._poi("node", node.id, poi, node.tags, _point(node.xy), inside))
             )
@@ -426,6 +609,42 @@ class _Builder:
         return _numbered(drafts, "furniture", StreetFurniture)
 
 
+def _pieces_by_way(roads: list[Road]) -> dict[int, list[tuple[str, LineString]]]:
+    """For each road way, its pieces (road id, line): what crossing nodes are matched against."""
+    by_way: dict[int, list[tuple[str, LineString]]] = {}
+    for road in roads:
+        by_way.setdefault(int(str(road.osm).split("/")[1]), []).append((road.id, as_line(road.centerline)))
+    return by_way
+
+
+def _parallel_length(road: LineString, walkways: list[LineString], band: BaseGeometry) -> float:
+    """Length of the ``walkways`` inside ``band`` that run parallel to ``road`` (either direction)."""
+    total = 0.0
+    cos_limit = math.cos(math.radians(_PARALLEL_DEG))
+    for walkway in walkways:
+        inside = walkway.intersection(band)
+        for piece in getattr(inside, "geoms", [inside]):
+            if not isinstance(piece, LineString) or piece.is_empty:
+                continue
+            coords = np.asarray(piece.coords)
+            for a, b in pairwise(coords):
+                length = float(np.hypot(*(b - a)))
+                if length == 0.0:
+                    continue
+                along = road.project(Point((a + b) / 2.0))
+                ahead = np.asarray(road.interpolate(min(road.length, along + 0.5)).coords[0])
+                behind = np.asarray(road.interpolate(max(0.0, along - 0.5)).coords[0])
+                direction = ahead - behind
+                norm = float(np.hypot(*direction))
+                if norm and abs(float(np.dot(direction, b - a))) >= cos_limit * norm * length:
+                    total += length
+    return total
+
+
+def _shape(building: Building) -> Polygon:
+    return Polygon(building.footprint.exterior, building.footprint.holes)
+
+
 def _point(xy: Iterable[float]) -> tuple[float, float]:
     x, y = xy
     return round(float(x), 3) + 0.0, round(float(y), 3) + 0.0
@@ -444,13 +663,13 @@ def build_features(extract: OsmExtract, rect: Rect, *, seed: int) -> Features:
         Seed of the drawn heights of untagged buildings.
     """
     builder = _Builder(extract, rect, seed)
-    roads, roads_by_way = builder.roads()
-    features = Features(roads=roads, walkways=builder.walkways())
-    features.crossings = builder.crossings(roads_by_way)
+    roads, walkways = builder.grounded(builder.roads(), builder.walkways())
+    features = Features(roads=builder.undoubled(roads, walkways), walkways=walkways)
+    features.crossings = builder.crossings(_pieces_by_way(roads))
     outlines = builder.outlines()
     features.areas = builder.areas(outlines)
-    features.buildings, shapes = builder.buildings(outlines)
-    features.pois = builder.pois(outlines, shapes)
+    features.buildings, by_outline = builder.buildings(outlines)
+    features.pois = builder.pois(outlines, features.buildings, by_outline)
     features.furniture = builder.furniture()
     features.dropped = builder.dropped
     return features

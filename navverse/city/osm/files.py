@@ -30,6 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
 
+import numpy as np
 import osmium
 import osmium.io
 import osmium.osm
@@ -463,3 +464,53 @@ def file_bounds(path: str | os.PathLike[str], fmt: str) -> LonLatBox | None:
         return None
     low, high = box.bottom_left, box.top_right
     return (low.lon, low.lat, high.lon, high.lat)
+
+
+EXTENT_PERCENTILES = (5.0, 95.0)
+"""Percentiles of the nodes' longitudes and latitudes that bound a file's data when it declares no bounds."""
+_MOST_SPREAD_NODES = 2_000_000
+"""Nodes kept to find where the data is; beyond, every other one is dropped (in file order), repeatedly."""
+
+
+@dataclass(frozen=True)
+class NodeSpread:
+    """Where a file's nodes lie: ``box`` spans the :data:`EXTENT_PERCENTILES` of their longitudes and
+    latitudes (a few far nodes of a relation do not stretch it); ``centre`` (lat, lon) is the node
+    nearest their median, so a window around it holds data even when the data is a thin corridor."""
+
+    box: LonLatBox
+    centre: tuple[float, float]
+
+
+def node_spread(path: str | os.PathLike[str], fmt: str) -> NodeSpread | None:
+    """Where the data of a file without declared bounds (an Overpass export) lies; None if no node
+    has a location."""
+    lons: list[float] = []
+    lats: list[float] = []
+    step, seen = 1, 0
+    try:
+        for node in osmium.FileProcessor(osmium_file(path, fmt), osmium.osm.NODE):
+            location = node.location
+            if not location.valid():
+                continue
+            seen += 1
+            if seen % step:
+                continue
+            lons.append(location.lon)
+            lats.append(location.lat)
+            if len(lons) >= _MOST_SPREAD_NODES:
+                lons, lats, step = lons[::2], lats[::2], step * 2
+    except OSMIUM_ERRORS as exc:
+        raise osmium_failure(Path(path), fmt, exc) from None
+    if not lons:
+        return None
+    lon_array, lat_array = np.asarray(lons), np.asarray(lats)
+    low, high = EXTENT_PERCENTILES
+    west, east = (float(v) for v in np.percentile(lon_array, [low, high]))
+    south, north = (float(v) for v in np.percentile(lat_array, [low, high]))
+    median_lon, median_lat = float(np.median(lon_array)), float(np.median(lat_array))
+    shrink = math.cos(math.radians(median_lat))  # degrees of longitude are shorter
+    nearest = int(np.argmin(((lon_array - median_lon) * shrink) ** 2 + (lat_array - median_lat) ** 2))
+    return NodeSpread(
+        box=(west, south, east, north), centre=(lat_array[nearest].item(), lon_array[nearest].item())
+    )

@@ -21,6 +21,11 @@ roads          ways ``highway=`` a vehicle class of :data:`~navverse.city.tags.R
                with ``parking:<side>:orientation``, else ``parking:lane:<side>=parallel|diagonal|
                perpendicular``; width ``parking:<side>:width``, else 2.0 m parallel, 4.5 m diagonal,
                5.0 m perpendicular (the carriageway is not widened for them)
+bridges        roads and walkways that are bridges (``bridge=*``, ``man_made=bridge``, ``layer`` > 0): left
+               out where they cross a way at ground level (an overpass), else kept level with the
+               streets they join (over water, a railway, open land); both counted
+sidewalks      a side inferred by the class rule is left out where mapped sidewalks, footways or paths
+               run parallel beside the road (within 6 m of its edge) along half its length or more
 walkways       ways ``highway=footway|path|steps|cycleway|pedestrian`` at ground level; kind ``sidewalk``
                for ``footway=sidewalk``, ``crossing`` for ``footway=crossing``, else the highway value;
                width ``width``, else the class default
@@ -38,6 +43,10 @@ areas          closed ways and multipolygons, the first matching row winning:
                green         ``leisure=park|garden|pitch|playground``, ``landuse=grass|meadow|forest|
                              recreation_ground|village_green``, ``natural=wood|scrub|grassland``
                ground        ``landuse=brownfield|construction``, ``natural=bare_rock|sand``
+               rail          ``railway=rail|light_rail|narrow_gauge|subway|funicular|preserved|monorail``
+                             lines at ground level, as strips of the track bed's width (not ``tram``)
+               water         also ``waterway=river|canal|stream|ditch|drain`` lines, ``width`` or a
+                             default per kind
                ============  =============================================================================
 
                Buildings are never areas; areas not at ground level are left out
@@ -49,8 +58,12 @@ buildings      closed ways and multipolygons ``building=*`` (not ``no``; not ``r
                1 (garage, shed, hut, kiosk...), 1-2 (house, detached, terrace...), 2-3 (industrial,
                warehouse...), 2-5 (apartments, commercial, office, retail, hotel...), else 1-3, from
                ``numpy.random.default_rng([seed, type, sign, |id|])`` of the OSM object, so it does not
-               depend on reading order. Entrances: ``entrance=*`` nodes of the outline.
-               ``building:part`` is ignored (the outline carries the building's height), and counted
+               depend on reading order. Entrances: ``entrance=*`` nodes of the outline. ``type`` is
+               the ``building=*`` value. A building with ``building:part`` outlines (a part belongs to
+               the smallest building holding half of it or more) stands as its parts, each clipped to
+               the outline with its own heights (an untagged part: the building's), and the rest of
+               the outline no part covers; each part names its ``outline``. Parts in no building
+               stand alone
 pois           nodes and building outlines with ``amenity=`` a place (:data:`.osm_features.POI_AMENITIES`:
                cafe, restaurant, fast_food, bank, pharmacy, bar, pub...), ``shop=*``, ``craft=*``,
                ``office=*`` (in that order); category is the value, ``tag`` is ``key=value``; a node
@@ -88,6 +101,7 @@ from navverse.city.osm.files import (
     check_osm_file,
     file_bounds,
     head_bounds,
+    node_spread,
     peek_osm_file,
 )
 from navverse.city.osm.stream import read_extract
@@ -117,7 +131,9 @@ def read_osm(
     path : path
         A ``.osm`` (OSM XML), ``.osm.gz`` or ``.osm.pbf`` file.
     center : (lat, lon), optional
-        Centre of the window (the frame's origin); default: the centre of the file's declared bounds.
+        Centre of the window (the frame's origin); default: the centre of the file's declared bounds,
+        or, for a file that declares none, the node nearest the median of its nodes
+        (:func:`~navverse.city.osm.files.node_spread`).
     size_m : (width, height), optional
         Sides of a centred window (m), east-west and north-south;
         :class:`~navverse.city.osm.window.OsmWindow`'s
@@ -149,7 +165,13 @@ def read_osm(
     osm_file = check_osm_file(path)
     bounds = file_bounds(path, osm_file.format)
     size_m = OsmWindow.model_fields["size_m"].default if size_m is None else size_m
-    window = make_window(center=center, size_m=size_m, bbox=bbox, data_bounds=bounds, path=path)
+    data_bounds = bounds
+    if bounds is None and center is None and bbox is None:  # an Overpass export: centre on its data
+        spread = node_spread(path, osm_file.format)
+        if spread is None:
+            raise CityMapError(f"{path.name} holds no node with a location: it has no map data to read")
+        data_bounds, center = spread.box, spread.centre
+    window = make_window(center=center, size_m=size_m, bbox=bbox, data_bounds=data_bounds, path=path)
     sha256 = file_sha256(path, progress=progress)
     extract = read_extract(osm_file, window, keys=FEATURE_KEYS, progress=progress)
     if bounds is None and (extract.extent is None or not window.meets(extract.extent)):
@@ -178,7 +200,8 @@ def check_window(
 
     Reads the file's first bytes (:func:`~navverse.city.osm.files.peek_osm_file`) and its header: the centre
     given (or the bbox's) must lie inside the bounds the file declares, and the window must meet
-    them. A file that declares no bounds is checked when it is read.
+    them. A file that declares no bounds is checked when it is read (and a window without a centre
+    is then centred on its data).
 
     Raises
     ------
@@ -188,6 +211,8 @@ def check_window(
     path = Path(path)
     fmt, head = peek_osm_file(path)
     bounds = file_bounds(path, fmt) if fmt == "pbf" else head_bounds(head)
+    if bounds is None and center is None and bbox is None:
+        return  # the window is centred on the data when the file is read
     size_m = OsmWindow.model_fields["size_m"].default if size_m is None else size_m
     window = make_window(center=center, size_m=size_m, bbox=bbox, data_bounds=bounds, path=path)
     if bounds is not None:

@@ -37,7 +37,8 @@ Side = Annotated[float, Field(gt=0.0, le=MAX_WINDOW_SIDE, description="Meters, m
 class OsmWindow(Settings):
     """The window of an OSM file a city map covers: ``center`` ``[lat, lon]`` with ``size_m``
     ``[east-west, north-south]``, or ``bbox`` ``[min_lat, min_lon, max_lat, max_lon]``; with
-    neither, the centre of the file's declared bounds."""
+    neither, the centre of the file's declared bounds (for a file that declares none, the node
+    nearest the median of its nodes)."""
 
     center: tuple[Latitude, Longitude] | None = None
     """Centre of a ``size_m`` window (degrees)."""
