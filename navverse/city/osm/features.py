@@ -38,6 +38,7 @@ from navverse.city.osm.geometry import (
     clip_line_pieces,
     clip_polygon,
     polygon2,
+    polygon_of,
     repaired,
     ring_polygon,
 )
@@ -138,13 +139,16 @@ class _Builder:
 
     # Lines ---------------------------------------------------------------------------------------
 
-    def grounded(self, roads: list[Road], walkways: list[Walkway]) -> tuple[list[Road], list[Walkway]]:
-        """Roads and walkways without the bridges that pass over a way at ground level.
+    def grounded(
+        self, roads: list[Road], walkways: list[Walkway], areas: list[LandArea]
+    ) -> tuple[list[Road], list[Walkway]]:
+        """Roads and walkways without the bridges that are not level with the streets.
 
-        A bridge (``bridge=*``, or a ``layer`` above 0) that crosses no way at ground level spans water,
-        a railway or open land: it is kept, level with the streets it joins. One that crosses a road
-        or walkway below it (an overpass, a footbridge over a street) is left out, so no junction is
-        made where there is none. Both are counted.
+        A bridge (``bridge=*``, ``man_made=bridge``, or a ``layer`` above 0) over water or a railway
+        that crosses no way at ground level is kept, level with the streets it joins. One that crosses
+        a road or walkway below it (an overpass, a footbridge over a street) is left out, so no
+        junction is made where there is none, and so is one over neither water nor rail (a viaduct
+        over land, whose ground beneath is not its deck). Each is counted.
         """
         raised = {way.id for way in self.ways if is_raised(way.tags)}
         if not raised:
@@ -156,17 +160,22 @@ class _Builder:
         features = [*roads, *walkways]
         below = [as_line(f.centerline) for f in features if way_id(f) not in raised]
         tree = STRtree(below) if below else None
+        spanned = [polygon_of(a.polygon) for a in areas if a.cls in ("water", "rail")]
+        spans = STRtree(spanned) if spanned else None
         left_out: set[str] = set()
         for feature in features:
             if way_id(feature) not in raised:
                 continue
             line = as_line(feature.centerline)
-            crossed = tree is not None and len(tree.query(line, predicate="crosses")) > 0
-            if crossed:
-                left_out.add(feature.id)
-                self.dropped["bridge over a way at ground level (left out)"] += 1
+            if tree is not None and len(tree.query(line, predicate="crosses")) > 0:
+                reason = "bridge over a way at ground level (left out)"
+            elif spans is None or len(spans.query(line, predicate="intersects")) == 0:
+                reason = "bridge over neither water nor rail (left out)"
             else:
-                self.dropped["bridge kept level with the streets (it spans no way)"] += 1
+                self.dropped["bridge over water or rail (kept level with the streets)"] += 1
+                continue
+            left_out.add(feature.id)
+            self.dropped[reason] += 1
         return [r for r in roads if r.id not in left_out], [w for w in walkways if w.id not in left_out]
 
     def line_areas(self) -> list[tuple[Key, dict[str, Any]]]:
@@ -557,7 +566,7 @@ class _Builder:
                     self._poi(outline.osm_type, outline.osm_id, poi, outline.tags, position, building_id),
                 )
             )
-        ground = [(b, _shape(b)) for b in buildings if b.base_height == 0.0]
+        ground = [(b, polygon_of(b.footprint)) for b in buildings if b.base_height == 0.0]
         tree = STRtree([shape for _, shape in ground]) if ground else None
         for node in self.nodes:
             poi = poi_of(node.tags)
@@ -641,10 +650,6 @@ def _parallel_length(road: LineString, walkways: list[LineString], band: BaseGeo
     return total
 
 
-def _shape(building: Building) -> Polygon:
-    return Polygon(building.footprint.exterior, building.footprint.holes)
-
-
 def _point(xy: Iterable[float]) -> tuple[float, float]:
     x, y = xy
     return round(float(x), 3) + 0.0, round(float(y), 3) + 0.0
@@ -663,11 +668,11 @@ def build_features(extract: OsmExtract, rect: Rect, *, seed: int) -> Features:
         Seed of the drawn heights of untagged buildings.
     """
     builder = _Builder(extract, rect, seed)
-    roads, walkways = builder.grounded(builder.roads(), builder.walkways())
-    features = Features(roads=builder.undoubled(roads, walkways), walkways=walkways)
-    features.crossings = builder.crossings(_pieces_by_way(roads))
     outlines = builder.outlines()
-    features.areas = builder.areas(outlines)
+    areas = builder.areas(outlines)
+    roads, walkways = builder.grounded(builder.roads(), builder.walkways(), areas)
+    features = Features(roads=builder.undoubled(roads, walkways), walkways=walkways, areas=areas)
+    features.crossings = builder.crossings(_pieces_by_way(roads))
     features.buildings, by_outline = builder.buildings(outlines)
     features.pois = builder.pois(outlines, features.buildings, by_outline)
     features.furniture = builder.furniture()

@@ -22,6 +22,7 @@ from shapely.geometry.polygon import orient
 
 from navverse.city.clipping import Rect, clip_segment
 from navverse.city.map import Path2, Polygon2
+from navverse.city.precision import GRID
 
 __all__ = [
     "DEGENERATE",
@@ -36,12 +37,11 @@ __all__ = [
     "line_runs",
     "path2",
     "polygon2",
+    "polygon_of",
     "repaired",
     "ring_polygon",
 ]
 
-GRID = 0.001
-"""Coordinates are rounded to this grid (m)."""
 MIN_LINE_LENGTH = 0.1
 """Shorter line pieces are degenerate (m)."""
 MIN_POLYGON_AREA = 0.5
@@ -219,3 +219,8 @@ def clip_line_pieces(xy: np.ndarray, rect: Rect, dropped: Counter[str]) -> list[
 def as_line(path: Path2) -> LineString:
     """A shapely line of a path."""
     return LineString(path.points)
+
+
+def polygon_of(shape: Polygon2) -> Polygon:
+    """A shapely polygon of a map polygon (exterior and holes)."""
+    return Polygon(shape.exterior, shape.holes)
