@@ -21,9 +21,10 @@ roads          ways ``highway=`` a vehicle class of :data:`~navverse.city.tags.R
                with ``parking:<side>:orientation``, else ``parking:lane:<side>=parallel|diagonal|
                perpendicular``; width ``parking:<side>:width``, else 2.0 m parallel, 4.5 m diagonal,
                5.0 m perpendicular (the carriageway is not widened for them)
-bridges        roads and walkways that are bridges (``bridge=*``, ``man_made=bridge``, ``layer`` > 0): left
-               out where they cross a way at ground level (an overpass), else kept level with the
-               streets they join (over water, a railway, open land); both counted
+bridges        roads and walkways that are bridges (``bridge=*``, ``man_made=bridge``, ``layer`` > 0): kept
+               level with the streets they join where they span water or a railway and cross no way
+               at ground level; left out where they cross one (an overpass) or span neither (a
+               viaduct over land); each counted
 sidewalks      a side inferred by the class rule is left out where mapped sidewalks, footways or paths
                run parallel beside the road (within 6 m of its edge) along half its length or more
 walkways       ways ``highway=footway|path|steps|cycleway|pedestrian`` at ground level; kind ``sidewalk``
