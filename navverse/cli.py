@@ -27,7 +27,7 @@ from pathlib import Path
 
 from rich.console import Console
 
-from navverse.commands import evaluate, export, listing, show, validate, workspace
+from navverse.commands import city, evaluate, export, listing, show, validate, workspace
 from navverse.commands.common import (
     MINI,
     HelpFormatter,
@@ -464,6 +464,7 @@ def _recipe_path(workspace, name: str) -> Path:
 
 COMMANDS: tuple[Callable[[Subparsers, Shared], None], ...] = (
     workspace.register,
+    city.register,
     register,
     validate.register,
     evaluate.register,

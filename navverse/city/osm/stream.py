@@ -68,6 +68,8 @@ __all__ = [
     "OsmMultipolygon",
     "OsmNode",
     "OsmWay",
+    "location_indexes",
+    "most_nodes",
     "read_extract",
 ]
 
@@ -178,14 +180,21 @@ class _RelationMembers:
                 self.ways.add(member.ref)
 
 
+def most_nodes(osm_file: OsmFile) -> int:
+    """The most nodes the file can hold, from its size: what decides where location indexes live."""
+    return osm_file.data_bytes // _FEWEST_BYTES_PER_NODE[osm_file.format]
+
+
 @contextmanager
-def _location_index(most_nodes: int) -> Iterator[str]:
-    """Osmium's node location index for a file of at most ``most_nodes`` nodes (see the module)."""
-    if most_nodes <= IN_MEMORY_INDEX_NODES:
-        yield "flex_mem"
+def location_indexes(most: int, names: tuple[str, ...] = ("nodes",)) -> Iterator[list[str]]:
+    """Osmium location index specifications (for ``osmium.index.create_map`` or ``with_locations``),
+    one per name, for a file of at most ``most`` nodes: in memory up to
+    :data:`IN_MEMORY_INDEX_NODES`, else in files of a temporary directory removed afterwards."""
+    if most <= IN_MEMORY_INDEX_NODES:
+        yield ["flex_mem" for _ in names]
     else:
         with tempfile.TemporaryDirectory(prefix="navverse-osm-") as directory:
-            yield f"sparse_file_array,{os.path.join(directory, 'nodes.idx')}"
+            yield [f"sparse_file_array,{os.path.join(directory, name + '.idx')}" for name in names]
 
 
 _WKB = osmium.geom.WKBFactory()
@@ -376,7 +385,7 @@ def _stream(
     main_filter = osmium.filter.KeyFilter(*keys)
     main_filter.enable_for(osmium.osm.NODE | osmium.osm.RELATION | osmium.osm.AREA)
     handlers = {"n": collector.node, "w": collector.way, "r": collector.relation, "a": collector.area}
-    with _location_index(most_nodes) as index:
+    with location_indexes(most_nodes) as (index,):
         processor = (
             osmium.FileProcessor(osmium_file(path, fmt))
             .with_locations(index)
@@ -456,14 +465,14 @@ def read_extract(
         than :data:`MAX_SORT_BYTES`.
     """
     path, fmt = osm_file.path, osm_file.format
-    most_nodes = osm_file.data_bytes // _FEWEST_BYTES_PER_NODE[fmt]
+    most = most_nodes(osm_file)
 
     def collector(duplicates: frozenset[tuple[str, int]]) -> _Collector:
         """A fresh collector (each read starts from nothing)."""
         return _Collector(window, keys, _RelationMembers(), duplicates)
 
     try:
-        return _stream(path, path, fmt, collector(frozenset()), most_nodes=most_nodes, progress=progress)
+        return _stream(path, path, fmt, collector(frozenset()), most_nodes=most, progress=progress)
     except _UnsortedError as exc:
         problem = str(exc)
     size = os.path.getsize(path)
@@ -477,8 +486,6 @@ def read_extract(
         target = Path(directory) / "sorted.osm.pbf"
         duplicates = _sorted_copy(path, fmt, target)
         try:
-            return _stream(
-                target, path, "pbf", collector(duplicates), most_nodes=most_nodes, progress=progress
-            )
+            return _stream(target, path, "pbf", collector(duplicates), most_nodes=most, progress=progress)
         except _UnsortedError as exc:  # not expected of a sorted copy; say so rather than loop
             raise CityMapError(f"{path} could not be read even sorted ({exc})") from None

@@ -1,0 +1,198 @@
+"""Build a window of every OSM file in a folder and table what each became.
+
+    python scripts/osm_survey.py [FOLDER] [--size 500] [--root DIR] [--markdown FILE] [--json FILE]
+
+For each file (default folder: ``data/raw/osm``) the densest window of ``--size`` metres
+(``navverse city windows``' first) is built through the shipped outdoor preset (osm_city ->
+city_geometry -> populate -> storefronts -> navmesh) with the engine, in the workspace ``--root``
+(default: this project; its cache makes a second run fast), and the row says:
+
+- the window (centre lat, lon) and the build's seconds (stage runs taken from the cache count 0:
+  use a fresh ``--root`` to time them);
+- buildings kept, and dropped by reason; where their heights came from (``height`` tag, ``levels``,
+  ``parts``: a ``building:part`` with its own heights, ``default``: drawn storeys);
+- sidewalks mapped (km of ``footway=sidewalk`` ways) and inferred (km of road sides given one by the
+  tags or the class rule); crossings mapped (nodes and ways) and added at junction arms;
+- POIs, and the storefronts they became, by place category;
+- navmesh islands and the largest island's share of the navigable area;
+- or, for a file that cannot be built, the reason (refused: the file's fault, or the error).
+
+Refusals are rows too; the script exits 0 unless it could not run at all.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from collections import Counter
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+from shapely.geometry import LineString
+
+from navverse.api import ApiError, build, load_scene
+from navverse.city.map import CityMap, read_city_map
+from navverse.errors import NavverseError
+
+PROJECT = Path(__file__).resolve().parents[1]
+OSM_SUFFIXES = (".osm", ".xml", ".gz", ".bz2", ".pbf")
+
+
+@dataclass
+class SurveyRow:
+    """What one file's window became."""
+
+    file: str
+    window: str = ""
+    seconds: float = 0.0
+    buildings: int = 0
+    buildings_dropped: dict[str, int] = field(default_factory=dict)
+    heights: dict[str, int] = field(default_factory=dict)
+    sidewalks_mapped_km: float = 0.0
+    sidewalks_inferred_km: float = 0.0
+    crossings_mapped: int = 0
+    crossings_added: int = 0
+    pois: int = 0
+    storefronts: dict[str, int] = field(default_factory=dict)
+    islands: int = 0
+    largest_island: float = 0.0
+    refused: str = ""
+
+
+def _osm_files(folder: Path) -> list[Path]:
+    return sorted(p for p in folder.iterdir() if p.is_file() and p.name.lower().endswith(OSM_SUFFIXES))
+
+
+def _window(path: Path, size: float) -> tuple[float, float]:
+    """The centre (lat, lon) of the file's best window of ``size`` metres."""
+    from navverse.city.osm.windows import rank_windows
+
+    best = rank_windows(path, size_m=size, top=1).windows[0]
+    return best.center
+
+
+def _heights(city: CityMap) -> dict[str, int]:
+    names = {"height": "tag", "levels": "levels", "drawn": "default", "synthetic": "synthetic"}
+    found = Counter("parts" if b.outline else names[b.height_source] for b in city.buildings)
+    return dict(sorted(found.items()))
+
+
+def _sidewalk_km(city: CityMap) -> tuple[float, float]:
+    mapped = sum(LineString(w.centerline.points).length for w in city.walkways if w.kind == "sidewalk")
+    inferred = sum(
+        LineString(r.centerline.points).length
+        * ((r.sidewalk_left is not None) + (r.sidewalk_right is not None))
+        for r in city.roads
+    )
+    return round(mapped / 1000.0, 2), round(inferred / 1000.0, 2)
+
+
+def survey_file(path: Path, *, size: float, root: Path) -> SurveyRow:
+    """Build the best window of ``path`` and describe it (a refusal is described too)."""
+    row = SurveyRow(file=path.name)
+    try:
+        lat, lon = _window(path, size)
+    except NavverseError as exc:
+        row.refused = str(exc)
+        return row
+    row.window = f"{lat:.5f}, {lon:.5f}"
+    recipe = {
+        "extends": "outdoor-city",
+        "stages": {"osm_city": {"source": str(path.resolve()), "center": [lat, lon], "size_m": [size, size]}},
+    }
+    name = "survey-" + "".join(c if c.isalnum() else "-" for c in path.name.lower()).strip("-")
+    started = time.perf_counter()
+    try:
+        result = build(recipe, name=name, root=root, jobs=1)
+    except (ApiError, NavverseError) as exc:
+        row.refused = str(exc).splitlines()[0]
+        return row
+    row.seconds = round(time.perf_counter() - started, 1)
+    loaded = load_scene(result.output(name))
+    geometry = result.output(name, "geometry")  # the storefronts stage's: the map and plan beside it
+    city = read_city_map(geometry / "city_map.json")
+    row.buildings = len(city.buildings)
+    row.buildings_dropped = {k: v for k, v in city.dropped.items() if "building" in k}
+    row.heights = _heights(city)
+    row.sidewalks_mapped_km, row.sidewalks_inferred_km = _sidewalk_km(city)
+    row.crossings_mapped = len(city.crossings) + sum(1 for w in city.walkways if w.kind == "crossing")
+    plan = json.loads((geometry / "street_plan.json").read_text())
+    row.crossings_added = max(0, len(plan.get("crossings", [])) - len(city.crossings))
+    row.pois = len(city.pois)
+    stores = Counter(s.place_category for s in loaded.annotations.storefronts)
+    row.storefronts = dict(sorted(stores.items(), key=lambda item: (-item[1], item[0])))
+    if loaded.pathfinder is not None:
+        areas = loaded.pathfinder.island_areas
+        row.islands = len(areas)
+        row.largest_island = round(float(areas[0] / areas.sum()), 3) if len(areas) else 0.0
+    return row
+
+
+def _short(reasons: dict[str, int]) -> str:
+    return "; ".join(f"{reason.split(' (')[0]} {n}" for reason, n in reasons.items()) or "-"
+
+
+def markdown(rows: list[SurveyRow]) -> str:
+    """The survey as a Markdown table."""
+    head = (
+        "| file | window (lat, lon) | s | buildings | dropped | heights | sidewalks mapped / inferred km "
+        "| crossings mapped / added | POIs | storefronts (categories) | islands | largest |"
+    )
+    lines = [head, "|" + "---|" * 12]
+    for r in rows:
+        if r.refused:
+            lines.append(f"| {r.file} | refused: {r.refused} |" + " |" * 10)
+            continue
+        heights = ", ".join(f"{k} {v}" for k, v in r.heights.items())
+        stores = sum(r.storefronts.values())
+        cells = [
+            r.file,
+            r.window,
+            f"{r.seconds:g}",
+            str(r.buildings),
+            _short(r.buildings_dropped),
+            heights,
+            f"{r.sidewalks_mapped_km:g} / {r.sidewalks_inferred_km:g}",
+            f"{r.crossings_mapped} / {r.crossings_added}",
+            str(r.pois),
+            f"{stores} ({len(r.storefronts)})",
+            str(r.islands),
+            f"{r.largest_island:.0%}",
+        ]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("folder", nargs="?", type=Path, default=PROJECT / "data" / "raw" / "osm")
+    parser.add_argument("--size", type=float, default=500.0, help="the window's side (m)")
+    parser.add_argument("--root", type=Path, default=PROJECT, help="the workspace to build in")
+    parser.add_argument("--markdown", type=Path, help="also write the table here")
+    parser.add_argument("--json", type=Path, help="write the rows as JSON here")
+    parser.add_argument("--only", nargs="*", default=None, help="survey only these file names")
+    args = parser.parse_args()
+    if not args.folder.is_dir():
+        print(f"error: {args.folder} is not a folder of OSM files", file=sys.stderr)
+        return 1
+    files = [p for p in _osm_files(args.folder) if args.only is None or p.name in args.only]
+    from pipeline.params import allow_reading
+
+    rows = []
+    with allow_reading([args.folder.resolve()]):
+        for n, path in enumerate(files, 1):
+            print(f"[{n}/{len(files)}] {path.name}", file=sys.stderr, flush=True)
+            rows.append(survey_file(path, size=args.size, root=args.root))
+    table = markdown(rows)
+    sys.stdout.write(table)
+    if args.markdown:
+        args.markdown.write_text(table, encoding="utf-8")
+    if args.json:
+        args.json.write_text(json.dumps([asdict(r) for r in rows], indent=1), encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
