@@ -3,7 +3,8 @@
     python scripts/real_city_mosaic.py [--root DIR] [--out docs/img/real-cities.png] [--columns 10]
 
 Reads ``<root>/data/built/targets/<id>/scene/bev.png`` (root: this project) of every recipe in
-``recipes/scenes/real-cities`` (build them first: ``navverse build recipes/scenes/real-cities``),
+``recipes/scenes/real-cities`` (build them first, by name: ``navverse build $(ls
+recipes/scenes/real-cities | sed 's/.yaml$//')``),
 labels each tile with its id and writes one PNG; scenes not built are tiles that say so.
 """
 
