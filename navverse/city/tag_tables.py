@@ -105,6 +105,7 @@ POI_AMENITIES = frozenset(
         "marketplace",
         "money_transfer",
         "nightclub",
+        "payment_centre",
         "pharmacy",
         "post_office",
         "pub",

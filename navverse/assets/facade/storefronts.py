@@ -10,36 +10,43 @@ front face is textured with an image of the shop name and a category icon
 Place categories
 ----------------
 The categories are among the most frequent ``amenity=*`` and ``shop=*`` values of OpenStreetMap
-(taginfo); :func:`place_category` maps tags to them, checking ``amenity`` before ``shop``:
+(taginfo); :func:`place_category` maps tags to them, checking ``amenity``, then ``shop``, ``craft``
+and ``office`` (the order of the OSM reader's places). A value joins a category when a person asking
+for that category would take the place for one (a greengrocer is a grocery, a watchmaker a jeweller,
+a tailor a clothes shop); values of other trades keep the generic ``shop`` or none:
 
-============  ===============================================================
+============  ===================================================================================
 category      OSM tags
-============  ===============================================================
+============  ===================================================================================
 restaurant    amenity=restaurant
 cafe          amenity=cafe
 fast_food     amenity=fast_food|food_court
-bar           amenity=bar|pub|biergarten
-bank          amenity=bank|bureau_de_change
-pharmacy      amenity=pharmacy; shop=chemist
-supermarket   shop=supermarket
-convenience   shop=convenience|kiosk|newsagent
-bakery        shop=bakery|pastry|confectionery
-clothes       shop=clothes|shoes|boutique
-hairdresser   shop=hairdresser|beauty
+bar           amenity=bar|pub|biergarten|nightclub
+bank          amenity=bank|bureau_de_change|money_transfer|payment_centre
+pharmacy      amenity=pharmacy; shop=chemist|drugstore
+supermarket   shop=supermarket|wholesale
+convenience   shop=convenience|kiosk|newsagent|grocery|general|food|greengrocer|deli|health_food|
+              frozen_food|dairy|tobacco
+bakery        shop=bakery|pastry|confectionery|chocolate; craft=bakery|confectionery|pastry
+clothes       shop=clothes|shoes|boutique|fashion|fashion_accessories|bag|leather|tailor;
+              craft=tailor|dressmaker|shoemaker
+hairdresser   shop=hairdresser|beauty|barber
 books         shop=books|stationery
 florist       shop=florist|garden_centre
-hardware      shop=hardware|doityourself
-electronics   shop=electronics|mobile_phone|computer
+hardware      shop=hardware|doityourself|paint|trade|tools|electrical|locksmith;
+              craft=locksmith|key_cutter
+electronics   shop=electronics|mobile_phone|computer|hifi|telecommunication|appliance|camera|
+              video_games|radiotechnics; craft=electronics_repair
 post_office   amenity=post_office
-clinic        amenity=doctors|dentist|clinic
-ice_cream     amenity=ice_cream; shop=ice_cream
-butcher       shop=butcher
-optician      shop=optician
-jewelry       shop=jewelry
+clinic        amenity=doctors|dentist|clinic; office=physician
+ice_cream     amenity=ice_cream; shop=ice_cream|frozen_yogurt
+butcher       shop=butcher; craft=butcher
+optician      shop=optician; craft=optician
+jewelry       shop=jewelry|jewellery|watches; craft=jeweller|goldsmith|watchmaker
 shop          any other ``shop`` value except ``no`` and ``vacant`` (the fallback)
-============  ===============================================================
+============  ===================================================================================
 
-Tags with neither a listed ``amenity`` nor a ``shop`` give ``None``.
+Tags with none of these give ``None`` (schools, cinemas, offices of companies, other crafts).
 
 Frame
 -----
@@ -118,8 +125,11 @@ _AMENITY: dict[str, str] = {
     "bar": "bar",
     "pub": "bar",
     "biergarten": "bar",
+    "nightclub": "bar",
     "bank": "bank",
     "bureau_de_change": "bank",
+    "money_transfer": "bank",
+    "payment_centre": "bank",
     "pharmacy": "pharmacy",
     "post_office": "post_office",
     "doctors": "clinic",
@@ -127,34 +137,53 @@ _AMENITY: dict[str, str] = {
     "clinic": "clinic",
     "ice_cream": "ice_cream",
 }
-_SHOP: dict[str, str] = {
-    "chemist": "pharmacy",
-    "supermarket": "supermarket",
-    "convenience": "convenience",
-    "kiosk": "convenience",
-    "newsagent": "convenience",
-    "bakery": "bakery",
-    "pastry": "bakery",
-    "confectionery": "bakery",
-    "clothes": "clothes",
-    "shoes": "clothes",
-    "boutique": "clothes",
-    "hairdresser": "hairdresser",
-    "beauty": "hairdresser",
-    "books": "books",
-    "stationery": "books",
-    "florist": "florist",
-    "garden_centre": "florist",
-    "hardware": "hardware",
-    "doityourself": "hardware",
-    "electronics": "electronics",
-    "mobile_phone": "electronics",
-    "computer": "electronics",
-    "ice_cream": "ice_cream",
-    "butcher": "butcher",
-    "optician": "optician",
-    "jewelry": "jewelry",
+_SHOP_VALUES: dict[str, tuple[str, ...]] = {
+    "pharmacy": ("chemist", "drugstore"),
+    "supermarket": ("supermarket", "wholesale"),
+    "convenience": (
+        "convenience", "kiosk", "newsagent", "grocery", "general", "food", "greengrocer", "deli",
+        "health_food", "frozen_food", "dairy", "tobacco",
+    ),
+    "bakery": ("bakery", "pastry", "confectionery", "chocolate"),
+    "clothes": (
+        "clothes", "shoes", "boutique", "fashion", "fashion_accessories", "bag", "leather", "tailor",
+    ),
+    "hairdresser": ("hairdresser", "beauty", "barber"),
+    "books": ("books", "stationery"),
+    "florist": ("florist", "garden_centre"),
+    "hardware": ("hardware", "doityourself", "paint", "trade", "tools", "electrical", "locksmith"),
+    "electronics": (
+        "electronics", "mobile_phone", "computer", "hifi", "telecommunication", "appliance", "camera",
+        "video_games", "radiotechnics",
+    ),
+    "ice_cream": ("ice_cream", "frozen_yogurt"),
+    "butcher": ("butcher",),
+    "optician": ("optician",),
+    "jewelry": ("jewelry", "jewellery", "watches"),
+}  # fmt: skip
+"""``shop=*`` values of each category (any other shop value is the generic ``shop``)."""
+_CRAFT_VALUES: dict[str, tuple[str, ...]] = {
+    "bakery": ("bakery", "confectionery", "pastry"),
+    "clothes": ("tailor", "dressmaker", "shoemaker"),
+    "hardware": ("locksmith", "key_cutter"),
+    "electronics": ("electronics_repair",),
+    "butcher": ("butcher",),
+    "optician": ("optician",),
+    "jewelry": ("jeweller", "goldsmith", "watchmaker"),
 }
+"""``craft=*`` values of each category: the crafts that keep a shop front (others have none)."""
+_OFFICE_VALUES: dict[str, tuple[str, ...]] = {"clinic": ("physician",)}
+"""``office=*`` values of each category: offices a pedestrian walks into as into a shop."""
+
+
+def _by_value(values: Mapping[str, tuple[str, ...]]) -> dict[str, str]:
+    """Invert ``{category: values}`` into ``{value: category}`` (each value is listed once)."""
+    return {value: category for category, listed in values.items() for value in listed}
+
+
+_SHOP = _by_value(_SHOP_VALUES)
+_CRAFT = _by_value(_CRAFT_VALUES)
+_OFFICE = _by_value(_OFFICE_VALUES)
 _NOT_A_SHOP = frozenset({"no", "vacant", ""})
 
 DESIGNS_PER_CATEGORY = 6
@@ -369,16 +398,27 @@ def place_category(tags: Mapping[str, str]) -> str | None:
     Returns
     -------
     str or None
-        The category for a listed ``amenity`` value, else for a listed ``shop`` value, ``"shop"`` for
-        any other shop value except ``no`` / ``vacant``, and ``None`` otherwise.
+        The category of a listed ``amenity`` value, else of a listed ``shop`` value, ``"shop"`` for
+        any other shop value except ``no`` / ``vacant``, else the category of a listed ``craft``,
+        then ``office`` value, and ``None`` otherwise.
     """
-    amenity = tags.get("amenity", "").strip().lower()
+    amenity = _value(tags, "amenity")
     if amenity in _AMENITY:
         return _AMENITY[amenity]
-    shop = tags.get("shop", "").strip().lower()
+    shop = _value(tags, "shop")
     if shop in _SHOP:
         return _SHOP[shop]
-    return None if shop in _NOT_A_SHOP else "shop"
+    if shop not in _NOT_A_SHOP:
+        return "shop"
+    craft = _value(tags, "craft")
+    if craft in _CRAFT:
+        return _CRAFT[craft]
+    return _OFFICE.get(_value(tags, "office"))
+
+
+def _value(tags: Mapping[str, str], key: str) -> str:
+    """A tag's value stripped and lower-case; ``""`` when not tagged."""
+    return tags.get(key, "").strip().lower()
 
 
 def generated_name(category: str, rng: np.random.Generator) -> str:

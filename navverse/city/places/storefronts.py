@@ -3,14 +3,20 @@
 For each place of the city map whose tags give a place category
 (:func:`~navverse.assets.facade.storefronts.place_category`), :func:`place_storefronts`
 
-1. finds the nearest road-facing facade by ray casting: horizontal rays from the place (at 1.5 m
-   above the ground) in every direction meet building walls; each hit belongs to the facade of that
-   building whose base segment it lies on, and the nearest hit facade that faces a road (scene
-   format 2.0 ``road``, within ``max_road_distance``) and is wide enough is taken (a place mapped on
-   a building looks only at that building's facades);
+1. finds the facades it may go on. A facade is usable when it is wide and high enough for a
+   storefront and opens onto a street: it faces a road (scene format 2.0 ``road``, within
+   ``max_road_distance``), or the walkable ground (a pedestrian street, a square) lies straight out
+   of its middle within ``sidewalk_gap`` (a facade onto a pedestrian zone faces no road). Horizontal
+   rays from the place (at 1.5 m above the ground) in every direction meet building walls; each hit
+   belongs to the facade of that building whose base segment it lies on. The usable facades hit are
+   tried nearest first (a place mapped in a building looks only at that building's), then that
+   building's other usable facades, then the usable facades of the buildings within
+   ``search_radius`` of the place, nearest first (a place whose building opens onto no street, a
+   place mapped outside any building whose rays meet only back walls, a place whose facade is full),
+   at most six; the place goes on the first facade that takes it (steps 2-5);
 2. builds a procedural storefront of the category (:func:`~navverse.assets.facade.storefronts.storefront`,
    the place's name on its sign, or a generated one) at the target height, facing out of the facade
-   (so towards the road the facade faces), its base on the sidewalk in front;
+   (so towards the street the facade faces), its base on the sidewalk in front;
 3. finds room on the facade: the storefront's span is shifted sideways from the place's position to
    the nearest free stretch, away from the facade's corners and from storefronts already placed
    (on this facade, or reaching over from a neighbouring one), and narrowed down to
@@ -22,11 +28,17 @@ For each place of the city map whose tags give a place category
    its front and its doorway would meet, and
 6. accepts it only if its sign is visible: from some point of the walkable ground within
    ``view_radius`` in front of it, at the robot's camera height, rays reach most of the sign's face.
+   A map place whose sign is hidden tries the facades it had left once; then every sign is
+   checked again.
 
-A recipe may add storefronts where the map has none (``fill_per_km2``): road-facing facades with the
+The places are taken in turns of their categories (the first place of every category, then the
+second, ...; the rarer categories first within a turn), so that where the facades run short every
+category has had its turns before any has more.
+
+A recipe may add storefronts where the map has none (``fill_per_km2``): usable facades with the
 sidewalk in front, drawn at random, get a category drawn from the synthetic cities' place table, and
 go through the same steps.
-Every rejection is counted by reason.
+Every rejection is counted by reason, and the map places lost by category and reason (``lost``).
 """
 
 from __future__ import annotations
@@ -87,6 +99,8 @@ _ENTRANCE_OUT = 0.6  # the entrance point: this far in front of the door (m)
 _CLEAR_OUT = 1.5  # the doorway kept clear of objects: this deep (m)
 _CUT_OUTSIDE = 0.05  # the recess box reaches this far out of the facade, so no face is coplanar
 _ROOF_MARGIN = 0.1  # a storefront's top stays this far below its building's roof
+_FACADES_TRIED = 6
+"""Facades a map place tries, in order (:meth:`_Placer.facade_options`), before it is rejected."""
 
 
 def _known_place_categories(names: list[str] | None) -> list[str] | None:
@@ -113,14 +127,16 @@ class FacadeReach(Settings):
 class StorefrontSettings(FacadeReach):
     """How storefronts are placed (see the module docstring).
 
-    Every place of the map whose ``amenity``/``shop`` tag has a place category gets a storefront on
-    the nearest road-facing facade (found by ray casting), ``height`` tall and up to ``max_width``
-    wide (lower on a lower building), shifted sideways to fit and kept ``corner_margin`` from the
-    facade's ends; it is accepted when its recess is carved, its door opens onto the sidewalk (across
-    at most ``sidewalk_gap`` m of open ground) and its sign is seen from the walkable ground in front
-    (within ``view_radius``) at ``camera_height``. ``fill_per_km2`` adds storefronts on road-facing
-    facades where the map has fewer places (categories drawn from the synthetic cities' place
-    table); ``categories`` limits the place categories placed.
+    Every place of the map whose ``amenity``/``shop``/``craft``/``office`` tag has a place category
+    gets a storefront on the nearest facade onto a street (a road within ``max_road_distance``, or a
+    pedestrian street or square straight ahead; found by ray casting, else the nearest within
+    ``search_radius``), ``height`` tall and up to ``max_width`` wide (lower on a lower building),
+    shifted sideways to fit and kept ``corner_margin`` from the facade's ends; it is accepted when its
+    recess is carved, its door opens onto the sidewalk (across at most ``sidewalk_gap`` m of open
+    ground) and its sign is seen from the walkable ground in front (within ``view_radius``) at
+    ``camera_height``. ``fill_per_km2`` adds storefronts on such facades where the map has fewer
+    places (categories drawn from the synthetic cities' place table); ``categories`` limits the place
+    categories placed.
     """
 
     height: Annotated[float, Field(ge=3.2, le=6.0)] = 3.6
@@ -157,12 +173,16 @@ class StorefrontPlacement:
     counts : dict
         ``places`` (map places with a place category), ``filled`` (candidates added by
         ``fill_per_km2``), ``placed``, ``rejected`` {reason: n}, ``categories`` {category: n placed},
-        ``objects_cleared``, ``narrowed`` (storefronts made narrower to fit) and ``shifted`` (moved
-        sideways from their place).
+        ``lost`` {category: {reason: n}} (map places not placed), ``objects_cleared``, ``narrowed``
+        (storefronts made narrower to fit) and ``shifted`` (moved sideways from their place).
     """
 
     scene: Scene
     counts: dict = field(default_factory=dict)
+
+
+_Option = tuple[BuildingAnnotation, FacadeAnnotation, float]
+"""A facade a place may go on: its building, the facade, and where along it (m) the place is."""
 
 
 @dataclass(frozen=True)
@@ -182,6 +202,7 @@ class _Placed:
     sign_points: np.ndarray  # (9, 3) points on the sign's face, just in front of it
     normal: np.ndarray
     facade_point: np.ndarray  # xy on the facade below the storefront's centre
+    span: tuple[float, float]  # the stretch of its facade it covers (m along it)
 
 
 # ------------------------------------------------------------------------------------------- helpers
@@ -252,15 +273,30 @@ def _building_number(name: str) -> int | None:
     return int(number) if prefix == "building" and number.isdigit() else None
 
 
+def _along(facade: FacadeAnnotation, xy: np.ndarray) -> float:
+    """Where along a facade (m from its start, within it) a point lies, seen square to it."""
+    start, along, length = _facade_frame(facade)
+    return float(np.clip((xy - start) @ along, 0.0, length))
+
+
+def _facade_distances(building: BuildingAnnotation, point: np.ndarray) -> np.ndarray:
+    """Distance (m) from a point to the base segment of each of a building's facades, in their order."""
+    segments = np.asarray([f.segment for f in building.facades], dtype=np.float64).reshape(-1, 2, 2)
+    start, step = segments[:, 0], segments[:, 1] - segments[:, 0]
+    squared = np.maximum(np.einsum("ij,ij->i", step, step), 1e-12)
+    t = np.clip(np.einsum("ij,ij->i", point - start, step) / squared, 0.0, 1.0)
+    return np.hypot(*(start + step * t[:, None] - point).T)
+
+
 def _facade_at(
     building: BuildingAnnotation, point: np.ndarray, tolerance: float = 0.25
 ) -> FacadeAnnotation | None:
-    best, best_distance = None, tolerance
-    for facade in building.facades:
-        distance = LineString(facade.segment).distance(Point(point))
-        if distance < best_distance:
-            best, best_distance = facade, distance
-    return best
+    """The facade of a building whose base segment passes nearest a point, within `tolerance`."""
+    if not building.facades:
+        return None
+    distances = _facade_distances(building, point)
+    nearest = int(np.argmin(distances))
+    return building.facades[nearest] if distances[nearest] < tolerance else None
 
 
 def _spans(
@@ -336,38 +372,92 @@ class _Placer:
         self.footprints = shapely.STRtree(footprints)
         self.footprint_ids = [b.id for b in scene.annotations.buildings]
         self.footprint_shapes = footprints
+        self.by_map_id = {b.map_id: b.id for b in scene.annotations.buildings if b.map_id is not None}
+        self.walkway_ahead: dict[int, bool] = {}  # facade id -> walkable ground straight ahead
         self.existing = list(scene.annotations.storefronts)
         self.occupied: dict[int, list[tuple[float, float]]] = _spans(
             self.existing, scene.annotations.buildings
         )
         self.placed: list[_Placed] = []
         self.rejected: Counter[str] = Counter()
+        self.lost: Counter[tuple[str, str]] = Counter()  # (category, reason) of map places not placed
         self.narrowed = 0
         self.shifted = 0
+        self.serial = len(self.existing)
+        self.spare: dict[int, tuple[_Candidate, list[_Option]]] = {}  # placed id -> facades not tried
 
     # -- finding the facade
 
-    def facade_of(self, candidate: _Candidate) -> tuple[BuildingAnnotation, FacadeAnnotation, float] | str:
+    def facade_options(self, candidate: _Candidate) -> list[_Option] | str:
+        """The facades a map place may go on, in the order they are tried, or why there is none.
+
+        First the usable facades its rays hit, nearest first (only its own building's, when it is
+        mapped in one), then its own building's other usable facades, then the usable facades of
+        the buildings around within ``search_radius``, nearest first; at most
+        :data:`_FACADES_TRIED`.
+        """
         poi = candidate.poi
         assert poi is not None
         xy = np.asarray(poi.position, dtype=np.float64)
-        own = None
-        if poi.building is not None:
-            own = next((b.id for b in self.finder.buildings.values() if b.map_id == poi.building), None)
+        own = self._own_building(poi)
         z = self._ground_under(xy) + _RAY_HEIGHT
         hits = self.finder.hits(xy, z, self.settings.rays, self.settings.search_radius)
-        if not hits:
-            return "no facade within reach"
+        options: dict[int, _Option] = {}
         for _, number, point in hits:
             if own is not None and number != own:
                 continue
             building = self.finder.buildings[number]
             facade = _facade_at(building, point)
-            if facade is None or not self._usable(facade):
-                continue
-            start, along, _ = _facade_frame(facade)
-            return building, facade, float((point - start) @ along)
+            if facade is not None and facade.id not in options and self._usable(facade):
+                start, along, _ = _facade_frame(facade)
+                options[facade.id] = (building, facade, float((point - start) @ along))
+        near = self._facades_near(xy, own)
+        for building, facade in near:
+            options.setdefault(facade.id, (building, facade, _along(facade, xy)))
+        if options:
+            return list(options.values())[:_FACADES_TRIED]
+        if not hits and not self._buildings_near(xy):
+            return "no facade within reach"
         return "no road-facing facade"
+
+    def _own_building(self, poi: Poi) -> int | None:
+        """The scene building of the map building a place is mapped in (None: none)."""
+        if poi.building is None:
+            return None
+        return self.by_map_id.get(poi.building)
+
+    def _buildings_near(self, xy: np.ndarray) -> list[int]:
+        """Indices (into the footprints) of the buildings within ``search_radius`` of a point."""
+        found = self.footprints.query(Point(xy), predicate="dwithin", distance=self.settings.search_radius)
+        return sorted(int(k) for k in found)
+
+    def _facades_near(
+        self, xy: np.ndarray, own: int | None
+    ) -> list[tuple[BuildingAnnotation, FacadeAnnotation]]:
+        """Usable facades within ``search_radius`` of a point: its own building's first, then by distance."""
+        found = []
+        for index in self._buildings_near(xy):
+            building = self.finder.buildings[self.footprint_ids[index]]
+            if not building.facades:
+                continue
+            for facade, distance in zip(building.facades, _facade_distances(building, xy), strict=True):
+                if distance <= self.settings.search_radius and self._usable(facade):
+                    found.append((building.id != own, float(distance), facade.id, building, facade))
+        found.sort(key=lambda row: row[:3])
+        return [(building, facade) for *_, building, facade in found]
+
+    def place_on_one(self, candidate: _Candidate, options: Sequence[_Option]) -> str | None:
+        """Place a map place on the first of its facades that takes it (the facades after it are kept
+        in :attr:`spare`, should its sign prove hidden); the first facade's reason for refusing it when
+        none does, else None."""
+        first = None
+        for index, option in enumerate(options):
+            reason = self.place(candidate, *option)
+            if reason is None:
+                self.spare[self.placed[-1].annotation.id] = (candidate, list(options[index + 1 :]))
+                return None
+            first = first or reason
+        return first
 
     def _ground_under(self, xy: np.ndarray) -> float:
         """The ground's height at a point: the base of the building it is in, else the surface under it."""
@@ -377,14 +467,25 @@ class _Placer:
         return 0.0 if math.isnan(height) else float(height)
 
     def _usable(self, facade: FacadeAnnotation) -> bool:
+        """Whether a storefront may go on a facade: wide and high enough, opening onto a street."""
         s = self.settings
         return (
-            facade.road is not None
-            and facade.road_distance is not None
-            and facade.road_distance <= s.max_road_distance
-            and facade.width >= MIN_WIDTH + 2 * s.corner_margin
+            facade.width >= MIN_WIDTH + 2 * s.corner_margin
             and facade.height >= MIN_HEIGHT + _ROOF_MARGIN
+            and (self._faces_road(facade) or self._faces_walkway(facade))
         )
+
+    def _faces_road(self, facade: FacadeAnnotation) -> bool:
+        reach = self.settings.max_road_distance
+        return facade.road is not None and facade.road_distance is not None and facade.road_distance <= reach
+
+    def _faces_walkway(self, facade: FacadeAnnotation) -> bool:
+        """Whether the walkable ground (a pedestrian street, a square) lies straight out of the facade's
+        middle, within ``sidewalk_gap`` (a facade onto a pedestrian zone faces no road)."""
+        if facade.id not in self.walkway_ahead:
+            middle = np.mean(np.asarray(facade.segment, dtype=np.float64), axis=0)
+            self.walkway_ahead[facade.id] = self._sidewalk_ahead(middle, np.asarray(facade.normal))
+        return self.walkway_ahead[facade.id]
 
     def fill_facades(self) -> list[tuple[BuildingAnnotation, FacadeAnnotation]]:
         """Every usable facade with the sidewalk in front of its middle, in a random order."""
@@ -460,7 +561,8 @@ class _Placer:
         if abs(0.5 * (span[0] + span[1]) - at) > 0.5:
             self.shifted += 1
         self.occupied.setdefault(facade.id, []).append(span)
-        number = len(self.existing) + len(self.placed) + 1
+        self.serial += 1
+        number = self.serial  # unique while placing; the scene numbers its storefronts in build()
         poi = candidate.poi
         annotation = StorefrontAnnotation(
             id=number,
@@ -500,6 +602,7 @@ class _Placer:
                 sign_points=_sign_points(built, rotation, centre),
                 normal=normal,
                 facade_point=middle,
+                span=span,
             )
         )
         return None
@@ -563,6 +666,9 @@ class _Placer:
                 if p.building == number:
                     mesh, _ = carve(mesh, p.recess)
             self.meshes[number] = mesh
+        for p in self.placed:
+            if p.annotation.id in numbers:
+                self.occupied[p.annotation.facade].remove(p.span)
         self.placed = keep
 
     def build(self) -> tuple[Scene, int]:
@@ -670,6 +776,19 @@ def _candidates(city: CityMap, settings: StorefrontSettings) -> list[_Candidate]
     return found
 
 
+def _in_turns(candidates: Sequence[_Candidate]) -> list[_Candidate]:
+    """Map places in turns of their categories: the first place of every category, then the second of
+    every category left, and so on, the rarer categories first within a turn (then map order); so
+    where the facades run short, every category has had its turns before any has more."""
+    sizes = Counter(c.category for c in candidates)
+    turn: Counter[str] = Counter()
+    keyed = []
+    for index, candidate in enumerate(candidates):
+        keyed.append((turn[candidate.category], sizes[candidate.category], index, candidate))
+        turn[candidate.category] += 1
+    return [candidate for *_, candidate in sorted(keyed, key=lambda row: row[:3])]
+
+
 def _fill_categories(settings: StorefrontSettings) -> tuple[list[str], np.ndarray]:
     weights: Counter[str] = Counter()
     for key, value, weight, _ in POI_TABLE:
@@ -705,14 +824,12 @@ def place_storefronts(
     """
     placer = _Placer(scene, plan, rng, settings)
     candidates = _candidates(city, settings)
-    for candidate in candidates:
-        found = placer.facade_of(candidate)
-        if isinstance(found, str):
-            placer.rejected[found] += 1
-            continue
-        reason = placer.place(candidate, *found)
+    for candidate in _in_turns(candidates):
+        options = placer.facade_options(candidate)
+        reason = options if isinstance(options, str) else placer.place_on_one(candidate, options)
         if reason is not None:
             placer.rejected[reason] += 1
+            placer.lost[candidate.category, reason] += 1
     (x0, y0, x1, y1) = city.window
     filled = _fill(placer, int(settings.fill_per_km2 * (x1 - x0) * (y1 - y0) / 1e6), rng, settings)
     return _finish(placer, settings, places=len(candidates), filled=filled)
@@ -759,12 +876,15 @@ def _fill(placer: _Placer, wanted: int, rng: np.random.Generator, settings: Stor
 def _finish(
     placer: _Placer, settings: StorefrontSettings, *, places: int, filled: int
 ) -> StorefrontPlacement:
-    """Check the signs of the placed storefronts, drop the hidden ones, and build the scene."""
+    """Check the signs of the placed storefronts, drop the hidden ones (a map place hidden once tries
+    its other facades, then every sign is checked again), and build the scene."""
     result, cleared = placer.build()
     hidden = _invisible(result, placer.placed, placer.walkable, settings)
     if hidden:  # build again without them (fewer storefronts never hide a sign that was seen)
-        placer.rejected["sign not visible"] += len(hidden)
-        placer.drop(hidden)
+        retried = _drop_hidden(placer, hidden, retry=True)
+        if retried:  # the moved ones could hide a sign: check them all again
+            hidden = _invisible(placer.build()[0], placer.placed, placer.walkable, settings)
+            _drop_hidden(placer, hidden, retry=False)
         result, cleared = placer.build()
     counts = {
         "places": places,
@@ -772,8 +892,36 @@ def _finish(
         "placed": len(placer.placed),
         "rejected": dict(sorted(placer.rejected.items())),
         "categories": dict(sorted(Counter(p.annotation.place_category for p in placer.placed).items())),
+        "lost": _lost(placer.lost),
         "objects_cleared": cleared,
         "narrowed": placer.narrowed,
         "shifted": placer.shifted,
     }
     return StorefrontPlacement(scene=result, counts=counts)
+
+
+def _drop_hidden(placer: _Placer, hidden: set[int], *, retry: bool) -> int:
+    """Drop the storefronts whose sign is hidden, counting them rejected unless (with `retry`) their
+    map place is placed on one of its other facades; returns how many were placed again."""
+    if not hidden:
+        return 0
+    dropped = [p.annotation for p in placer.placed if p.annotation.id in hidden]
+    placer.drop(hidden)
+    again = 0
+    for annotation in dropped:
+        candidate, rest = placer.spare.pop(annotation.id, (None, []))
+        if retry and candidate is not None and rest and placer.place_on_one(candidate, rest) is None:
+            again += 1
+            continue
+        placer.rejected["sign not visible"] += 1
+        if annotation.poi is not None:
+            placer.lost[annotation.place_category, "sign not visible"] += 1
+    return again
+
+
+def _lost(lost: Counter[tuple[str, str]]) -> dict[str, dict[str, int]]:
+    """Map places not placed, ``{category: {reason: n}}``, sorted."""
+    nested: dict[str, dict[str, int]] = {}
+    for (category, reason), n in sorted(lost.items()):
+        nested.setdefault(category, {})[reason] = n
+    return nested
