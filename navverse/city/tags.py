@@ -7,8 +7,10 @@ city builder can use the value or fall back to a rule and count the reason.
 
 Road widths follow the tag, then ``lanes`` × the class's lane width, then the class's default
 (:data:`ROAD_CLASSES`; one-way ways without ``lanes`` get one lane's width more than half the
-default). Sidewalks follow ``sidewalk=*`` and ``sidewalk:<side>=*`` (``separate``: mapped as its own
-way, so none is inferred), else the class's rule. The defaults are the common values of the
+default; service roads by their ``service=*`` kind, :data:`SERVICE_WIDTHS`); painted cycle lanes add
+:data:`CYCLE_LANE_WIDTH` each to a width not tagged. Sidewalks follow ``sidewalk=*`` and
+``sidewalk:<side>=*`` (``separate``: mapped as its own way, so none is inferred), else the class's
+rule. The defaults are the common values of the
 highway classes as mapped in OSM: lanes of 3.0–3.5 m (2.5 m on service roads), sidewalks of 1.5 m,
 none beside motorways, service roads, tracks, cycleways and paths.
 """
@@ -21,9 +23,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 __all__ = [
+    "CYCLE_LANE_WIDTH",
     "DEFAULT_SIDEWALK_WIDTH",
     "MAX_LENGTH",
     "ROAD_CLASSES",
+    "SERVICE_WIDTHS",
     "STOREY_HEIGHT",
     "Reading",
     "RoadClass",
@@ -194,6 +198,19 @@ and larger roads; not beside motorways, service roads, tracks, living streets (s
 busways; footways, paths, cycleways, steps and pedestrian streets are themselves walked on."""
 
 
+SERVICE_WIDTHS = {
+    "parking_aisle": 5.5,
+    "driveway": 3.0,
+    "alley": 3.5,
+    "drive-through": 3.0,
+    "emergency_access": 3.5,
+}
+"""Carriageway of an untagged ``highway=service`` way by its ``service=*`` kind (m): a parking aisle lets
+two cars pass between the bays, a driveway one."""
+CYCLE_LANE_WIDTH = 1.5
+"""Width a painted cycle lane (``cycleway[:side]=lane``) adds to a carriageway measured by its lanes (m)."""
+
+
 def _is_yes(value: str | None) -> bool:
     return value is not None and value.strip().lower() not in ("no", "false", "0", "")
 
@@ -228,11 +245,29 @@ def road_width(tags: Mapping[str, str]) -> tuple[float, str, list[str]]:
     lanes = parse_count(tags.get("lanes"), limit=20)
     if lanes.problem:
         problems.append(f"lanes: {lanes.problem}")
+    cycle_lanes = _cycle_lanes(tags) * CYCLE_LANE_WIDTH
     if lanes.value:
-        return lanes.value * kind.lane_width, "lanes", problems
+        return lanes.value * kind.lane_width + cycle_lanes, "lanes", problems
+    service = tags.get("service", "").strip().lower()
+    if tags.get("highway") == "service" and service in SERVICE_WIDTHS:
+        return SERVICE_WIDTHS[service], "default", problems
     if _oneway(tags) and kind.vehicles:
-        return max(kind.lane_width, kind.width / 2.0), "default one-way", problems
-    return kind.width, "default", problems
+        return max(kind.lane_width, kind.width / 2.0) + cycle_lanes, "default one-way", problems
+    return kind.width + cycle_lanes, "default", problems
+
+
+def _cycle_lanes(tags: Mapping[str, str]) -> int:
+    """Painted cycle lanes in the carriageway (0-2): ``cycleway=lane`` (both sides, one on a one-way
+    road), ``cycleway:both=lane``, ``cycleway:left|right=lane``."""
+    lane = ("lane",)
+    if tags.get("cycleway:both", "").strip().lower() in lane:
+        return 2
+    sides = sum(tags.get(f"cycleway:{side}", "").strip().lower() in lane for side in ("left", "right"))
+    if sides:
+        return sides
+    if tags.get("cycleway", "").strip().lower() in lane:
+        return 1 if _oneway(tags) else 2
+    return 0
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,8 @@ feature        from
 =============  ==========================================================================================
 roads          ways ``highway=`` a vehicle class of :data:`~navverse.city.tags.ROAD_CLASSES` (motorway ...
                service, track, busway, living_street), at ground level, not ``area=yes``. Width
-               (``width``, else ``lanes`` × lane width, else the class default) and sidewalks
+               (``width``, else ``lanes`` × lane width, else the class default or a service road's
+               by its ``service=*`` kind; painted cycle lanes widen the last two) and sidewalks
                (``sidewalk*`` tags, else the class rule) from :mod:`.tags`; ``lanes``, ``oneway``
                (``oneway=-1`` ways are turned so the points follow the traffic), ``kerb``, ``surface``,
                ``name``; parking strips from ``parking:<side>=lane|street_side|half_on_kerb|shoulder``

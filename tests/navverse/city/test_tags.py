@@ -9,6 +9,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from navverse.city.tags import (
+    CYCLE_LANE_WIDTH,
     DEFAULT_SIDEWALK_WIDTH,
     MAX_LENGTH,
     ROAD_CLASSES,
@@ -87,6 +88,19 @@ def test_width_tag_wins_then_lanes_then_the_class_default():
     assert road_width({"highway": "primary", "lanes": "3"})[:2] == (lanes_width, "lanes")
     assert road_width({"highway": "secondary"})[:2] == (ROAD_CLASSES["secondary"].width, "default")
     assert road_width({"highway": "no_such_class"})[:2] == (ROAD_CLASSES["road"].width, "default")
+
+
+def test_service_kinds_and_cycle_lanes_set_untagged_widths():
+    assert road_width({"highway": "service", "service": "parking_aisle"})[:2] == (5.5, "default")
+    assert road_width({"highway": "service", "service": "driveway"})[:2] == (3.0, "default")
+    assert road_width({"highway": "service"})[:2] == (ROAD_CLASSES["service"].width, "default")
+    residential = ROAD_CLASSES["residential"].width
+    assert road_width({"highway": "residential", "cycleway": "lane"})[0] == residential + 2 * CYCLE_LANE_WIDTH
+    primary = ROAD_CLASSES["primary"].lane_width
+    tags = {"highway": "primary", "lanes": "2", "cycleway:right": "lane"}
+    assert road_width(tags)[:2] == (2 * primary + CYCLE_LANE_WIDTH, "lanes")
+    assert road_width({"highway": "primary", "width": "9", "cycleway": "lane"})[0] == 9.0  # the tag says all
+    assert road_width({"highway": "residential", "cycleway": "track"})[0] == residential  # not in the road
 
 
 def test_a_one_way_road_without_lanes_is_narrower():
