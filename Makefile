@@ -23,7 +23,7 @@ $(STAMP): pyproject.toml setup.py scripts/system-deps.sh
 	./scripts/system-deps.sh
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
-	$(BIN)/python -m pip install -q -e '.[dev]'
+	$(BIN)/python -m pip install -q -e '.[dev,dem]'
 	touch $(STAMP)
 
 scenes: $(STAMP)  ## build every scene recipe in recipes/scenes

@@ -355,11 +355,15 @@ class GeneratedCity:
     scene: Scene
 
 
-def generate_city(*, seed: int = 0, scene_id: str | None = None, **params: Any) -> GeneratedCity:
+def generate_city(
+    *, seed: int = 0, scene_id: str | None = None, geometry: Mapping[str, Any] | None = None, **params: Any
+) -> GeneratedCity:
     """A synthetic city drawn from a seed, in-process: its map, street plan and 3-D scene.
 
     ``params`` are those of :class:`~navverse.city.synthetic.params.SyntheticCityParams` (``size``,
-    ``layout``...); the same seed and parameters give the same city.
+    ``layout``...), ``geometry`` those of :class:`~navverse.city.geometry.scene.CityGeometry` (as the
+    ``city_geometry`` stage's: ``relief_height``, ``road_depression``...); the same seed and parameters
+    give the same city (its hills too).
     """
     from pydantic import ValidationError
 
@@ -370,8 +374,13 @@ def generate_city(*, seed: int = 0, scene_id: str | None = None, **params: Any) 
         chosen = SyntheticCityParams(**params)
     except ValidationError as exc:
         raise ApiError(f"synthetic city parameters: {exc}") from None
+    try:
+        settings = CityGeometry(**dict(geometry or {}))
+    except ValidationError as exc:
+        raise ApiError(f"city geometry parameters: {exc}") from None
     city_map = synthetic_city(chosen, seed=seed)
-    geometry = CityGeometry()
-    plan = geometry_plan(city_map, geometry)
-    scene = city_scene(city_map, scene_id=scene_id or f"synthetic-s{seed}", geometry=geometry, plan=plan)
+    plan = geometry_plan(city_map, settings)
+    scene = city_scene(
+        city_map, scene_id=scene_id or f"synthetic-s{seed}", geometry=settings, plan=plan, seed=seed
+    )
     return GeneratedCity(map=city_map, plan=plan, scene=scene)

@@ -123,7 +123,27 @@ def _record_map(ctx: StageContext, city: CityMap) -> None:
 class CityGeometryParams(Params, CityGeometry):
     """Parameters of :func:`city_geometry`: those of :class:`navverse.city.geometry.scene.CityGeometry`
     (lengths in meters): the ground's heights, curb and crosswalk widths, junction crosswalks, an
-    analytic ``slope`` every surface follows, and ``friction`` per terrain class."""
+    analytic ``slope`` every surface follows, seeded hills (``relief_height``, ``relief_wavelength``),
+    and ``friction`` per terrain class; plus ``dem``."""
+
+    dem: SourceFile | None = None
+    """A GeoTIFF digital elevation model (heights in meters, any coordinate reference system) whose
+    relief the city follows, in place of seeded hills: sampled in the map's frame, relative to the
+    window's centre, and graded along the roads like the hills (:mod:`navverse.city.geometry.dem`). It
+    must cover the window; it needs a map read from OSM and rasterio (``pip install 'navverse[dem]'``)."""
+
+    @model_validator(mode="after")
+    def _dem_readable(self) -> CityGeometryParams:
+        if self.dem is None:
+            return self
+        if self.relief_height > 0.0:
+            raise ValueError("give either dem or relief_height, not both: the DEM is the relief")
+        from navverse.city.geometry.dem import rasterio_missing
+
+        missing = rasterio_missing()
+        if missing is not None:
+            raise ValueError(missing)
+        return self
 
 
 @stage(
@@ -133,9 +153,14 @@ class CityGeometryParams(Params, CityGeometry):
     summary={"buildings": "buildings", "dropped": "dropped", "road km": "road_km", "faces": "faces"},
 )
 def city_geometry(ctx: StageContext, params: CityGeometryParams) -> None:
-    """A scene (roads below curbs, crosswalks, sidewalks, land, buildings), its street plan and settings."""
+    """A scene (roads below curbs, crosswalks, sidewalks, land, buildings), its street plan and settings.
+
+    The relief's hills are drawn from the stage's seed (``ctx.seed``, derived from the target's); the
+    manifest records the steepest grade measured along each road class (``road_grade_max``).
+    """
     import navverse
     from navverse.city.city_settings import CITY_SETTINGS_FILE, CitySettings, save_city_settings
+    from navverse.city.geometry.grades import road_grades
     from navverse.city.geometry.scene import city_scene, geometry_plan
     from navverse.city.geometry.street_plan import STREET_PLAN_FILE, save_street_plan
     from navverse.city.map import read_city_map
@@ -144,6 +169,11 @@ def city_geometry(ctx: StageContext, params: CityGeometryParams) -> None:
 
     city = read_city_map(ctx.input("city_map") / CITY_MAP_FILE)
     geometry = CityGeometry.of(params)
+    dem = None
+    if params.dem is not None:
+        from navverse.city.geometry.dem import read_dem
+
+        dem = read_dem(params.dem, frame=city.frame, window=city.window)
 
     ctx.progress(0, 3, "plan")
     plan = geometry_plan(city, geometry)
@@ -156,6 +186,8 @@ def city_geometry(ctx: StageContext, params: CityGeometryParams) -> None:
         source=SceneSource(
             recipe=ctx.recipe, recipe_hash=ctx.recipe_hash, toolkit_version=navverse.__version__
         ),
+        seed=ctx.seed % 2**32,
+        dem=dem,
     )
     ctx.progress(2, 3, "writing")
     write_scene_dir(scene, ctx.output)
@@ -170,6 +202,7 @@ def city_geometry(ctx: StageContext, params: CityGeometryParams) -> None:
         road_km=round(stats.road_length_m / 1000.0, 3),
         surface_area_m2=areas,
         dropped=dict(city.dropped),
+        road_grade_max=road_grades(scene, city, plan, road_depression=geometry.road_depression),
     )
     ctx.log.info(
         "city geometry %s: %d buildings, %.1f km of roads, %.0f m2 of sidewalk, %d faces",

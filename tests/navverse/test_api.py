@@ -4,6 +4,7 @@ change."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import navverse.api as nv
@@ -39,3 +40,15 @@ def test_a_synthetic_city_is_generated_in_process() -> None:
     assert again.map == town.map
     with pytest.raises(nv.ApiError, match="synthetic city parameters"):
         nv.generate_city(seed=2, size=(-5.0, 200.0))
+
+
+def test_a_synthetic_city_on_hills_is_generated_in_process() -> None:
+    def heights(town) -> np.ndarray:
+        sidewalk = next(s for s in town.scene.surfaces if s.terrain_class == "sidewalk")
+        return sidewalk.mesh.vertices[:, 2]
+
+    flat = heights(nv.generate_city(seed=2, size=(200.0, 200.0)))
+    hilly = heights(nv.generate_city(seed=2, size=(200.0, 200.0), geometry={"relief_height": 8.0}))
+    assert abs(flat.max()) < 0.01 and np.ptp(hilly) > np.ptp(flat) + 3.0  # the walls reach 1 m below
+    with pytest.raises(nv.ApiError, match="city geometry parameters"):
+        nv.generate_city(seed=2, size=(200.0, 200.0), geometry={"relief_height": -1.0})

@@ -1,7 +1,11 @@
 """Buildings of a city map as closed solids, with their scene annotations (format 2.2).
 
 Each footprint (courtyards as holes) is extruded from its base (``base_height`` above the lowest
-terrain under it) to its height, a watertight prism of terrain class ``building``. Its annotation
+terrain under it) to its height, a watertight prism of terrain class ``building``; its floor and roof
+are level. On a sloping terrain a building standing on the ground reaches :data:`PLINTH_DEPTH`
+below its base (a plinth in the ground; on a relief, the lowest terrain is looked for over and
+inside the footprint), so its level floor meets the ground at its lowest point and the rising
+ground covers the foot of its walls elsewhere, with no gap under them. Its annotation
 lists the facades: runs of the outline's edges that turn by less than :data:`FACADE_TURN_DEG`,
 each with its base segment, outward normal and height, and — when the first thing its normal meets
 from the segment's middle within :data:`FACING_RANGE` is a carriageway — the road it faces and how
@@ -28,7 +32,9 @@ __all__ = [
     "ENTRANCE_WIDTH",
     "FACADE_TURN_DEG",
     "FACING_RANGE",
+    "GROUND_SPACING",
     "MIN_FACADE",
+    "PLINTH_DEPTH",
     "building_parts",
 ]
 
@@ -40,6 +46,12 @@ FACING_RANGE = 50.0
 """How far a facade looks for the road it faces (m)."""
 ENTRANCE_WIDTH = 1.2
 """Width given to an ``entrance=*`` node's doorway (m)."""
+GROUND_SPACING = 0.5
+"""On a curved terrain, how far apart the points are at which the lowest ground under a footprint is
+looked for (m), over and inside it."""
+PLINTH_DEPTH = 0.5
+"""On a sloping terrain, how far below its base (the lowest ground under it) a building standing on
+the ground reaches (m), so that no chord of a draped ground passes under its walls."""
 
 
 def _polygon(building: Building) -> BaseGeometry:
@@ -98,8 +110,24 @@ def _facing(
     return nearest[1], round(nearest[0] + 0.01, 3)
 
 
+def _under(pieces: list[Polygon], spacing: float) -> np.ndarray:
+    """Points under a footprint: its rings' vertices ``spacing`` apart and a grid of that spacing inside."""
+    points = [shapely.get_coordinates(shapely.segmentize(piece, spacing)) for piece in pieces]
+    for piece in pieces:
+        x0, y0, x1, y1 = piece.bounds
+        gx, gy = (g.ravel() for g in np.meshgrid(np.arange(x0, x1, spacing), np.arange(y0, y1, spacing)))
+        inside = shapely.contains_xy(piece, gx, gy)
+        points.append(np.column_stack([gx[inside], gy[inside]]))
+    return np.concatenate(points)
+
+
 def building_parts(
-    city: CityMap, carriageways: Mapping[str, BaseGeometry], *, terrain: HeightFn
+    city: CityMap,
+    carriageways: Mapping[str, BaseGeometry],
+    *,
+    terrain: HeightFn,
+    step: float | None = None,
+    plinth: float = 0.0,
 ) -> tuple[list[Surface], list[BuildingAnnotation]]:
     """Solids and annotations of the city's buildings, numbered 1, 2, ... in map order.
 
@@ -111,6 +139,13 @@ def building_parts(
         Each road's carriageway polygon by road id (:func:`~navverse.city.geometry.surfaces.carriageways`).
     terrain : callable
         Height of the terrain at xy points.
+    step : float, optional
+        Given for a curved terrain (a relief; the spacing the ground is draped with): the lowest
+        ground under a footprint is looked for at points :data:`GROUND_SPACING` apart, over and
+        inside it. None (flat or planar terrain): the lowest of the outline's corners.
+    plinth : float
+        How far below its base a building standing on the ground reaches (m):
+        :data:`PLINTH_DEPTH` on a sloping terrain, 0 on a flat one.
 
     Returns
     -------
@@ -133,11 +168,15 @@ def building_parts(
         if not pieces:
             continue
         outline = max(pieces, key=lambda p: p.area)
-        ground = float(terrain(np.asarray(outline.exterior.coords)).min())
+        if step is None:
+            ground = float(terrain(np.asarray(outline.exterior.coords)).min())
+        else:
+            ground = float(terrain(_under(pieces, GROUND_SPACING)).min())
         base = ground + building.base_height
         top = ground + max(building.height, building.base_height + 0.5)
+        bottom = base - plinth if building.base_height == 0.0 else base
         meshes = [
-            polygon_prism(piece, top=lambda xy, z=top: np.full(len(xy), z), bottom=base, closed=True)
+            polygon_prism(piece, top=lambda xy, z=top: np.full(len(xy), z), bottom=bottom, closed=True)
             for piece in pieces
         ]
         number = len(annotations) + 1

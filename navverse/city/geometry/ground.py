@@ -21,7 +21,10 @@ water           ``-water_depth`` (not navigable)
 
 Each region is a prism (:func:`~navverse.city.geometry.prisms.polygon_prism`, open at the bottom) whose walls
 reach below every neighbour, so wherever two regions of different heights meet there is a vertical
-face and no gap: the curb face between road and curb, the ramp's sides, the bank of a pond.
+face and no gap: the curb face between road and curb, the ramp's sides, the bank of a pond. On a
+curved terrain (a relief, :mod:`navverse.city.geometry.terrain`) the prisms are draped over it
+(:func:`~navverse.city.geometry.draped.draped_prism`: cut into grid cells, edges a ``step`` long), so
+the curb face keeps its height all along.
 """
 
 from __future__ import annotations
@@ -35,6 +38,7 @@ from shapely.geometry import Polygon, box
 from shapely.geometry.base import BaseGeometry
 from shapely.strtree import STRtree
 
+from navverse.city.geometry.draped import draped_prism
 from navverse.city.geometry.prisms import HeightFn, polygon_prism, polygons_of
 from navverse.city.geometry.surfaces import crosswalk_polygons
 from navverse.city.map import CityMap
@@ -112,11 +116,22 @@ def _ramp(terrain: HeightFn, edge: BaseGeometry, settings: GroundSettings, lip: 
     return heights
 
 
-def _prisms(geometry: BaseGeometry, top: HeightFn, *, margin: float, terrain: HeightFn) -> list[MeshData]:
+def _prisms(
+    geometry: BaseGeometry,
+    top: HeightFn,
+    *,
+    margin: float,
+    terrain: HeightFn,
+    step: float | None,
+    closed: bool = False,
+) -> list[MeshData]:
     meshes = []
     for polygon in polygons_of(geometry):
-        lowest = float(terrain(np.asarray(polygon.exterior.coords)).min())
-        mesh = polygon_prism(polygon, top=top, bottom=lowest - margin, closed=False)
+        if step is None:
+            lowest = float(terrain(np.asarray(polygon.exterior.coords)).min())
+            mesh = polygon_prism(polygon, top=top, bottom=lowest - margin, closed=closed)
+        else:
+            mesh = draped_prism(polygon, top=top, depth=margin, step=step, closed=closed)
         if mesh.num_faces:
             meshes.append(mesh)
     return meshes
@@ -186,6 +201,8 @@ def ground_surfaces(
     settings: GroundSettings,
     crosswalk_width: float,
     terrain: HeightFn = flat,
+    step: float | None = None,
+    sunk_buildings: bool = False,
 ) -> list[Surface]:
     """Terrain surfaces of the ground plan, one per terrain class, at their heights.
 
@@ -201,6 +218,15 @@ def ground_surfaces(
         The width the plan was made with.
     terrain : callable
         Height of the terrain (sidewalk level) at xy points; flat by default.
+    step : float, optional
+        For a curved terrain (a relief): every region is draped over it
+        (:func:`~navverse.city.geometry.draped.draped_prism`), cut into grid cells with edges at most
+        ``step`` long. None (a flat or planar terrain): tops on the regions' own vertices.
+    sunk_buildings : bool
+        Whether buildings reach below the ground they stand on (on a sloping terrain): the land
+        under them is then closed underneath, a solid the navmesh fills with the building sunk
+        into it (an open ground's top would be a walkable floor inside it), and what is left when
+        a building is removed is still a solid's top.
 
     Returns
     -------
@@ -214,8 +240,10 @@ def ground_surfaces(
     )
     pieces: dict[str, list[MeshData]] = {}
 
-    def add(terrain_class: str, geometry: BaseGeometry, top: HeightFn) -> None:
-        pieces.setdefault(terrain_class, []).extend(_prisms(geometry, top, margin=margin, terrain=terrain))
+    def add(terrain_class: str, geometry: BaseGeometry, top: HeightFn, *, closed: bool = False) -> None:
+        pieces.setdefault(terrain_class, []).extend(
+            _prisms(geometry, top, margin=margin, terrain=terrain, step=step, closed=closed)
+        )
 
     for surface_class, terrain_class in TERRAIN_OF_SURFACE.items():
         geometry = plan[surface_class]
@@ -228,7 +256,8 @@ def ground_surfaces(
             add("curb", raised_curb, terrain)
             geometry = difference(geometry, raised_curb)
         level = {"road": -depth, "water": -settings.water_depth}.get(surface_class, 0.0)
-        add(terrain_class, geometry, _offset(terrain, level) if level else terrain)
+        closed = sunk_buildings and surface_class == "building"
+        add(terrain_class, geometry, _offset(terrain, level) if level else terrain, closed=closed)
     return [
         Surface(name=name, terrain_class=name, mesh=MeshData.concatenate(meshes))
         for name, meshes in pieces.items()

@@ -4,7 +4,9 @@
 :func:`~navverse.city.geometry.surfaces.plan_surfaces`
 tiles the window with surface classes, :func:`~navverse.city.geometry.ground.ground_surfaces` gives them
 heights and vertical faces, :func:`~navverse.city.geometry.buildings.building_parts` extrudes the buildings,
-and :func:`~navverse.scene.compose.assemble_scene` derives bounds and statistics. The scene records
+and :func:`~navverse.scene.compose.assemble_scene` derives bounds and statistics. The terrain every
+surface follows is flat, a plane (``slope``), or a relief (:mod:`~navverse.city.geometry.terrain`:
+seeded hills or a DEM, graded along the roads) over which the ground is draped. The scene records
 the map's frame (``geo``: EPSG code, latitude/longitude of the origin, source and attribution).
 """
 
@@ -16,18 +18,20 @@ import numpy as np
 from pydantic import Field
 from shapely.geometry import LineString, box
 
-from navverse.city.geometry.buildings import building_parts
+from navverse.city.geometry.buildings import PLINTH_DEPTH, building_parts
+from navverse.city.geometry.draped import DRAPE_STEP
 from navverse.city.geometry.ground import GroundSettings, ground_surfaces
 from navverse.city.geometry.prisms import HeightFn
 from navverse.city.geometry.street_plan import StreetPlan, street_plan
 from navverse.city.geometry.surfaces import CROSSWALK_WIDTH, CURB_WIDTH, carriageways
+from navverse.city.geometry.terrain import HeightGrid, ReliefSettings, relief_terrain
 from navverse.city.map import CityMap
 from navverse.scene.annotations import GeoReference, SceneSource
 from navverse.scene.compose import assemble_scene
 from navverse.scene.geometry import Scene
 from navverse.scene.terrain import TerrainName, terrain_classes
 
-__all__ = ["CityGeometry", "city_scene", "geometry_plan", "road_length"]
+__all__ = ["CityGeometry", "city_scene", "geometry_plan", "road_length", "scene_terrain"]
 
 
 Grade = Annotated[float, Field(ge=-0.3, le=0.3)]
@@ -36,10 +40,11 @@ Friction = Annotated[float, Field(ge=0, le=5, description="Friction coefficient,
 """A friction coefficient, 0 to 5."""
 
 
-class CityGeometry(GroundSettings):
+class CityGeometry(ReliefSettings, GroundSettings):
     """How a map becomes geometry: the ground's heights
     (:class:`~navverse.city.geometry.ground.GroundSettings`),
-    the widths of curbs and crosswalks, junction crosswalks, the terrain's slope and friction."""
+    the widths of curbs and crosswalks, junction crosswalks, the terrain's slope, its relief
+    (:class:`~navverse.city.geometry.terrain.ReliefSettings`) and friction."""
 
     curb_width: Annotated[float, Field(ge=0.05, le=1.0)] = CURB_WIDTH
     """Width of the curb's top strip (m)."""
@@ -51,7 +56,8 @@ class CityGeometry(GroundSettings):
     real junctions are crossed at every arm, mapped crossings or not, and without them a map that
     does not tag its crossings leaves the blocks as islands joined only by curb climbs."""
     slope: tuple[Grade, Grade] = (0.0, 0.0)
-    """An analytic terrain every surface follows, curbs included: rise per meter east and north."""
+    """An analytic terrain every surface follows, curbs included: rise per meter east and north
+    (under a relief, the plane it is added to before the roads are graded)."""
     friction: dict[TerrainName, Friction] = {}
     """Friction per terrain class, replacing the default table's."""
 
@@ -77,6 +83,23 @@ def geometry_plan(city: CityMap, geometry: CityGeometry) -> StreetPlan:
     )
 
 
+def scene_terrain(
+    city: CityMap, geometry: CityGeometry, *, seed: int = 0, dem: HeightGrid | None = None
+) -> HeightFn:
+    """The terrain a city scene follows: ``geometry``'s plane, or with a relief (``relief_height`` or
+    ``dem``) the relief on it, graded along the roads
+    (:func:`~navverse.city.geometry.terrain.relief_terrain`).
+
+    Returns
+    -------
+    callable
+        :meth:`CityGeometry.terrain` without a relief, else a
+        :class:`~navverse.city.geometry.terrain.HeightGrid`.
+    """
+    relief = relief_terrain(city, geometry, seed=seed, dem=dem, plane=geometry.slope)
+    return geometry.terrain if relief is None else relief
+
+
 def city_scene(
     city: CityMap,
     *,
@@ -85,6 +108,8 @@ def city_scene(
     terrain: HeightFn | None = None,
     source: SceneSource | None = None,
     plan: StreetPlan | None = None,
+    seed: int = 0,
+    dem: HeightGrid | None = None,
 ) -> Scene:
     """The outdoor scene of a city map.
 
@@ -97,12 +122,21 @@ def city_scene(
     geometry : CityGeometry
         Heights and widths.
     terrain : callable, optional
-        Height of the terrain at xy points (sidewalk level); by default ``geometry``'s slope
-        (:meth:`CityGeometry.terrain`: flat unless a slope is set).
+        Height of the terrain at xy points (sidewalk level), in place of ``geometry``'s. By default
+        :func:`scene_terrain`: the slope's plane (:meth:`CityGeometry.terrain`: flat unless a slope
+        is set), with the relief of ``relief_height`` or of ``dem`` graded along the roads. On any
+        terrain but the default flat one, buildings reach
+        :data:`~navverse.city.geometry.buildings.PLINTH_DEPTH` below the lowest ground under them
+        and the land under them is closed underneath.
     source : SceneSource, optional
         Recipe and toolkit version.
     plan : StreetPlan, optional
         The plan :func:`geometry_plan` gives for ``city`` and ``geometry`` (made here if omitted).
+    seed : int
+        Seed of the relief's hills (the target's seed, in a build).
+    dem : HeightGrid, optional
+        Heights of a DEM over the window (:func:`~navverse.city.geometry.dem.read_dem`), the relief
+        in place of the seeded hills.
 
     Returns
     -------
@@ -112,11 +146,24 @@ def city_scene(
     """
     plan = geometry_plan(city, geometry) if plan is None else plan
     city = city.model_copy(update={"crossings": list(plan.crossings)})
-    terrain = geometry.terrain if terrain is None else terrain
+    level = terrain is None and geometry.slope == (0.0, 0.0)
+    if terrain is None:
+        terrain = scene_terrain(city, geometry, seed=seed, dem=dem)
+    curved = isinstance(terrain, HeightGrid)
+    step = DRAPE_STEP if curved else None
+    sunk = curved or not level  # buildings reach below a sloping ground: a plinth, the land under closed
     ground = ground_surfaces(
-        plan.classes, city, settings=geometry, crosswalk_width=geometry.crosswalk_width, terrain=terrain
+        plan.classes,
+        city,
+        settings=geometry,
+        crosswalk_width=geometry.crosswalk_width,
+        terrain=terrain,
+        step=step,
+        sunk_buildings=sunk,
     )
-    buildings, annotations = building_parts(city, carriageways(city), terrain=terrain)
+    buildings, annotations = building_parts(
+        city, carriageways(city), terrain=terrain, step=step, plinth=PLINTH_DEPTH if sunk else 0.0
+    )
     surfaces = [*ground, *buildings]
     names = sorted({s.terrain_class for s in surfaces})
     geo = GeoReference(
