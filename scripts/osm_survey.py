@@ -7,8 +7,8 @@ For each file (default folder: ``data/raw/osm``) the densest window of ``--size`
 city_geometry -> populate -> storefronts -> navmesh) with the engine, in the workspace ``--root``
 (default: this project; its cache makes a second run fast), and the row says:
 
-- the window (centre lat, lon) and the build's seconds (stage runs taken from the cache count 0:
-  use a fresh ``--root`` to time them);
+- the window (centre lat, lon) and the build's seconds: the wall and CPU time its five stage runs
+  took when they ran (read from their manifests, so a cached build reports the time it took);
 - buildings kept, and dropped by reason; where their heights came from (``height`` tag, ``levels``,
   ``parts``: a ``building:part`` with its own heights, ``default``: drawn storeys);
 - sidewalks mapped (km of ``footway=sidewalk`` ways) and inferred (km of road sides given one by the
@@ -25,8 +25,8 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import time
 from collections import Counter
+from collections.abc import Iterable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -47,6 +47,7 @@ class SurveyRow:
     file: str
     window: str = ""
     seconds: float = 0.0
+    cpu_seconds: float = 0.0
     buildings: int = 0
     buildings_dropped: dict[str, int] = field(default_factory=dict)
     heights: dict[str, int] = field(default_factory=dict)
@@ -71,6 +72,16 @@ def _window(path: Path, size: float) -> tuple[float, float]:
 
     best = rank_windows(path, size_m=size, top=1).windows[0]
     return best.center
+
+
+def _build_seconds(outputs: Iterable[Path]) -> tuple[float, float]:
+    """Wall and CPU seconds the stage runs of these outputs took when they ran (their manifests)."""
+    wall = cpu = 0.0
+    for output in outputs:
+        run = json.loads((output / "manifest.json").read_text(encoding="utf-8")).get("run", {})
+        wall += float(run.get("wall_s", 0.0))
+        cpu += float(run.get("cpu_s", 0.0))
+    return round(wall, 1), round(cpu, 1)
 
 
 def _heights(city: CityMap) -> dict[str, int]:
@@ -103,13 +114,12 @@ def survey_file(path: Path, *, size: float, root: Path) -> SurveyRow:
         "stages": {"osm_city": {"source": str(path.resolve()), "center": [lat, lon], "size_m": [size, size]}},
     }
     name = "survey-" + "".join(c if c.isalnum() else "-" for c in path.name.lower()).strip("-")
-    started = time.perf_counter()
     try:
         result = build(recipe, name=name, root=root, jobs=1)
     except (ApiError, NavverseError) as exc:
         row.refused = str(exc).splitlines()[0]
         return row
-    row.seconds = round(time.perf_counter() - started, 1)
+    row.seconds, row.cpu_seconds = _build_seconds(result.targets[name].values())
     loaded = load_scene(result.output(name))
     geometry = result.output(name, "geometry")  # the storefronts stage's: the map and plan beside it
     city = read_city_map(geometry / "city_map.json")
@@ -137,8 +147,9 @@ def _short(reasons: dict[str, int]) -> str:
 def markdown(rows: list[SurveyRow]) -> str:
     """The survey as a Markdown table."""
     head = (
-        "| file | window (lat, lon) | s | buildings | dropped | heights | sidewalks mapped / inferred km "
-        "| crossings mapped / added | POIs | storefronts (categories) | islands | largest |"
+        "| file | window (lat, lon) | s (CPU s) | buildings | dropped | heights "
+        "| sidewalks mapped / inferred km | crossings mapped / added | POIs | storefronts (categories) "
+        "| islands | largest |"
     )
     lines = [head, "|" + "---|" * 12]
     for r in rows:
@@ -150,7 +161,7 @@ def markdown(rows: list[SurveyRow]) -> str:
         cells = [
             r.file,
             r.window,
-            f"{r.seconds:g}",
+            f"{r.seconds:g} ({r.cpu_seconds:g})",
             str(r.buildings),
             _short(r.buildings_dropped),
             heights,
