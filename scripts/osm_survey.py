@@ -14,7 +14,9 @@ city_geometry -> populate -> storefronts -> navmesh) with the engine, in the wor
 - sidewalks mapped (km of ``footway=sidewalk`` ways) and inferred (km of road sides given one by the
   tags or the class rule); crossings mapped (nodes and ways) and added at junction arms;
 - POIs, and the storefronts they became, by place category;
-- navmesh islands and the largest island's share of the navigable area;
+- navmesh islands, the largest island's share of the navigable area, and the share on islands that
+  buildings, water or railway tracks wall off from it (a courtyard with no mapped passage, an
+  island in a river): the disconnected part the map itself explains;
 - or, for a file that cannot be built, the reason (refused: the file's fault, or the error).
 
 Refusals are rows too; the script exits 0 unless it could not run at all.
@@ -30,11 +32,16 @@ from collections.abc import Iterable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-from shapely.geometry import LineString
+import numpy as np
+from shapely import unary_union
+from shapely.geometry import LineString, Point, Polygon, box
 
 from navverse.api import ApiError, build, load_scene
+from navverse.city.geometry.street_plan import StreetPlan, load_street_plan
 from navverse.city.map import CityMap, read_city_map
+from navverse.city.precision import difference, union_of
 from navverse.errors import NavverseError
+from navverse.nav.pathfinder import PathFinder
 
 PROJECT = Path(__file__).resolve().parents[1]
 OSM_SUFFIXES = (".osm", ".xml", ".gz", ".bz2", ".pbf")
@@ -59,6 +66,7 @@ class SurveyRow:
     storefronts: dict[str, int] = field(default_factory=dict)
     islands: int = 0
     largest_island: float = 0.0
+    enclosed: float = 0.0
     refused: str = ""
 
 
@@ -133,11 +141,37 @@ def survey_file(path: Path, *, size: float, root: Path) -> SurveyRow:
     row.pois = len(city.pois)
     stores = Counter(s.place_category for s in loaded.annotations.storefronts)
     row.storefronts = dict(sorted(stores.items(), key=lambda item: (-item[1], item[0])))
-    if loaded.pathfinder is not None:
+    if loaded.pathfinder is not None and len(loaded.pathfinder.island_areas):
         areas = loaded.pathfinder.island_areas
         row.islands = len(areas)
-        row.largest_island = round(float(areas[0] / areas.sum()), 3) if len(areas) else 0.0
+        row.largest_island = round(float(areas[0] / areas.sum()), 3)
+        row.enclosed = round(
+            _enclosed_share(loaded.pathfinder, load_street_plan(geometry / "street_plan.json")), 3
+        )
     return row
+
+
+def _enclosed_share(finder: PathFinder, plan: StreetPlan) -> float:
+    """Share of the navigable area on islands other than the largest that buildings, water or railway
+    tracks wall off from it: ground with no way out on the map (a courtyard with no mapped passage, an
+    island in a river), not a gap the geometry made."""
+    walls = union_of(plan.classes.get(name, Polygon()) for name in ("building", "water", "rail"))
+    ground = difference(box(*unary_union(list(plan.classes.values())).bounds), walls)
+    parts = list(getattr(ground, "geoms", [ground]))
+    rng = np.random.default_rng(0)
+
+    def part_of(island: int) -> int | None:
+        for _ in range(3):
+            x, y = finder.get_random_navigable_point(rng, island=island)[:2]
+            hits = [n for n, part in enumerate(parts) if part.buffer(0.3).contains(Point(x, y))]
+            if hits:
+                return hits[0]
+        return None
+
+    main = part_of(0)
+    areas = finder.island_areas
+    walled = sum(float(areas[i]) for i in range(1, len(areas)) if part_of(i) != main)
+    return walled / float(areas.sum())
 
 
 def _short(reasons: dict[str, int]) -> str:
@@ -149,12 +183,12 @@ def markdown(rows: list[SurveyRow]) -> str:
     head = (
         "| file | window (lat, lon) | s (CPU s) | buildings | dropped | heights "
         "| sidewalks mapped / inferred km | crossings mapped / added | POIs | storefronts (categories) "
-        "| islands | largest |"
+        "| islands | largest | walled off |"
     )
-    lines = [head, "|" + "---|" * 12]
+    lines = [head, "|" + "---|" * 13]
     for r in rows:
         if r.refused:
-            lines.append(f"| {r.file} | refused: {r.refused} |" + " |" * 10)
+            lines.append(f"| {r.file} | refused: {r.refused} |" + " |" * 11)
             continue
         heights = ", ".join(f"{k} {v}" for k, v in r.heights.items())
         stores = sum(r.storefronts.values())
@@ -171,6 +205,7 @@ def markdown(rows: list[SurveyRow]) -> str:
             f"{stores} ({len(r.storefronts)})",
             str(r.islands),
             f"{r.largest_island:.0%}",
+            f"{r.enclosed:.0%}",
         ]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
