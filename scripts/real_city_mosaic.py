@@ -2,7 +2,8 @@
 
     python scripts/real_city_mosaic.py [--root DIR] [--out docs/img/real-cities.png] [--columns 10]
 
-Reads ``<root>/data/built/targets/<id>/scene/bev.png`` (root: this project) of every recipe in
+Ray-casts from above the built scene ``<root>/data/built/targets/<id>/scene`` (root: this project) of
+every recipe in
 ``recipes/scenes/real-cities`` (build them first, by name: ``navverse build $(ls
 recipes/scenes/real-cities | sed 's/.yaml$//')``),
 labels each tile with its id and writes one PNG; scenes not built are tiles that say so.
@@ -21,16 +22,17 @@ PROJECT = Path(__file__).resolve().parents[1]
 RECIPES = PROJECT / "recipes" / "scenes" / "real-cities"
 
 
-def _tile(image_path: Path, size: int) -> np.ndarray | None:
-    """The BEV picture resampled to ``size`` × ``size`` RGB (nearest pixel), or None if missing."""
-    import matplotlib.image as mpimg
+def _tile(scene_dir: Path, size: int) -> np.ndarray | None:
+    """The scene ray-cast from above (:func:`~navverse.scene.bev.raster_bev`: terrain, buildings and
+    objects, shaded), resampled to ``size`` × ``size`` RGB; None if it is not built."""
+    from navverse.scene.bev import raster_bev
+    from navverse.scene.scene_cache import cached_scene
 
-    if not image_path.is_file():
+    if not (scene_dir / "scene.json").is_file():
         return None
-    image = mpimg.imread(image_path)
-    if image.dtype != np.uint8:
-        image = (np.clip(image, 0.0, 1.0) * 255).astype(np.uint8)
-    image = image[..., :3]
+    scene = cached_scene(scene_dir)
+    (x0, y0, _), (x1, y1, _) = scene.annotations.bounds.min, scene.annotations.bounds.max
+    image = raster_bev(scene, meters_per_pixel=max(x1 - x0, y1 - y0) / size).rgb
     rows = np.linspace(0, image.shape[0] - 1, size).astype(int)
     cols = np.linspace(0, image.shape[1] - 1, size).astype(int)
     return image[rows][:, cols]
@@ -50,7 +52,7 @@ def mosaic(ids: list[str], out: Path, *, built_dir: Path, columns: int, tile: in
     for n, scene_id in enumerate(ids):
         axes = figure.add_subplot(rows, columns, n + 1)
         axes.set_axis_off()
-        picture = _tile(built_dir / scene_id / "scene" / "bev.png", tile)
+        picture = _tile(built_dir / scene_id / "scene", tile)
         if picture is None:
             axes.text(0.5, 0.5, "not built", ha="center", va="center", fontsize=8)
         else:
@@ -69,7 +71,7 @@ def main() -> int:
     parser.add_argument("--root", type=Path, default=PROJECT, help="the workspace the scenes were built in")
     parser.add_argument("--out", type=Path, default=PROJECT / "docs" / "img" / "real-cities.png")
     parser.add_argument("--columns", type=int, default=10)
-    parser.add_argument("--tile", type=int, default=240, help="pixels per tile")
+    parser.add_argument("--tile", type=int, default=220, help="pixels per tile")
     args = parser.parse_args()
     ids = sorted(p.stem for p in RECIPES.glob("*.yaml"))
     built_dir = args.root / "data" / "built" / "targets"
