@@ -49,6 +49,30 @@ OBJECT_TILE = 300.0
 """Side of the ground squares whose objects make one static compound body (m)."""
 
 
+MESH_MAX_VERTICES = 131_072
+"""Most vertices PyBullet takes in one mesh shape given by arrays."""
+MESH_MAX_FACES = 174_762
+"""Most triangles PyBullet takes in one mesh shape given by arrays (its index limit is 524,288)."""
+
+
+def mesh_pieces(mesh: MeshData) -> list[MeshData]:
+    """``mesh`` cut into runs of its faces, each within :data:`MESH_MAX_VERTICES` and
+    :data:`MESH_MAX_FACES`, each with only the vertices it uses (a city's draped ground on hills
+    holds more than one shape may)."""
+    if mesh.num_faces <= MESH_MAX_FACES and len(mesh.vertices) <= MESH_MAX_VERTICES:
+        return [mesh]
+    pieces, pending = [], [mesh.faces]
+    while pending:
+        faces = pending.pop()
+        used, local = np.unique(faces, return_inverse=True)
+        if len(faces) <= MESH_MAX_FACES and len(used) <= MESH_MAX_VERTICES:
+            pieces.append(MeshData(mesh.vertices[used], local.reshape(-1, 3)))
+        else:
+            half = len(faces) // 2
+            pending += [faces[half:], faces[:half]]
+    return pieces
+
+
 @dataclass(frozen=True)
 class BodyInfo:
     """What a static body of the world is: a terrain class or an object."""
@@ -171,19 +195,23 @@ class World:
 
     # ------------------------------------------------------------------ loading
 
-    def _static_mesh_body(self, mesh: MeshData, info: BodyInfo) -> int:
+    def _static_mesh_bodies(self, mesh: MeshData, info: BodyInfo) -> list[int]:
+        """Static triangle-mesh bodies of ``mesh``: one per piece within PyBullet's mesh limits."""
         c = self.client
-        shape = c.createCollisionShape(
-            pybullet.GEOM_MESH,
-            vertices=mesh.vertices.tolist(),
-            indices=mesh.faces.reshape(-1).tolist(),
-            flags=pybullet.GEOM_FORCE_CONCAVE_TRIMESH,
-        )
-        body = c.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=shape)
-        c.changeDynamics(body, -1, lateralFriction=info.friction, restitution=0.0, rollingFriction=0.0,
-                         spinningFriction=0.0)  # fmt: skip
-        self.bodies[body] = info
-        return body
+        bodies = []
+        for piece in mesh_pieces(mesh):
+            shape = c.createCollisionShape(
+                pybullet.GEOM_MESH,
+                vertices=piece.vertices.tolist(),
+                indices=piece.faces.reshape(-1).tolist(),
+                flags=pybullet.GEOM_FORCE_CONCAVE_TRIMESH,
+            )
+            body = c.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=shape)
+            c.changeDynamics(body, -1, lateralFriction=info.friction, restitution=0.0, rollingFriction=0.0,
+                             spinningFriction=0.0)  # fmt: skip
+            self.bodies[body] = info
+            bodies.append(body)
+        return bodies
 
     def _load_terrain(self) -> None:
         classes = self.scene.annotations.terrain_classes
@@ -196,7 +224,7 @@ class World:
             if mesh.num_faces == 0:
                 continue
             friction = tc.friction if self.terrain_friction is None else self.terrain_friction
-            self._static_mesh_body(
+            self._static_mesh_bodies(
                 mesh, BodyInfo("terrain", terrain_class=name, navigable=tc.navigable, friction=friction)
             )
 

@@ -10,7 +10,7 @@ from navverse.scene.compose import ObjectPart, replace_parts
 from navverse.scene.geometry import MeshData, Scene, Surface
 from navverse.sim.bullet import pybullet
 from navverse.sim.collision import convex_parts
-from navverse.sim.world import PHYSICS_HZ, World, objects_near
+from navverse.sim.world import MESH_MAX_FACES, MESH_MAX_VERTICES, PHYSICS_HZ, World, mesh_pieces, objects_near
 from tests.scenes import box_part, scene_of
 
 
@@ -197,3 +197,31 @@ def test_a_world_of_some_objects_loads_only_their_geometry():
         assert {c.body.object_id for c in w.contacts(on_table)} == {2}
     with World(small_scene(), collision_cache=None, object_ids=set()) as w:
         assert w.object_bodies == ()
+
+
+def _grid_floor(cells: int, size: float) -> MeshData:
+    """A flat floor of ``cells`` × ``cells`` squares, two triangles each, ``size`` m across."""
+    ticks = np.linspace(0.0, size, cells + 1)
+    x, y = np.meshgrid(ticks, ticks)
+    vertices = np.column_stack([x.ravel(), y.ravel(), np.zeros(x.size)])
+    corner = (np.arange(cells)[:, None] * (cells + 1) + np.arange(cells)[None, :]).ravel()
+    a, b, c, d = corner, corner + 1, corner + cells + 2, corner + cells + 1
+    faces = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+    return MeshData(vertices, faces)
+
+
+def test_a_terrain_class_beyond_pybullets_mesh_limits_loads_in_pieces() -> None:
+    floor = _grid_floor(300, 60.0)  # 180,000 triangles: more than one PyBullet mesh shape holds
+    pieces = mesh_pieces(floor)
+    assert len(pieces) == 2
+    assert all(p.num_faces <= MESH_MAX_FACES and len(p.vertices) <= MESH_MAX_VERTICES for p in pieces)
+    # The pieces hold the same triangles, each once.
+    triangles = np.sort(np.concatenate([p.vertices[p.faces].reshape(-1, 9) for p in pieces]), axis=0)
+    assert np.array_equal(triangles, np.sort(floor.vertices[floor.faces].reshape(-1, 9), axis=0))
+    scene = scene_of([Surface("floor", "floor", floor)], scene_id="big-floor")
+    with World(scene, collision_cache=None) as big:
+        floors = [b for b, info in big.bodies.items() if info.terrain_class == "floor"]
+        assert len(floors) == 2
+        for x in (5.0, 55.0):  # a ray finds the floor over either piece
+            hit = big.client.rayTest([x, 30.0, 1.0], [x, 30.0, -1.0])[0]
+            assert hit[0] in floors and hit[3][2] == pytest.approx(0.0, abs=1e-6)
