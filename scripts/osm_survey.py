@@ -13,7 +13,7 @@ city_geometry -> populate -> storefronts -> navmesh) with the engine, in the wor
   ``parts``: a ``building:part`` with its own heights, ``default``: drawn storeys);
 - sidewalks mapped (km of ``footway=sidewalk`` ways) and inferred (km of road sides given one by the
   tags or the class rule); crossings mapped (nodes and ways) and added at junction arms;
-- POIs, and the storefronts they became, by place category;
+- POIs and the place categories they map to, and the storefronts placed and their categories;
 - navmesh islands, the largest island's share of the navigable area, and the share on islands that
   buildings, water or railway tracks wall off from it (a courtyard with no mapped passage, an
   island in a river): the disconnected part the map itself explains;
@@ -63,6 +63,7 @@ class SurveyRow:
     crossings_mapped: int = 0
     crossings_added: int = 0
     pois: int = 0
+    categories_mapped: int = 0
     storefronts: dict[str, int] = field(default_factory=dict)
     islands: int = 0
     largest_island: float = 0.0
@@ -80,6 +81,19 @@ def _window(path: Path, size: float) -> tuple[float, float]:
 
     best = rank_windows(path, size_m=size, top=1).windows[0]
     return best.center
+
+
+def _mapped_categories(city: CityMap) -> set[str]:
+    """The storefront place categories the map's POIs map to."""
+    from navverse.assets.facade.storefronts import place_category
+
+    found = set()
+    for poi in city.pois:
+        key, _, value = poi.tag.partition("=")
+        category = place_category({key: value})
+        if category is not None:
+            found.add(category)
+    return found
 
 
 def _build_seconds(outputs: Iterable[Path]) -> tuple[float, float]:
@@ -139,6 +153,7 @@ def survey_file(path: Path, *, size: float, root: Path) -> SurveyRow:
     plan = json.loads((geometry / "street_plan.json").read_text())
     row.crossings_added = max(0, len(plan.get("crossings", [])) - len(city.crossings))
     row.pois = len(city.pois)
+    row.categories_mapped = len(_mapped_categories(city))
     stores = Counter(s.place_category for s in loaded.annotations.storefronts)
     row.storefronts = dict(sorted(stores.items(), key=lambda item: (-item[1], item[0])))
     if loaded.pathfinder is not None and len(loaded.pathfinder.island_areas):
@@ -182,8 +197,8 @@ def markdown(rows: list[SurveyRow]) -> str:
     """The survey as a Markdown table."""
     head = (
         "| file | window (lat, lon) | s (CPU s) | buildings | dropped | heights "
-        "| sidewalks mapped / inferred km | crossings mapped / added | POIs | storefronts (categories) "
-        "| islands | largest | walled off |"
+        "| sidewalks mapped / inferred km | crossings mapped / added | POIs (categories) "
+        "| storefronts (categories) | islands | largest | walled off |"
     )
     lines = [head, "|" + "---|" * 13]
     for r in rows:
@@ -201,7 +216,7 @@ def markdown(rows: list[SurveyRow]) -> str:
             heights,
             f"{r.sidewalks_mapped_km:g} / {r.sidewalks_inferred_km:g}",
             f"{r.crossings_mapped} / {r.crossings_added}",
-            str(r.pois),
+            f"{r.pois} ({r.categories_mapped})",
             f"{stores} ({len(r.storefronts)})",
             str(r.islands),
             f"{r.largest_island:.0%}",
