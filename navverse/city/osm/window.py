@@ -20,7 +20,16 @@ from pyproj import Transformer
 from navverse.city.map import CityMapError
 from navverse.settings import Settings
 
-__all__ = ["MAX_WINDOW_SIDE", "LonLatBox", "OsmWindow", "Window", "box_text", "make_window", "utm_epsg"]
+__all__ = [
+    "MAX_WINDOW_SIDE",
+    "LocalFrame",
+    "LonLatBox",
+    "OsmWindow",
+    "Window",
+    "box_text",
+    "make_window",
+    "utm_epsg",
+]
 
 MAX_WINDOW_SIDE = 50_000.0
 """Longest side of a window (m)."""
@@ -64,6 +73,38 @@ def _boxes_meet(a: LonLatBox, b: LonLatBox) -> bool:
 
 
 @dataclass(frozen=True)
+class LocalFrame:
+    """A local metric frame: the UTM zone of a position, with the origin there (x east, y north, m)."""
+
+    epsg: int
+    origin: tuple[float, float]
+    """The origin's easting and northing in the zone (m)."""
+    _forward: Any = field(repr=False, compare=False)
+    _inverse: Any = field(repr=False, compare=False)
+
+    @classmethod
+    def around(cls, lat: float, lon: float) -> LocalFrame:
+        """The frame of the UTM zone holding (lat, lon), its origin there."""
+        epsg = utm_epsg(lat, lon)
+        forward = Transformer.from_crs("EPSG:4326", f"EPSG:{epsg}", always_xy=True)
+        inverse = Transformer.from_crs(f"EPSG:{epsg}", "EPSG:4326", always_xy=True)
+        x, y = forward.transform(lon, lat)
+        return cls(epsg, (float(x), float(y)), forward, inverse)
+
+    def project(self, lon: Any, lat: Any) -> np.ndarray:
+        """Local (x, y) of WGS 84 positions: an ``(n, 2)`` array of meters."""
+        x, y = self._forward.transform(np.asarray(lon, dtype=float), np.asarray(lat, dtype=float))
+        return np.column_stack([np.asarray(x) - self.origin[0], np.asarray(y) - self.origin[1]])
+
+    def lonlat(self, x: Any, y: Any) -> tuple[np.ndarray, np.ndarray]:
+        """WGS 84 longitudes and latitudes of local positions."""
+        lons, lats = self._inverse.transform(
+            np.asarray(x, dtype=float) + self.origin[0], np.asarray(y, dtype=float) + self.origin[1]
+        )
+        return np.asarray(lons), np.asarray(lats)
+
+
+@dataclass(frozen=True)
 class Window:
     """The window a map covers: a rectangle in a local UTM frame and the lat/lon box around it.
 
@@ -78,7 +119,7 @@ class Window:
     lonlat : tuple of float
         ``(min_lon, min_lat, max_lon, max_lat)`` covering ``rect``, a little padded.
 
-    Positions are projected with :meth:`project` (WGS 84 to the zone, minus the origin).
+    Positions are projected with :meth:`project` (the window's :class:`LocalFrame`).
     """
 
     epsg: int
@@ -86,13 +127,11 @@ class Window:
     origin_lon: float
     rect: tuple[float, float, float, float]
     lonlat: LonLatBox
-    _forward: Any = field(repr=False, compare=False)
-    _origin: tuple[float, float] = field(repr=False, compare=False)
+    frame: LocalFrame = field(repr=False, compare=False)
 
     def project(self, lon: Any, lat: Any) -> np.ndarray:
         """Local (x, y) of WGS 84 positions: an ``(n, 2)`` array of meters."""
-        x, y = self._forward.transform(np.asarray(lon, dtype=float), np.asarray(lat, dtype=float))
-        return np.column_stack([np.asarray(x) - self._origin[0], np.asarray(y) - self._origin[1]])
+        return self.frame.project(lon, lat)
 
     def contains_lonlat(self, lon: float, lat: float) -> bool:
         """Whether a position is in the window's lat/lon box (the rectangle is tested after projection)."""
@@ -174,12 +213,12 @@ def _centre(
 
 
 def _rect_around(
-    bbox: tuple[float, float, float, float], forward: Transformer, origin: tuple[float, float]
+    bbox: tuple[float, float, float, float], frame: LocalFrame
 ) -> tuple[float, float, float, float]:
     """The local rectangle around a lat/lon box, rounded outwards to the millimetre."""
     min_lat, min_lon, max_lat, max_lon = bbox
-    xs, ys = forward.transform(*_ring_points((min_lon, min_lat, max_lon, max_lat)))
-    xs, ys = np.asarray(xs) - origin[0], np.asarray(ys) - origin[1]
+    xy = frame.project(*_ring_points((min_lon, min_lat, max_lon, max_lat)))
+    xs, ys = xy[:, 0], xy[:, 1]
     rect = (
         math.floor(float(np.min(xs)) * 1000.0) / 1000.0,
         math.floor(float(np.min(ys)) * 1000.0) / 1000.0,
@@ -225,19 +264,15 @@ def make_window(
         raise CityMapError("give the window as center (with size_m) or as bbox, not both")
     box = _bbox(bbox) if bbox is not None else None
     lat, lon = _centre(center, box, data_bounds, path)
-    epsg = utm_epsg(lat, lon)
-    forward = Transformer.from_crs("EPSG:4326", f"EPSG:{epsg}", always_xy=True)
-    origin = forward.transform(lon, lat)
+    frame = LocalFrame.around(lat, lon)
     if box is not None:
-        rect = _rect_around(box, forward, origin)
+        rect = _rect_around(box, frame)
     else:
         width, height = _pair(size_m, "size_m (width, height)")
         if not (0.0 < width <= MAX_WINDOW_SIDE and 0.0 < height <= MAX_WINDOW_SIDE):
             raise CityMapError(f"size_m {size_m!r} must be two sides in (0, {MAX_WINDOW_SIDE:g}] m")
         rect = (-width / 2.0, -height / 2.0, width / 2.0, height / 2.0)
-    inverse = Transformer.from_crs(f"EPSG:{epsg}", "EPSG:4326", always_xy=True)
-    xs, ys = _ring_points(rect)
-    lons, lats = inverse.transform(xs + origin[0], ys + origin[1])
+    lons, lats = frame.lonlat(*_ring_points(rect))
     pad = 1e-6  # about 0.1 m
     lonlat = (
         float(np.min(lons)) - pad,
@@ -247,7 +282,7 @@ def make_window(
     )
     if lonlat[0] < -180.0 or lonlat[2] > 180.0 or not all(map(math.isfinite, lonlat)):
         raise CityMapError("the window crosses the antimeridian (longitude ±180°), which is not supported")
-    window = Window(epsg, lat, lon, rect, lonlat, forward, (origin[0], origin[1]))
+    window = Window(frame.epsg, lat, lon, rect, lonlat, frame)
     if data_bounds is not None and not window.meets(data_bounds):
         raise CityMapError(
             f"the window ({box_text(lonlat)}) does not meet the data of {path.name} "

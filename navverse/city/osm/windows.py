@@ -42,7 +42,6 @@ import osmium
 import osmium.filter
 import osmium.index
 import osmium.osm
-from pyproj import Transformer
 
 from navverse.city.map import CityMapError
 from navverse.city.osm.files import (
@@ -55,7 +54,7 @@ from navverse.city.osm.files import (
     osmium_file,
 )
 from navverse.city.osm.stream import location_indexes, most_nodes
-from navverse.city.osm.window import MAX_WINDOW_SIDE, LonLatBox, utm_epsg
+from navverse.city.osm.window import MAX_WINDOW_SIDE, LocalFrame, LonLatBox
 from navverse.city.tag_tables import (
     FEATURE_KEYS,
     ROAD_HIGHWAYS,
@@ -174,26 +173,6 @@ class WindowRanking:
     bounds: LonLatBox | None
 
 
-class _Frame:
-    """The local metric frame: the UTM zone of a first position, with its origin there."""
-
-    def __init__(self, lon: float, lat: float) -> None:
-        self.epsg = utm_epsg(lat, lon)
-        self._forward = Transformer.from_crs("EPSG:4326", f"EPSG:{self.epsg}", always_xy=True)
-        self._inverse = Transformer.from_crs(f"EPSG:{self.epsg}", "EPSG:4326", always_xy=True)
-        self.origin = self._forward.transform(lon, lat)
-
-    def project(self, lons: np.ndarray, lats: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Local x, y (m) of positions in degrees."""
-        x, y = self._forward.transform(lons, lats)
-        return np.asarray(x) - self.origin[0], np.asarray(y) - self.origin[1]
-
-    def lonlat(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Degrees of local positions."""
-        lons, lats = self._inverse.transform(np.asarray(x) + self.origin[0], np.asarray(y) + self.origin[1])
-        return np.asarray(lons), np.asarray(lats)
-
-
 def _pack(i: np.ndarray, j: np.ndarray) -> np.ndarray:
     return ((i + _KEY_OFFSET) << 31) | (j + _KEY_OFFSET)
 
@@ -215,7 +194,7 @@ class _Cells:
 
     def __init__(self, cell: float) -> None:
         self.cell = cell
-        self.frame: _Frame | None = None
+        self.frame: LocalFrame | None = None
         self.sums: dict[int, np.ndarray] = {}
         self.box = [math.inf, math.inf, -math.inf, -math.inf]  # lon/lat of every position counted
         self.rect = [math.inf, math.inf, -math.inf, -math.inf]  # the same in the local frame
@@ -245,7 +224,7 @@ class _Cells:
     def _project(self, lons: list[float], lats: list[float]) -> tuple[np.ndarray, np.ndarray]:
         lon, lat = np.asarray(lons, dtype=float), np.asarray(lats, dtype=float)
         if self.frame is None:
-            self.frame = _Frame(float(lon[0]), float(lat[0]))
+            self.frame = LocalFrame.around(float(lat[0]), float(lon[0]))
         box, rect = self.box, self.rect
         box[:] = [
             min(box[0], lon.min()),
@@ -253,7 +232,8 @@ class _Cells:
             max(box[2], lon.max()),
             max(box[3], lat.max()),
         ]
-        x, y = self.frame.project(lon, lat)
+        xy = self.frame.project(lon, lat)
+        x, y = xy[:, 0], xy[:, 1]
         rect[:] = [min(rect[0], x.min()), min(rect[1], y.min()), max(rect[2], x.max()), max(rect[3], y.max())]
         return x, y
 
