@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 from shapely import unary_union
 from shapely.geometry import LineString, Point, Polygon, box
+from shapely.strtree import STRtree
 
 from navverse.api import ApiError, build, load_scene
 from navverse.city.geometry.street_plan import StreetPlan, load_street_plan
@@ -172,15 +173,16 @@ def _enclosed_share(finder: PathFinder, plan: StreetPlan) -> float:
     island in a river), not a gap the geometry made."""
     walls = union_of(plan.classes.get(name, Polygon()) for name in ("building", "water", "rail"))
     ground = difference(box(*unary_union(list(plan.classes.values())).bounds), walls)
-    parts = list(getattr(ground, "geoms", [ground]))
+    parts = [part.buffer(0.3) for part in getattr(ground, "geoms", [ground])]  # a point on a wall's edge
+    tree = STRtree(parts)
     rng = np.random.default_rng(0)
 
     def part_of(island: int) -> int | None:
         for _ in range(3):
             x, y = finder.get_random_navigable_point(rng, island=island)[:2]
-            hits = [n for n, part in enumerate(parts) if part.buffer(0.3).contains(Point(x, y))]
-            if hits:
-                return hits[0]
+            hits = tree.query(Point(x, y), predicate="within")
+            if len(hits):
+                return int(min(hits))
         return None
 
     main = part_of(0)

@@ -23,8 +23,9 @@ REAL = Path(__file__).parent / "data" / "real"
 SIDE = (160.0, 160.0)
 
 
-def _read(name: str, **window) -> CityMap:
-    return read_osm(REAL / name, size_m=SIDE, **window)
+def _read(name: str | Path) -> CityMap:
+    """A sample (by name) or any file (by path) read in a window of :data:`SIDE` around its data."""
+    return read_osm(REAL / name, size_m=SIDE)
 
 
 def _same_map(a: CityMap, b: CityMap) -> bool:
@@ -130,15 +131,11 @@ def test_gzip_and_bzip2_xml_are_recognised_by_their_content(tmp_path: Path) -> N
     plain = REAL / "sydney-sydenham-sidewalks.osm"
     bzipped = tmp_path / "sydenham.osm.bz2"
     bzipped.write_bytes(bz2.compress(plain.read_bytes()))
-    from_bz2, from_xml = _read_path(bzipped), _read_path(plain)
+    from_bz2, from_xml = _read(bzipped), _read(plain)
     assert _same_map(from_bz2, from_xml) and from_bz2.source.name == "sydenham.osm.bz2"
     write_city_map(from_bz2, tmp_path / "a.json")
-    write_city_map(_read_path(bzipped), tmp_path / "b.json")
+    write_city_map(_read(bzipped), tmp_path / "b.json")
     assert (tmp_path / "a.json").read_bytes() == (tmp_path / "b.json").read_bytes()
-
-
-def _read_path(path: Path) -> CityMap:
-    return read_osm(path, size_m=SIDE)
 
 
 @pytest.mark.parametrize("name", sorted(p.name for p in REAL.glob("*.osm*")))
