@@ -26,6 +26,7 @@ __all__ = [
     "CYCLE_LANE_WIDTH",
     "DEFAULT_SIDEWALK_WIDTH",
     "MAX_LENGTH",
+    "PASSAGE_CLEARANCE",
     "ROAD_CLASSES",
     "SERVICE_WIDTHS",
     "STOREY_HEIGHT",
@@ -34,8 +35,10 @@ __all__ = [
     "SidewalkSides",
     "at_ground_level",
     "building_height",
+    "is_passage",
     "parse_count",
     "parse_length",
+    "passage_clearance",
     "road_width",
     "sidewalks",
 ]
@@ -46,6 +49,8 @@ DEFAULT_SIDEWALK_WIDTH = 1.5
 """Width of a sidewalk whose width is not tagged (m)."""
 STOREY_HEIGHT = 3.0
 """Height of one ``building:levels`` storey (m)."""
+PASSAGE_CLEARANCE = 3.5
+"""Headroom of a building passage whose ``maxheight`` is not tagged (m)."""
 
 _UNITS = {
     "": 1.0,
@@ -331,12 +336,39 @@ def sidewalks(tags: Mapping[str, str]) -> SidewalkSides:
     return SidewalkSides(width["left"], width["right"], "tags", tuple(dict.fromkeys(problems)))
 
 
+PASSAGE_COVERS = frozenset({"yes", "arcade", "colonnade"})
+"""``covered=*`` values of a way that runs at ground level under a roof or a building's upper floors."""
+
+
+def is_passage(tags: Mapping[str, str]) -> bool:
+    """Whether a way runs at ground level under a building: ``tunnel=building_passage`` or
+    ``covered=yes|arcade|colonnade``."""
+    tunnel = (tags.get("tunnel") or "").strip().lower()
+    return tunnel == "building_passage" or (tags.get("covered") or "").strip().lower() in PASSAGE_COVERS
+
+
+def passage_clearance(tags: Mapping[str, str]) -> float:
+    """Headroom over a building passage: its ``maxheight`` in metres, else :data:`PASSAGE_CLEARANCE`
+    (``none``, ``default`` and unreadable values say nothing of the height)."""
+    reading = parse_length(tags.get("maxheight"))
+    return reading.value if reading.value is not None and reading.value > 0.0 else PASSAGE_CLEARANCE
+
+
+def _below_zero(value: str | None) -> bool:
+    return re.fullmatch(r"-[0-9]+(\.[0-9]+)?", (value or "").strip()) is not None
+
+
 def at_ground_level(tags: Mapping[str, str]) -> bool:
-    """False for ways below the ground or under a roof: tunnels, ``covered=yes``, ``layer`` < 0."""
-    if _is_yes(tags.get("tunnel")) or tags.get("covered", "").strip().lower() == "yes":
+    """False for ways below the ground: tunnels, ``layer`` < 0, ``level`` < 0.
+
+    A building passage (:func:`is_passage`) is at ground level whatever its ``layer``: mappers give
+    passages ``layer=-1`` to say they run under the building, not under the street.
+    """
+    if _below_zero(tags.get("level")):
         return False
-    layer = tags.get("layer", "").strip()
-    return not re.fullmatch(r"-[0-9]+", layer)
+    if is_passage(tags):
+        return True
+    return not _is_yes(tags.get("tunnel")) and not _below_zero(tags.get("layer"))
 
 
 def building_height(tags: Mapping[str, str]) -> tuple[float | None, float, str, list[str]]:

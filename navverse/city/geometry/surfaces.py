@@ -12,7 +12,8 @@
 - ``curb``: the ``curb_width`` top strip along every road edge that borders a walked surface;
   ``lowered_curb`` where that strip meets a crosswalk (the geometry stage lowers it);
 - ``sidewalk``: the strips beside roads (each side its width, from the map) and mapped walkways;
-- ``building``: footprints (courtyards are holes, so they get the class beneath);
+- ``building``: footprints of what stands on the ground (courtyards are holes, and the ground under
+  a part raised over a passage or an overhang is not the building's, so they get the class beneath);
 - ``rail``, ``water``, ``parking``, ``plaza``, ``pedestrian``, ``green``: land areas (``rail``: railway
   track beds, which roads and walkways cross at level crossings);
 - ``ground``: whatever is left.
@@ -183,7 +184,7 @@ def plan_surfaces(city: CityMap, *, curb_width: float, crosswalk_width: float) -
     curb = intersection(edge_strip, walked)
     lowered = intersection(curb, crosswalks)
     by_class: dict[str, BaseGeometry] = {
-        "building": union_of(_polygon(b.footprint) for b in city.buildings),
+        "building": union_of(_polygon(b.footprint) for b in city.buildings if b.base_height == 0.0),
         "crosswalk": intersection(crosswalks, road_area),
         "road": road_area,
         "shared": shared_area,

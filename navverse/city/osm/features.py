@@ -43,6 +43,7 @@ from navverse.city.osm.geometry import (
     ring_polygon,
 )
 from navverse.city.osm.stream import OsmExtract, OsmMultipolygon, OsmWay
+from navverse.city.precision import difference, intersection
 from navverse.city.tag_tables import (
     MAX_BUILDING_HEIGHT,
     RAIL_WIDTHS,
@@ -69,8 +70,10 @@ from navverse.city.tags import (
     STOREY_HEIGHT,
     at_ground_level,
     building_height,
+    is_passage,
     parse_count,
     parse_length,
+    passage_clearance,
     road_width,
     sidewalks,
 )
@@ -91,6 +94,12 @@ _SMALLEST_PIECE = 1.0
 """Smallest area of a building part kept (m²)."""
 _SLIVER = 0.25
 """Half the width of the thinnest rest of an outline its parts leave uncovered that still stands (m)."""
+_LOWEST_SPAN = 1.0
+"""Least height of a building above a passage's headroom for it to be drawn over the passage (m)."""
+_PASSAGE_REACH = 1.0
+"""How far a building passage's ground runs on past each end of its way (m)."""
+_RAISED = "building raised over a passage at ground level (tunnel=building_passage, covered)"
+_OPEN = "building left open over a passage (lower than the passage's headroom)"
 Key = tuple[int, int, int]
 
 
@@ -154,17 +163,14 @@ class _Builder:
         if not raised:
             return roads, walkways
 
-        def way_id(feature: Road | Walkway) -> int:
-            return int((feature.osm or "way/0").split("/")[1])
-
         features = [*roads, *walkways]
-        below = [as_line(f.centerline) for f in features if way_id(f) not in raised]
+        below = [as_line(f.centerline) for f in features if _way_id(f) not in raised]
         tree = STRtree(below) if below else None
         spanned = [polygon_of(a.polygon) for a in areas if a.cls in ("water", "rail")]
         spans = STRtree(spanned) if spanned else None
         left_out: set[str] = set()
         for feature in features:
-            if way_id(feature) not in raised:
+            if _way_id(feature) not in raised:
                 continue
             line = as_line(feature.centerline)
             if tree is not None and len(tree.query(line, predicate="crosses")) > 0:
@@ -236,6 +242,20 @@ class _Builder:
                     self.dropped["inferred sidewalk left out (a mapped sidewalk runs beside the road)"] += 1
             kept.append(road.model_copy(update=update) if update else road)
         return kept
+
+    def passages(self, roads: list[Road], walkways: list[Walkway]) -> list[tuple[Polygon, float]]:
+        """The ground each kept building passage (:func:`~navverse.city.tags.is_passage`) runs on, as
+        wide as the way and :data:`_PASSAGE_REACH` longer at each end (its end nodes often stop short
+        of the walls it passes), with its headroom (``maxheight``, else the default)."""
+        found = []
+        for feature in [*roads, *walkways]:
+            way = self.extract.ways.get(_way_id(feature))
+            if way is not None and is_passage(way.tags):
+                line = _prolonged(as_line(feature.centerline), _PASSAGE_REACH)
+                found.append(
+                    (line.buffer(feature.width / 2.0, cap_style="flat"), passage_clearance(way.tags))
+                )
+        return found
 
     def _road_fields(self, way: OsmWay) -> tuple[dict[str, Any], bool]:
         tags = way.tags
@@ -501,15 +521,46 @@ class _Builder:
             pieces.append((outline, rest, own))
         return sorted(pieces, key=lambda piece: piece[0].key)
 
+    def _over_passages(
+        self,
+        pieces: list[tuple[_Outline, BaseGeometry, dict[str, Any]]],
+        passages: list[tuple[Polygon, float]],
+    ) -> list[tuple[_Outline, BaseGeometry, dict[str, Any]]]:
+        """Pieces of a building with the ground of the passages through them freed: over a passage the
+        piece stands from the passage's headroom up (none at all when its top is less than
+        :data:`_LOWEST_SPAN` above the headroom); elsewhere it stands as it was."""
+        if not passages:
+            return pieces
+        out = []
+        for source, geometry, heights in pieces:
+            rest = geometry
+            for ground, clearance in passages:
+                if heights["base_height"] >= clearance or not ground.intersects(rest):
+                    continue
+                under = repaired(intersection(rest, ground), self.dropped)
+                if under is None or under.area < _SMALLEST_PIECE:
+                    continue
+                rest = difference(rest, ground)
+                if heights["height"] - clearance >= _LOWEST_SPAN:
+                    out.append((source, under, {**heights, "base_height": clearance}))
+                    self.dropped[_RAISED] += 1
+                else:
+                    self.dropped[_OPEN] += 1
+            rest = repaired(rest, self.dropped) if not rest.is_empty else None
+            if rest is not None:
+                out.append((source, rest, heights))
+        return out
+
     def buildings(
-        self, outlines: list[_Outline]
+        self, outlines: list[_Outline], passages: list[tuple[Polygon, float]]
     ) -> tuple[list[Building], dict[tuple[int, int], tuple[str, Polygon]]]:
         """Buildings (a feature per clipped part of each building or ``building:part``) and, for the
         POIs, the id and shape of each outline's largest ground-level feature by the outline's key.
 
         A building mapped with ``building:part`` outlines stands as its parts (each with its own
         heights, an untagged one with the building's), plus the rest of its outline no part covers;
-        the outline is not counted twice. Parts inside no building stand on their own.
+        the outline is not counted twice. Parts inside no building stand on their own. Over the
+        ``passages`` (ground, headroom) a building stands from the headroom up.
         """
         entrances = {n.id: n.xy for n in self.nodes if tag_value(n.tags, "entrance") not in (None, "no")}
         parts_of, loose = self._parts_of(outlines)
@@ -521,15 +572,17 @@ class _Builder:
             kind = building_value(outline.tags) or tag_value(outline.tags, "building:part")
             refs = set(outline.refs).union(*(part.refs for part in parts))
             doors = [entrances[ref] for ref in sorted(refs) if ref in entrances]
-            for source, geometry, heights in self._pieces(outline, parts):
+            numbers: Counter[tuple[int, int]] = Counter()
+            for source, geometry, heights in self._over_passages(self._pieces(outline, parts), passages):
                 common = {"osm": f"{source.osm_type}/{source.osm_id}", **heights}
                 common["name"] = text_value(outline.tags.get("name"))
                 common["type"] = kind
                 if source is not outline:
                     common["outline"] = f"{outline.osm_type}/{outline.osm_id}"
-                for n, (shape, footprint) in enumerate(self._parts(geometry)):
+                for shape, footprint in self._parts(geometry):
                     on = sorted(_point(xy) for xy in doors if shape.distance(Point(xy)) <= 0.01)
-                    key = (*source.key, n)
+                    key = (*source.key, numbers[source.key])
+                    numbers[source.key] += 1
                     if key in shapes:  # a part shared by two buildings is drawn once
                         continue
                     drafts.append((key, {**common, "footprint": footprint, "entrances": on}))
@@ -650,6 +703,21 @@ def _parallel_length(road: LineString, walkways: list[LineString], band: BaseGeo
     return total
 
 
+def _prolonged(line: LineString, reach: float) -> LineString:
+    """``line`` made ``reach`` longer at each end, straight on along its end segments."""
+    points = np.asarray(line.coords, dtype=float)[:, :2]
+    ends = []
+    for end, before in ((points[0], points[1]), (points[-1], points[-2])):
+        step = end - before
+        norm = float(np.hypot(*step))
+        ends.append(end + step / norm * reach if norm > 0.0 else end)
+    return LineString([ends[0], *points, ends[1]])
+
+
+def _way_id(feature: Road | Walkway) -> int:
+    return int((feature.osm or "way/0").split("/")[1])
+
+
 def _point(xy: Iterable[float]) -> tuple[float, float]:
     x, y = xy
     return round(float(x), 3) + 0.0, round(float(y), 3) + 0.0
@@ -673,7 +741,7 @@ def build_features(extract: OsmExtract, rect: Rect, *, seed: int) -> Features:
     roads, walkways = builder.grounded(builder.roads(), builder.walkways(), areas)
     features = Features(roads=builder.undoubled(roads, walkways), walkways=walkways, areas=areas)
     features.crossings = builder.crossings(_pieces_by_way(roads))
-    features.buildings, by_outline = builder.buildings(outlines)
+    features.buildings, by_outline = builder.buildings(outlines, builder.passages(roads, walkways))
     features.pois = builder.pois(outlines, features.buildings, by_outline)
     features.furniture = builder.furniture()
     features.dropped = builder.dropped

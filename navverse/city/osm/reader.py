@@ -26,6 +26,11 @@ bridges        roads and walkways that are bridges (``bridge=*``, ``man_made=bri
                level with the streets they join where they span water or a railway and cross no way
                at ground level; left out where they cross one (an overpass) or span neither (a
                viaduct over land); each counted
+passages       roads and walkways under a building at ground level (``tunnel=building_passage``, whatever
+               its ``layer``; ``covered=yes|arcade|colonnade``) are kept; each building they pass under
+               stands, over the way's width and 1 m past its ends, from the passage's headroom up
+               (``maxheight``, else 3.5 m), or leaves it open when less than 1 m taller; counted.
+               Other tunnels, ``layer`` < 0 and ``level`` < 0 are not at ground level: left out
 sidewalks      a side inferred by the class rule is left out where mapped sidewalks, footways or paths
                run parallel beside the road (within 6 m of its edge) along half its length or more
 walkways       ways ``highway=footway|path|steps|cycleway|pedestrian`` at ground level; kind ``sidewalk``

@@ -11,8 +11,9 @@ from pathlib import Path
 import numpy as np
 import osmium
 import pytest
+import shapely
 from pyproj import Transformer
-from shapely.geometry import Polygon
+from shapely.geometry import LineString, Polygon
 
 from navverse.city.map import CityMap, CityMapError, read_city_map, write_city_map
 from navverse.city.osm.files import PROLOG_LIMIT
@@ -42,7 +43,15 @@ _ORIGIN = Transformer.from_crs("EPSG:4326", "EPSG:32632", always_xy=True).transf
 
 
 def _area(polygon) -> float:
-    return Polygon(polygon.exterior, polygon.holes).area
+    return _shape_of(polygon).area
+
+
+def _shape_of(polygon) -> Polygon:
+    return Polygon(polygon.exterior, polygon.holes)
+
+
+def _shape(building) -> Polygon:
+    return _shape_of(building.footprint)
 
 
 def _osm_xml(nodes: dict, ways: dict, relations: dict | None = None) -> str:
@@ -626,3 +635,57 @@ def test_schools_are_places(tmp_path: Path) -> None:
     text = _osm_xml(nodes, {10: ([1, 2], {"highway": "residential"})})
     city = read_osm(_write(tmp_path / "school.osm", text), center=(48.0, 11.0), size_m=(200.0, 200.0))
     assert sorted(p.category for p in city.pois) == ["kindergarten", "school"]
+
+
+def test_building_passages_are_freed_at_ground_level_under_the_building(tmp_path: Path) -> None:
+    # A 20 m deep front building on a street; a driveway through it (its end nodes 0.5 m short of
+    # both walls, as mappers often leave them), a 3 m high one-storey shed the same driveway runs
+    # on under, and an underground footway (a plain tunnel) that stays out.
+    nodes = {
+        1: (0, 0, {}),
+        2: (40, 0, {}),
+        3: (40, 20, {}),
+        4: (0, 20, {}),  # front building, 12 m
+        5: (0, 30, {}),
+        6: (40, 30, {}),
+        7: (40, 36, {}),
+        8: (0, 36, {}),  # shed, 3 m
+        11: (20, 0.5, {}),
+        12: (20, 19.5, {}),
+        13: (20, 40, {}),  # the passage and on
+        21: (-20, -5, {}),
+        22: (60, -5, {}),  # the street
+        31: (5, -3, {}),
+        32: (5, 25, {}),  # a tunnel under the building
+    }
+    passage = {
+        "highway": "service",
+        "tunnel": "building_passage",
+        "layer": "-1",
+        "width": "3",
+        "maxheight": "4.2",
+    }
+    ways = {
+        100: ([1, 2, 3, 4, 1], {"building": "yes", "height": "12"}),
+        101: ([5, 6, 7, 8, 5], {"building": "shed", "height": "3"}),
+        102: ([11, 12], passage),
+        103: ([12, 13], {"highway": "service", "covered": "yes", "width": "3"}),
+        104: ([21, 22], {"highway": "residential"}),
+        105: ([31, 32], {"highway": "footway", "tunnel": "yes"}),
+    }
+    city = read_osm(_write(tmp_path / "passage.osm", _osm_xml(nodes, ways)), center=(48.0, 11.0))
+    assert sorted(r.osm for r in city.roads) == ["way/102", "way/103", "way/104"]
+    assert city.walkways == []  # the tunnel is underground: left out
+    front = [b for b in city.buildings if b.osm == "way/100"]
+    over = [b for b in front if b.base_height > 0.0]
+    assert len(over) == 1 and (over[0].base_height, over[0].height) == (4.2, 12.0)  # maxheight
+    standing = shapely.union_all([_shape(b) for b in front if b.base_height == 0.0])
+    corridor = LineString([(20, -1), (20, 21)]).buffer(1.4, cap_style="flat")  # wall to wall
+    assert standing.intersection(corridor).area < 0.01 and abs(standing.area - 800 + 60) < 0.5
+    assert abs(_shape(over[0]).area - 60) < 0.5
+    shed = [_shape(b) for b in city.buildings if b.osm == "way/101"]
+    assert abs(sum(s.area for s in shed) - 240 + 18) < 0.5  # too low to span the way: open over it
+    assert (
+        city.dropped["building raised over a passage at ground level (tunnel=building_passage, covered)"] == 1
+    )
+    assert city.dropped["building left open over a passage (lower than the passage's headroom)"] == 1

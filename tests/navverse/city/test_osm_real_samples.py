@@ -1,6 +1,7 @@
 """The OSM reader on small samples of real extracts (cut by scripts/cut_osm_sample.py; see
 data/real/README.md): buildings in parts, separately mapped sidewalks, a plaza, bridges kept and left
-out, clipped ways, a file without bounds, gzip and bzip2 XML recognised by their content."""
+out, a building passage into a courtyard, clipped ways, a file without bounds, gzip and bzip2 XML
+recognised by their content."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import gzip
 import shutil
 from pathlib import Path
 
+import numpy as np
 import pytest
 import shapely
 from shapely.geometry import LineString
@@ -18,6 +20,8 @@ from navverse.city.map import CityMap, write_city_map
 from navverse.city.osm import features
 from navverse.city.osm.geometry import polygon_of
 from navverse.city.osm.reader import check_window, read_osm
+from navverse.nav import OUTDOOR
+from navverse.nav.scene_navmesh import build_scene_navmesh
 
 REAL = Path(__file__).parent / "data" / "real"
 SIDE = (160.0, 160.0)
@@ -101,6 +105,33 @@ def test_a_bridge_over_a_river_is_kept_and_an_overpass_is_left_out() -> None:
     assert seattle.dropped["bridge over neither water nor rail (left out)"] == 4
     scene = city_scene(berlin, scene_id="bridge", geometry=CityGeometry())
     assert {s.terrain_class for s in scene.surfaces} >= {"road", "water", "sidewalk"}
+
+
+def test_a_building_passage_leads_under_the_building_into_its_courtyard() -> None:
+    city = _read("berlin-hinterhof-passage.osm.gz")
+    # A driveway through the front building (tunnel=building_passage, covered=yes) into a Hinterhof.
+    passage = [r for r in city.roads if r.osm == "way/585841588"]
+    courtyard = [r for r in city.roads if r.osm == "way/566154988"]
+    assert passage and courtyard
+    line = LineString(passage[0].centerline.points)
+    front = [b for b in city.buildings if b.osm == "way/23748217"]
+    over = [b for b in front if b.base_height == 3.5]  # no maxheight: the default headroom
+    assert len(over) == 1 and polygon_of(over[0].footprint).intersection(line).length > 5.0
+    standing = [polygon_of(b.footprint) for b in city.buildings if b.base_height == 0.0]
+    assert all(shape.intersection(line).length < 0.01 for shape in standing)
+    assert (
+        city.dropped["building raised over a passage at ground level (tunnel=building_passage, covered)"] == 3
+    )
+    scene = city_scene(city, scene_id="passage", geometry=CityGeometry())
+    finder = build_scene_navmesh(scene, OUTDOOR, jobs=2)
+    # The courtyard's driveway, the passage and the street are one island.
+    points = [
+        (*LineString(r.centerline.points).interpolate(0.5, normalized=True).coords[0], 0.0)
+        for r in city.roads
+    ]
+    islands = finder.island_of(np.array(points))
+    ids = [r.id for r in city.roads]
+    assert islands[ids.index(passage[0].id)] == islands[ids.index(courtyard[0].id)] == finder.largest_island
 
 
 def test_ways_clipped_at_the_extract_edge_are_split_and_counted() -> None:

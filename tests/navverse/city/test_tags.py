@@ -12,12 +12,15 @@ from navverse.city.tags import (
     CYCLE_LANE_WIDTH,
     DEFAULT_SIDEWALK_WIDTH,
     MAX_LENGTH,
+    PASSAGE_CLEARANCE,
     ROAD_CLASSES,
     STOREY_HEIGHT,
     at_ground_level,
     building_height,
+    is_passage,
     parse_count,
     parse_length,
+    passage_clearance,
     road_width,
     sidewalks,
 )
@@ -140,13 +143,20 @@ def test_sidewalks_follow_the_tags_then_the_class_rule(tags, left, right, source
     assert DEFAULT_SIDEWALK_WIDTH == 1.5
 
 
-def test_ways_below_ground_or_covered_are_not_at_ground_level():
+def test_ways_below_ground_are_not_at_ground_level_but_building_passages_are():
     assert at_ground_level({"highway": "primary"})
     assert at_ground_level({"highway": "primary", "bridge": "yes", "layer": "1"})
     assert not at_ground_level({"highway": "primary", "tunnel": "yes"})
-    assert not at_ground_level({"highway": "primary", "covered": "yes"})
     assert not at_ground_level({"highway": "primary", "layer": "-1"})
+    assert not at_ground_level({"highway": "footway", "level": "-1", "indoor": "yes"})
     assert at_ground_level({"highway": "primary", "tunnel": "no"})
+    # Under a building or a roof at street level: mappers often add layer=-1 to a passage.
+    for tags in ({"tunnel": "building_passage", "layer": "-1"}, {"covered": "yes"}, {"covered": "arcade"}):
+        assert at_ground_level({"highway": "footway", **tags}) and is_passage(tags)
+    assert not at_ground_level({"highway": "footway", "tunnel": "building_passage", "level": "-1"})
+    assert not is_passage({"tunnel": "yes"}) and not is_passage({"covered": "no"})
+    assert passage_clearance({"maxheight": "3.2"}) == 3.2
+    assert passage_clearance({"maxheight": "none"}) == passage_clearance({}) == PASSAGE_CLEARANCE
 
 
 def test_building_heights_from_height_then_levels():
