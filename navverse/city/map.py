@@ -45,9 +45,9 @@ __all__ = [
     "write_city_map",
 ]
 
-CITY_MAP_FORMAT = "1.2"
+CITY_MAP_FORMAT = "1.3"
 """Format of ``city_map.json``: a reader reads its own major version (1.1 added furniture ``shelter``,
-1.2 building ``type`` and ``outline``)."""
+1.2 building ``type`` and ``outline``, 1.3 road ``cycle_track_left`` / ``cycle_track_right``)."""
 MAX_COORDINATE = 1e6
 """Largest |x| or |y| in a map (m): a city is far smaller; anything larger is a projection error."""
 
@@ -137,7 +137,9 @@ class Road(_Model):
 
     ``sidewalk_left`` / ``sidewalk_right`` are widths (m) or None (none, or mapped as a separate
     walkway); left and right are as seen along the points. ``parking_left`` / ``parking_right``
-    are widths of parking strips inside the carriageway edge (m) or None.
+    are widths of parking strips inside the carriageway edge (m) or None. ``cycle_track_left`` /
+    ``cycle_track_right`` are widths of cycle tracks between the carriageway edge and the sidewalk, at
+    sidewalk level behind the curb (m) or None.
     """
 
     id: FeatureId
@@ -153,9 +155,25 @@ class Road(_Model):
     sidewalk_source: Literal["tags", "rule", "synthetic"] = "rule"
     parking_left: Length | None = None
     parking_right: Length | None = None
+    cycle_track_left: Length | None = None
+    cycle_track_right: Length | None = None
     kerb: Literal["raised", "lowered", "flush", "rolled"] | None = None
     surface: str | None = None
     name: str | None = None
+
+    def sidewalk_edge(self, sign: float) -> float:
+        """How far from the centre line the sidewalk on a side (``sign`` +1 left, -1 right) begins:
+        the carriageway's half width, and the cycle track between them (m)."""
+        track = self.cycle_track_left if sign > 0 else self.cycle_track_right
+        return self.width / 2.0 + (track or 0.0)
+
+    def reach(self) -> float:
+        """How far the far edge of the road's wider side (carriageway, cycle track and sidewalk) is from
+        its centre line (m)."""
+        return max(
+            self.sidewalk_edge(sign) + (walk or 0.0)
+            for sign, walk in ((1.0, self.sidewalk_left), (-1.0, self.sidewalk_right))
+        )
 
 
 class Walkway(_Model):

@@ -91,7 +91,10 @@ def _draw(axes: Any, city: CityMap, *, points_per_m: float) -> None:
     for cls in ("ground", "green", "parking", "plaza", "pedestrian", "water"):
         _fill(axes, [a.polygon for a in city.areas if a.cls == cls], _terrain(_AREA_TERRAIN[cls]))
     roads = [r.centerline.points for r in city.roads]
-    sidewalk_widths = [r.width + (r.sidewalk_left or 0.0) + (r.sidewalk_right or 0.0) for r in city.roads]
+    sidewalk_widths = [
+        r.sidewalk_edge(1.0) + r.sidewalk_edge(-1.0) + (r.sidewalk_left or 0.0) + (r.sidewalk_right or 0.0)
+        for r in city.roads
+    ]
     _lines(axes, roads, sidewalk_widths, _terrain("sidewalk"), points_per_m=points_per_m)
     _lines(axes, [w.centerline.points for w in city.walkways], [w.width for w in city.walkways],
            _terrain("sidewalk"), points_per_m=points_per_m)  # fmt: skip

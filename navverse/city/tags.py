@@ -8,7 +8,8 @@ city builder can use the value or fall back to a rule and count the reason.
 Road widths follow the tag, then ``lanes`` × the class's lane width, then the class's default
 (:data:`ROAD_CLASSES`; one-way ways without ``lanes`` get one lane's width more than half the
 default; service roads by their ``service=*`` kind, :data:`SERVICE_WIDTHS`); painted cycle lanes add
-:data:`CYCLE_LANE_WIDTH` each to a width not tagged. Sidewalks follow ``sidewalk=*`` and
+:data:`CYCLE_LANE_WIDTH` each to a width not tagged; cycle tracks lie beside the carriageway
+(:func:`cycle_tracks`). Sidewalks follow ``sidewalk=*`` and
 ``sidewalk:<side>=*`` (``separate``: mapped as its own way, so none is inferred), else the class's
 rule. The defaults are the common values of the
 highway classes as mapped in OSM: lanes of 3.0–3.5 m (2.5 m on service roads), sidewalks of 1.5 m,
@@ -24,6 +25,7 @@ from dataclasses import dataclass
 
 __all__ = [
     "CYCLE_LANE_WIDTH",
+    "CYCLE_TRACK_WIDTH",
     "DEFAULT_SIDEWALK_WIDTH",
     "MAX_LENGTH",
     "PASSAGE_CLEARANCE",
@@ -35,6 +37,7 @@ __all__ = [
     "SidewalkSides",
     "at_ground_level",
     "building_height",
+    "cycle_tracks",
     "is_passage",
     "parse_count",
     "parse_length",
@@ -214,6 +217,9 @@ SERVICE_WIDTHS = {
 two cars pass between the bays, a driveway one."""
 CYCLE_LANE_WIDTH = 1.5
 """Width a painted cycle lane (``cycleway[:side]=lane``) adds to a carriageway measured by its lanes (m)."""
+CYCLE_TRACK_WIDTH = 1.8
+"""Width of a cycle track beside the carriageway (``cycleway[:side]=track``) whose width is not tagged (m)."""
+_TRACKS = ("track", "opposite_track")
 
 
 def _is_yes(value: str | None) -> bool:
@@ -273,6 +279,47 @@ def _cycle_lanes(tags: Mapping[str, str]) -> int:
     if tags.get("cycleway", "").strip().lower() in lane:
         return 1 if _oneway(tags) else 2
     return 0
+
+
+def cycle_tracks(tags: Mapping[str, str]) -> tuple[float | None, float | None, tuple[str, ...]]:
+    """Cycle tracks beside a road's carriageway, kerb-separated at sidewalk level: (left, right) widths
+    (m; None: none) and problems with the width tags.
+
+    ``cycleway:left|right=track`` name a side, ``cycleway:both=track`` both; ``cycleway=track`` is
+    both sides of a two-way road and the right of a one-way one, ``cycleway=opposite_track`` the
+    left. Widths come from ``cycleway:<side>:width``, ``cycleway:both:width``, ``cycleway:width``,
+    else :data:`CYCLE_TRACK_WIDTH`. Tracks mapped as ways of their own (``separate``) add nothing.
+    """
+
+    def value(key: str) -> str:
+        return (tags.get(key) or "").strip().lower()
+
+    sides = {side: value(f"cycleway:{side}") in _TRACKS for side in ("left", "right")}
+    if value("cycleway:both") in _TRACKS:
+        sides = {"left": True, "right": True}
+    elif not any(sides.values()):
+        plain, against = value("cycleway"), value("oneway") == "-1"  # traffic against the way's points
+        with_traffic = "left" if against else "right"
+        sides = {
+            side: (plain == "track" and (side == with_traffic or not _oneway(tags)))
+            or (plain == "opposite_track" and side != with_traffic)
+            for side in ("left", "right")
+        }
+    problems: list[str] = []
+    widths: dict[str, float | None] = {}
+    for side, tracked in sides.items():
+        widths[side] = None
+        if not tracked:
+            continue
+        for key in (f"cycleway:{side}:width", "cycleway:both:width", "cycleway:width"):
+            reading = parse_length(tags.get(key))
+            if reading.problem:
+                problems.append(f"{key}: {reading.problem}")
+            if reading.value is not None:
+                widths[side] = reading.value
+                break
+        widths[side] = widths[side] or CYCLE_TRACK_WIDTH
+    return widths["left"], widths["right"], tuple(dict.fromkeys(problems))
 
 
 @dataclass(frozen=True)

@@ -43,7 +43,7 @@ def _arms(roads: list[Road]) -> dict[tuple[int, int], list[tuple[Road, list[tupl
 
 def _reach(road: Road) -> float:
     """How far a road's far edge (carriageway and widest sidewalk) is from its centre line."""
-    return road.width / 2.0 + max(road.sidewalk_left or 0.0, road.sidewalk_right or 0.0)
+    return road.reach()
 
 
 def junction_crossings(city: CityMap, *, crosswalk_width: float) -> list[Crossing]:

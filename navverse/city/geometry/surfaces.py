@@ -90,14 +90,17 @@ def carriageways(city: CityMap) -> dict[str, BaseGeometry]:
 
 
 def _sidewalk_strips(road: Road) -> list[BaseGeometry]:
-    """The strips beside a road, each side's sidewalk width beyond the carriageway edge."""
+    """The strips beside a road, each side's cycle track and sidewalk beyond the carriageway edge."""
     line = LineString(road.centerline.points)
     strips = []
-    for width, sign in ((road.sidewalk_left, 1.0), (road.sidewalk_right, -1.0)):
-        if width is None:
+    for width, track, sign in (
+        (road.sidewalk_left, road.cycle_track_left, 1.0),
+        (road.sidewalk_right, road.cycle_track_right, -1.0),
+    ):
+        if width is None and track is None:
             continue
         outer = line.buffer(
-            sign * (road.width / 2.0 + width),
+            sign * (road.sidewalk_edge(sign) + (width or 0.0)),
             single_sided=True,
             join_style="round",
             quad_segs=QUAD_SEGMENTS,

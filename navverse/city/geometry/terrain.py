@@ -255,9 +255,7 @@ def _limits(grid: HeightGrid, city: CityMap) -> np.ndarray:
     apply(
         (
             LineString(road.centerline.points).buffer(
-                road.width / 2.0
-                + max(road.sidewalk_left or 0.0, road.sidewalk_right or 0.0)
-                + CORRIDOR_MARGIN,
+                road.reach() + CORRIDOR_MARGIN,
                 quad_segs=4,
             ),
             grade_limit(road.highway),

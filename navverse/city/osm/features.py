@@ -70,6 +70,7 @@ from navverse.city.tags import (
     STOREY_HEIGHT,
     at_ground_level,
     building_height,
+    cycle_tracks,
     is_passage,
     parse_count,
     parse_length,
@@ -88,6 +89,10 @@ _SEPARATE_REACH = 6.0
 """How far beyond a road's edge a mapped walkway beside it may run and still be its sidewalk (m)."""
 _SEPARATE_SHARE = 0.5
 """Share of a road's length a mapped walkway beside it must run along to replace its inferred sidewalk."""
+_UNDOUBLED = {
+    "sidewalk": "inferred sidewalk left out (a mapped sidewalk runs beside the road)",
+    "cycle_track": "cycle track of the road's tags left out (a mapped cycleway runs beside the road)",
+}
 _PARALLEL_DEG = 25.0
 """Largest angle between a road and a walkway running along it (degrees)."""
 _SMALLEST_PIECE = 1.0
@@ -214,32 +219,33 @@ class _Builder:
         return drafts
 
     def undoubled(self, roads: list[Road], walkways: list[Walkway]) -> list[Road]:
-        """Roads without the inferred sidewalks that a mapped one beside them already is.
+        """Roads without the sidewalks and cycle tracks beside them that mapped ways already are.
 
         A side whose sidewalk comes from the class rule (the way says nothing of its sidewalks) loses
         it when mapped sidewalks, footways or paths run parallel to the road (within
         :data:`_PARALLEL_DEG`) within :data:`_SEPARATE_REACH` of its edge along at least
-        :data:`_SEPARATE_SHARE` of its length.
+        :data:`_SEPARATE_SHARE` of its length; a side's cycle track, when mapped cycleways do.
         """
-        lines = [as_line(w.centerline) for w in walkways if w.kind in _SIDEWALK_KINDS]
-        if not lines:
-            return roads
-        tree = STRtree(lines)
+        sidewalks = [as_line(w.centerline) for w in walkways if w.kind in _SIDEWALK_KINDS]
+        cycleways = [as_line(w.centerline) for w in walkways if w.kind == "cycleway"]
+        trees = {"sidewalk": STRtree(sidewalks) if sidewalks else None}
+        trees["cycle_track"] = STRtree(cycleways) if cycleways else None
+        mapped = {"sidewalk": sidewalks, "cycle_track": cycleways}
         kept = []
         for road in roads:
-            if road.sidewalk_source != "rule" or (road.sidewalk_left is None and road.sidewalk_right is None):
-                kept.append(road)
-                continue
             line = as_line(road.centerline)
             update: dict[str, None] = {}
-            for side, sign in (("sidewalk_left", 1.0), ("sidewalk_right", -1.0)):
-                if getattr(road, side) is None:
+            for what, tree in trees.items():
+                if tree is None or (what == "sidewalk" and road.sidewalk_source != "rule"):
                     continue
-                band = line.buffer(sign * (road.width / 2.0 + _SEPARATE_REACH), single_sided=True)
-                near = [lines[i] for i in tree.query(band, predicate="intersects").tolist()]
-                if _parallel_length(line, near, band) >= _SEPARATE_SHARE * line.length:
-                    update[side] = None
-                    self.dropped["inferred sidewalk left out (a mapped sidewalk runs beside the road)"] += 1
+                for side, sign in (("left", 1.0), ("right", -1.0)):
+                    if getattr(road, f"{what}_{side}") is None:
+                        continue
+                    band = line.buffer(sign * (road.width / 2.0 + _SEPARATE_REACH), single_sided=True)
+                    near = [mapped[what][i] for i in tree.query(band, predicate="intersects").tolist()]
+                    if _parallel_length(line, near, band) >= _SEPARATE_SHARE * line.length:
+                        update[f"{what}_{side}"] = None
+                        self.dropped[_UNDOUBLED[what]] += 1
             kept.append(road.model_copy(update=update) if update else road)
         return kept
 
@@ -265,6 +271,8 @@ class _Builder:
         problems = [*problems, *sides.problems] + ([f"lanes: {lanes.problem}"] if lanes.problem else [])
         count_problems(problems, self.dropped)
         parking_left, parking_right = parking_sides(tags, self.dropped)
+        track_left, track_right, track_problems = cycle_tracks(tags)
+        count_problems(list(track_problems), self.dropped)
         fields: dict[str, Any] = {
             "osm": f"way/{way.id}",
             "highway": tag_value(tags, "highway"),
@@ -277,14 +285,16 @@ class _Builder:
             "sidewalk_source": sides.source,
             "parking_left": parking_left,
             "parking_right": parking_right,
+            "cycle_track_left": track_left,
+            "cycle_track_right": track_right,
             "kerb": kerb_of(tags.get("kerb"), self.dropped, default=None),
             "surface": text_value(tags.get("surface")),
             "name": text_value(tags.get("name")),
         }
         reverse = tag_value(tags, "oneway") == "-1"
         if reverse:  # traffic runs against the way: turn it, so the points follow the traffic
-            for a, b in (("sidewalk_left", "sidewalk_right"), ("parking_left", "parking_right")):
-                fields[a], fields[b] = fields[b], fields[a]
+            for a in ("sidewalk", "parking", "cycle_track"):
+                fields[f"{a}_left"], fields[f"{a}_right"] = fields[f"{a}_right"], fields[f"{a}_left"]
         return fields, reverse
 
     def roads(self) -> list[Road]:
@@ -294,7 +304,7 @@ class _Builder:
             if tag_value(way.tags, "highway") not in ROAD_HIGHWAYS or is_area(way.tags):
                 continue
             if not at_ground_level(way.tags):
-                self.dropped["road not at ground level (tunnel, covered or layer < 0)"] += 1
+                self.dropped["road not at ground level (tunnel, layer or level < 0)"] += 1
                 continue
             pieces = clip_line_pieces(way.xy, self.rect, self.dropped)
             if not pieces:
@@ -314,7 +324,7 @@ class _Builder:
             if kind is None:
                 continue
             if not at_ground_level(way.tags):
-                self.dropped["walkway not at ground level (tunnel, covered or layer < 0)"] += 1
+                self.dropped["walkway not at ground level (tunnel, layer or level < 0)"] += 1
                 continue
             pieces = clip_line_pieces(way.xy, self.rect, self.dropped)
             if not pieces:
@@ -380,7 +390,7 @@ class _Builder:
             return "part"
         cls = land_class(tags, relation=relation)
         if cls is not None and not at_ground_level(tags):
-            self.dropped["area not at ground level (tunnel, covered or layer < 0)"] += 1
+            self.dropped["area not at ground level (tunnel, layer or level < 0)"] += 1
             return None
         return cls
 

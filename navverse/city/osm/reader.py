@@ -21,7 +21,11 @@ roads          ways ``highway=`` a vehicle class of :data:`~navverse.city.tags.R
                ``name``; parking strips from ``parking:<side>=lane|street_side|half_on_kerb|shoulder``
                with ``parking:<side>:orientation``, else ``parking:lane:<side>=parallel|diagonal|
                perpendicular``; width ``parking:<side>:width``, else 2.0 m parallel, 4.5 m diagonal,
-               5.0 m perpendicular (the carriageway is not widened for them)
+               5.0 m perpendicular (the carriageway is not widened for them);
+               cycle tracks (``cycleway[:left|right|both]=track``, ``opposite_track``) beside the
+               carriageway at sidewalk level, ``cycleway[:side]:width`` else 1.8 m
+               (:func:`~navverse.city.tags.cycle_tracks`); a side's track is left out where a mapped
+               cycleway runs beside the road (as sidewalks are)
 bridges        roads and walkways that are bridges (``bridge=*``, ``man_made=bridge``, ``layer`` > 0): kept
                level with the streets they join where they span water or a railway and cross no way
                at ground level; left out where they cross one (an overpass) or span neither (a

@@ -61,6 +61,10 @@ def _road_tags(road: Road) -> dict[str, str]:
     tags["sidewalk"] = {0: "no", 1: present[0] if present else "no", 2: "both"}[len(present)]
     for side in present:
         tags[f"sidewalk:{side}:width"] = f"{sides[side]:g}"
+    for side, track in (("left", road.cycle_track_left), ("right", road.cycle_track_right)):
+        if track is not None:
+            tags[f"cycleway:{side}"] = "track"
+            tags[f"cycleway:{side}:width"] = f"{track:g}"
     if road.name:
         tags["name"] = road.name
     return tags

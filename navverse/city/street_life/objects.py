@@ -395,15 +395,18 @@ def _proposals(
             if road.highway in SHARED_SURFACE_HIGHWAYS or (rule.roads and road.highway not in rule.roads):
                 continue
             line = LineString(road.centerline.points)
-            half = road.width / 2.0
             for sign, walk in ((1.0, road.sidewalk_left), (-1.0, road.sidewalk_right)):
                 if walk is None:
                     continue
                 zone = rule.zone
-                middle = _zone_line(line, sign, half, walk, zone, settings, curb_width=curb_width)
+                middle = _zone_line(
+                    line, sign, road.sidewalk_edge(sign), walk, zone, settings, curb_width=curb_width
+                )
                 if middle is None and zone == "furniture":
                     zone = "verge"  # too narrow a sidewalk: lamps and trees stand beyond it
-                    middle = _zone_line(line, sign, half, walk, zone, settings, curb_width=curb_width)
+                    middle = _zone_line(
+                        line, sign, road.sidewalk_edge(sign), walk, zone, settings, curb_width=curb_width
+                    )
                 if middle is None:
                     continue
                 turn = math.pi if zone == "frontage" else 0.0
@@ -472,21 +475,22 @@ def _shelter_spot(
 def _zone_line(
     line: LineString,
     sign: float,
-    half: float,
+    edge: float,
     walk: float,
     zone: str,
     settings: ZoneSettings,
     *,
     curb_width: float,
 ) -> LineString | None:
-    """The middle line of a road side's zone, or None if the side has no such zone."""
+    """The middle line of a road side's zone (of its sidewalk, ``edge`` from the centre line on), or None
+    if the side has no such zone."""
     furniture, frontage = sidewalk_split(walk, settings, curb_width=curb_width)
     if zone == "furniture":
-        width, offset = furniture, half + curb_width + furniture / 2.0
+        width, offset = furniture, edge + curb_width + furniture / 2.0
     elif zone == "frontage":
-        width, offset = frontage, half + walk - frontage / 2.0
+        width, offset = frontage, edge + walk - frontage / 2.0
     else:
-        width, offset = settings.verge_width, half + walk + settings.verge_width / 2.0
+        width, offset = settings.verge_width, edge + walk + settings.verge_width / 2.0
     if width <= 0:
         return None
     middle = line.offset_curve(sign * offset, quad_segs=4, join_style="mitre")

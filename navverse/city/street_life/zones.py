@@ -218,10 +218,11 @@ def street_zones(city: CityMap, plan: StreetPlan, settings: ZoneSettings | None 
         ):
             if walk_width is not None and not shared:
                 f_width, fr_width = sidewalk_split(walk_width, settings, curb_width=plan.curb_width)
-                start = half + plan.curb_width
+                edge = r.sidewalk_edge(sign)  # beyond the carriageway and its cycle track
+                start = edge + plan.curb_width
                 furniture.append(_band(line, sign, start, start + f_width))
-                frontage.append(_band(line, sign, half + walk_width - fr_width, half + walk_width))
-                verge.append(_band(line, sign, half + walk_width, half + walk_width + settings.verge_width))
+                frontage.append(_band(line, sign, edge + walk_width - fr_width, edge + walk_width))
+                verge.append(_band(line, sign, edge + walk_width, edge + walk_width + settings.verge_width))
             if shared:
                 continue
             if park_width is not None:
@@ -277,7 +278,8 @@ def walkway_clearance(
             if width is None:
                 continue
             for along in np.arange(step / 2.0, line.length - step / 2.0, step):
-                cut = _transect(line, float(along), sign, road.width / 2.0 + 0.2, road.width / 2.0 + width)
+                edge = road.sidewalk_edge(sign)
+                cut = _transect(line, float(along), sign, edge + 0.2, edge + width)
                 if cut is None or junctions.intersects(cut):
                     continue
                 if not on_walkway.contains(cut.interpolate(cut.length - 0.05)):

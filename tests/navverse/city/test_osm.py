@@ -15,6 +15,7 @@ import shapely
 from pyproj import Transformer
 from shapely.geometry import LineString, Polygon
 
+from navverse.city.geometry.scene import CityGeometry, geometry_plan
 from navverse.city.map import CityMap, CityMapError, read_city_map, write_city_map
 from navverse.city.osm.files import PROLOG_LIMIT
 from navverse.city.osm.geometry import clip_polyline
@@ -457,7 +458,7 @@ def test_messy_data_is_repaired_or_dropped_and_counted(tmp_path: Path) -> None:
         "building or area way that is not a closed ring": 1,
         "duplicate OSM object (one copy kept)": 1,
         "invalid polygon (self-intersecting or overlapping rings; repaired)": 1,
-        "road not at ground level (tunnel, covered or layer < 0)": 1,
+        "road not at ground level (tunnel, layer or level < 0)": 1,
         "tag height not read cleanly (a rule or its first value used)": 1,
         "tag lanes not read cleanly (a rule or its first value used)": 1,
         "tag width not read cleanly (a rule or its first value used)": 1,
@@ -689,3 +690,50 @@ def test_building_passages_are_freed_at_ground_level_under_the_building(tmp_path
         city.dropped["building raised over a passage at ground level (tunnel=building_passage, covered)"] == 1
     )
     assert city.dropped["building left open over a passage (lower than the passage's headroom)"] == 1
+
+
+def test_cycle_tracks_lie_between_the_carriageway_and_the_sidewalk(tmp_path: Path) -> None:
+    nodes = {
+        1: (-60, 0, {}),
+        2: (60, 0, {}),
+        3: (-60, 40, {}),
+        4: (60, 40, {}),
+        5: (-60, 46.2, {}),
+        6: (60, 46.2, {}),
+    }
+    nodes |= {7: (-60, -40, {}), 8: (60, -40, {})}
+    ways = {
+        10: ([1, 2], {"highway": "residential", "width": "7", "sidewalk": "both", "cycleway:right": "track",
+                      "cycleway:right:width": "2"}),
+        11: ([3, 4], {"highway": "residential", "width": "7", "sidewalk": "both", "cycleway": "track"}),
+        12: ([5, 6], {"highway": "cycleway"}),  # the track on way 11's left, mapped on its own too
+        13: ([7, 8], {"highway": "residential", "width": "4", "oneway": "-1", "sidewalk": "no",
+                      "cycleway": "track"}),
+    }  # fmt: skip
+    city = read_osm(_write(tmp_path / "tracks.osm", _osm_xml(nodes, ways)), center=(48.0, 11.0))
+    roads = {r.osm: r for r in city.roads}
+    assert (roads["way/10"].cycle_track_left, roads["way/10"].cycle_track_right) == (None, 2.0)
+    assert (roads["way/11"].cycle_track_left, roads["way/11"].cycle_track_right) == (None, 1.8)
+    assert (
+        city.dropped["cycle track of the road's tags left out (a mapped cycleway runs beside the road)"] == 1
+    )
+    one_way = roads["way/13"]  # traffic runs west, so the points are turned to follow it: its track on
+    # the right of the traffic, to the north
+    assert one_way.centerline.points[0][0] > 0 and (one_way.cycle_track_left, one_way.cycle_track_right) == (
+        None,
+        1.8,
+    )
+    plan = geometry_plan(city, CityGeometry())
+    walked = shapely.union_all([plan.classes["sidewalk"], plan.classes["curb"]])
+    # Way 10: 3.5 m of carriageway, then 2 m of track and 1.5 m of sidewalk behind the curb on the
+    # right (y < 0); 1.5 m of sidewalk on the left.
+    right = walked.intersection(LineString([(0, -3.4), (0, -8.0)])).length
+    left = walked.intersection(LineString([(0, 3.4), (0, 8.0)])).length
+    assert abs(right - 3.5) < 0.05 and abs(left - 1.5) < 0.05
+    assert plan.classes["curb"].intersection(LineString([(0, -3.4), (0, -3.8)])).length > 0.1
+    # Way 13 has no sidewalk: its track alone is a raised strip behind a curb.
+    assert abs(walked.intersection(LineString([(0, -38.1), (0, -35.0)])).length - 1.8) < 0.05
+    assert walked.intersection(LineString([(0, -41.9), (0, -45.0)])).is_empty
+    assert _without_source(read_city_map(write_city_map(city, tmp_path / "map.json"))) == _without_source(
+        city
+    )

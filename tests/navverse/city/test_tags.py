@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 
 from navverse.city.tags import (
     CYCLE_LANE_WIDTH,
+    CYCLE_TRACK_WIDTH,
     DEFAULT_SIDEWALK_WIDTH,
     MAX_LENGTH,
     PASSAGE_CLEARANCE,
@@ -17,6 +18,7 @@ from navverse.city.tags import (
     STOREY_HEIGHT,
     at_ground_level,
     building_height,
+    cycle_tracks,
     is_passage,
     parse_count,
     parse_length,
@@ -182,3 +184,17 @@ def test_building_parts_keep_their_base():
     assert (height, base) == (15.0, 6.0)
     height, base, _, problems = building_height({"building": "yes", "height": "5", "min_height": "8"})
     assert (height, base) == (5.0, 0.0) and "not above the base" in problems[0]
+
+
+def test_cycle_tracks_by_side_and_width():
+    assert cycle_tracks({"cycleway": "track"})[:2] == (CYCLE_TRACK_WIDTH, CYCLE_TRACK_WIDTH)
+    assert cycle_tracks({"cycleway": "track", "oneway": "yes"})[:2] == (None, CYCLE_TRACK_WIDTH)
+    assert cycle_tracks({"cycleway": "opposite_track", "oneway": "yes"})[:2] == (CYCLE_TRACK_WIDTH, None)
+    assert cycle_tracks({"cycleway:both": "track", "cycleway:width": "2.2"})[:2] == (2.2, 2.2)
+    assert cycle_tracks({"cycleway:left": "track", "cycleway:left:width": "1.2 m"})[:2] == (1.2, None)
+    for tags in ({"cycleway": "lane"}, {"cycleway:right": "separate"}, {"cycleway": "no"}, {}):
+        assert cycle_tracks(tags)[:2] == (None, None)
+    left, right, problems = cycle_tracks({"cycleway:right": "track", "cycleway:right:width": "wide"})
+    assert (left, right) == (None, CYCLE_TRACK_WIDTH) and problems[0].startswith(
+        "cycleway:right:width: 'wide'"
+    )
