@@ -306,20 +306,23 @@ def cycle_tracks(tags: Mapping[str, str]) -> tuple[float | None, float | None, t
             for side in ("left", "right")
         }
     problems: list[str] = []
-    widths: dict[str, float | None] = {}
-    for side, tracked in sides.items():
-        widths[side] = None
-        if not tracked:
-            continue
-        for key in (f"cycleway:{side}:width", "cycleway:both:width", "cycleway:width"):
-            reading = parse_length(tags.get(key))
-            if reading.problem:
-                problems.append(f"{key}: {reading.problem}")
-            if reading.value is not None:
-                widths[side] = reading.value
-                break
-        widths[side] = widths[side] or CYCLE_TRACK_WIDTH
+    widths = {
+        side: (_side_width(tags, "cycleway", side, problems) or CYCLE_TRACK_WIDTH) if tracked else None
+        for side, tracked in sides.items()
+    }
     return widths["left"], widths["right"], tuple(dict.fromkeys(problems))
+
+
+def _side_width(tags: Mapping[str, str], key: str, side: str, problems: list[str]) -> float | None:
+    """The width of ``key`` on a side: ``<key>:<side>:width``, ``<key>:both:width``, ``<key>:width``
+    (the first readable one), noting unreadable ones in ``problems``."""
+    for name in (f"{key}:{side}:width", f"{key}:both:width", f"{key}:width"):
+        reading = parse_length(tags.get(name))
+        if reading.problem:
+            problems.append(f"{name}: {reading.problem}")
+        if reading.value is not None:
+            return reading.value
+    return None
 
 
 @dataclass(frozen=True)
@@ -361,15 +364,11 @@ def sidewalks(tags: Mapping[str, str]) -> SidewalkSides:
     :data:`DEFAULT_SIDEWALK_WIDTH`. A way tagged ``foot=no`` has none unless a side is tagged.
     """
     problems: list[str] = []
-    widths: dict[str, float] = {}
-    for side in ("left", "right"):
-        for key in (f"sidewalk:{side}:width", "sidewalk:both:width", "sidewalk:width"):
-            reading = parse_length(tags.get(key))
-            if reading.problem:
-                problems.append(f"{key}: {reading.problem}")
-            if reading.value is not None:
-                widths[side] = reading.value
-                break
+    widths = {
+        side: width
+        for side in ("left", "right")
+        if (width := _side_width(tags, "sidewalk", side, problems)) is not None
+    }
     sides = {side: _side_value(tags, side) for side in ("left", "right")}
     if all(value is None for value in sides.values()):
         kind = ROAD_CLASSES.get(tags.get("highway", ""), ROAD_CLASSES["road"])
