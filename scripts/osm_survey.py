@@ -13,7 +13,12 @@ city_geometry -> populate -> storefronts -> navmesh) with the engine, in the wor
   ``parts``: a ``building:part`` with its own heights, ``default``: drawn storeys);
 - sidewalks mapped (km of ``footway=sidewalk`` ways) and inferred (km of road sides given one by the
   tags or the class rule); crossings mapped (nodes and ways) and added at junction arms;
-- POIs and the place categories they map to, and the storefronts placed and their categories;
+- POIs and the place categories they map to, and the storefronts placed and their categories (of
+  them, those of map places; the others were added where the map has few places);
+- every mapped category with no storefront of a map place, with the reason its places were lost
+  (the storefronts stage's ``lost`` counts: the most frequent reason, e.g. ``no facade onto a street
+  or walkable ground`` for places far from any walkable surface or whose building is outside the
+  window);
 - navmesh islands, the largest island's share of the navigable area, and the share on islands that
   buildings, water or railway tracks wall off from it (a courtyard with no mapped passage, an
   island in a river): the disconnected part the map itself explains;
@@ -66,6 +71,8 @@ class SurveyRow:
     pois: int = 0
     categories_mapped: int = 0
     storefronts: dict[str, int] = field(default_factory=dict)
+    categories_from_map: int = 0
+    not_placed: dict[str, str] = field(default_factory=dict)
     islands: int = 0
     largest_island: float = 0.0
     enclosed: float = 0.0
@@ -95,6 +102,18 @@ def _mapped_categories(city: CityMap) -> set[str]:
         if category is not None:
             found.add(category)
     return found
+
+
+def _not_placed(categories: set[str], manifest: Path) -> dict[str, str]:
+    """Why each of these mapped categories has no storefront of a map place: the most frequent reason
+    its places were lost (the storefronts stage's counts in its manifest)."""
+    stats = json.loads(manifest.read_text(encoding="utf-8")).get("stats", {})
+    lost = stats.get("lost", {})
+    why = {}
+    for category in sorted(categories):
+        reasons = lost.get(category, {})
+        why[category] = max(sorted(reasons), key=reasons.get) if reasons else "not placed"
+    return why
 
 
 def _build_seconds(outputs: Iterable[Path]) -> tuple[float, float]:
@@ -140,7 +159,7 @@ def survey_file(path: Path, *, size: float, root: Path) -> SurveyRow:
     try:
         result = build(recipe, name=name, root=root, jobs=1)
     except (ApiError, NavverseError) as exc:
-        row.refused = str(exc).splitlines()[0]
+        row.refused = " ".join(line.strip() for line in str(exc).splitlines())
         return row
     row.seconds, row.cpu_seconds = _build_seconds(result.targets[name].values())
     loaded = load_scene(result.output(name))
@@ -157,6 +176,9 @@ def survey_file(path: Path, *, size: float, root: Path) -> SurveyRow:
     row.categories_mapped = len(_mapped_categories(city))
     stores = Counter(s.place_category for s in loaded.annotations.storefronts)
     row.storefronts = dict(sorted(stores.items(), key=lambda item: (-item[1], item[0])))
+    from_map = {s.place_category for s in loaded.annotations.storefronts if s.poi is not None}
+    row.categories_from_map = len(from_map)
+    row.not_placed = _not_placed(_mapped_categories(city) - from_map, geometry / "manifest.json")
     if loaded.pathfinder is not None and len(loaded.pathfinder.island_areas):
         areas = loaded.pathfinder.island_areas
         row.islands = len(areas)
@@ -200,12 +222,13 @@ def markdown(rows: list[SurveyRow]) -> str:
     head = (
         "| file | window (lat, lon) | s (CPU s) | buildings | dropped | heights "
         "| sidewalks mapped / inferred km | crossings mapped / added | POIs (categories) "
-        "| storefronts (categories) | islands | largest | walled off |"
+        "| storefronts (categories; of map places) | mapped categories not placed (why) "
+        "| islands | largest | walled off |"
     )
-    lines = [head, "|" + "---|" * 13]
+    lines = [head, "|" + "---|" * 14]
     for r in rows:
         if r.refused:
-            lines.append(f"| {r.file} | refused: {r.refused} |" + " |" * 11)
+            lines.append(f"| {r.file} | refused: {r.refused} |" + " |" * 12)
             continue
         heights = ", ".join(f"{k} {v}" for k, v in r.heights.items())
         stores = sum(r.storefronts.values())
@@ -219,7 +242,8 @@ def markdown(rows: list[SurveyRow]) -> str:
             f"{r.sidewalks_mapped_km:g} / {r.sidewalks_inferred_km:g}",
             f"{r.crossings_mapped} / {r.crossings_added}",
             f"{r.pois} ({r.categories_mapped})",
-            f"{stores} ({len(r.storefronts)})",
+            f"{stores} ({len(r.storefronts)}; {r.categories_from_map})",
+            "; ".join(f"{c}: {why}" for c, why in r.not_placed.items()) or "-",
             str(r.islands),
             f"{r.largest_island:.0%}",
             f"{r.enclosed:.0%}",

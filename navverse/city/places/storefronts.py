@@ -13,32 +13,48 @@ For each place of the city map whose tags give a place category
    building's other usable facades, then the usable facades of the buildings within
    ``search_radius`` of the place, nearest first (a place whose building opens onto no street, a
    place mapped outside any building whose rays meet only back walls, a place whose facade is full),
-   at most six; the place goes on the first facade that takes it (steps 2-5);
+   at most :data:`_FACADES_TRIED`. Then, for a place set back from the street (no facade near it
+   opens onto the sidewalk), the facades whose doors would face the walkable ground (a sidewalk,
+   footway, path, plaza or pedestrian street) within ``approach_distance``, across open ground
+   that no building, road, water or railway crosses: its own building's, then the other buildings'
+   within ``search_radius``, nearest first, then its own building's up to twice as far (a place
+   inside a mall or a station); at most :data:`_FACADES_TRIED` again. The place goes on the first
+   facade that takes it (steps 2-5): a facade that refuses it (its cut fails, it is full, no
+   sidewalk in front) passes it on to the next;
 2. builds a procedural storefront of the category (:func:`~navverse.assets.facade.storefronts.storefront`,
    the place's name on its sign, or a generated one) at the target height, facing out of the facade
    (so towards the street the facade faces), its base on the sidewalk in front;
 3. finds room on the facade: the storefront's span is shifted sideways from the place's position to
    the nearest free stretch, away from the facade's corners and from storefronts already placed
-   (on this facade, or reaching over from a neighbouring one), and narrowed down to
+   (on this facade, or reaching over from a neighbouring one), and on the building's wall (a facade
+   is a run of outline edges that turn little, so on a bent or curved outline its segment leaves
+   the wall: horizontal probes find where the wall is on it), and narrowed down to
    :data:`~navverse.assets.facade.storefronts.MIN_WIDTH` if the stretch is short;
 4. carves the matching recess into the building with manifold3d
    (:func:`~navverse.scene.compose.carve`) and accepts it only if the volume removed is the
    recess's (the facade is where its segment says and the building is deep enough);
-5. requires the sidewalk (or plaza, pedestrian area) in front of its door, clears the street objects
-   its front and its doorway would meet, and
+5. requires the sidewalk (or plaza, pedestrian area) in front of its door (for a set-back place: the
+   walkable ground faced within ``approach_distance``), clears the street objects its front and its
+   doorway would meet, and
 6. accepts it only if its sign is visible: from some point of the walkable ground within
-   ``view_radius`` in front of it, at the robot's camera height, rays reach most of the sign's face.
+   ``view_radius`` in front of it (of a set-back storefront: that much beyond the ground it faces),
+   at the robot's camera height, rays reach most of the sign's face.
    A map place whose sign is hidden tries the facades it had left once; then every sign is
    checked again.
 
-The places are taken in turns of their categories (the first place of every category, then the
-second, ...; the rarer categories first within a turn), so that where the facades run short every
-category has had its turns before any has more.
+The places are taken in rounds of their categories, the rarer categories first: in each round every
+category with places left tries them, in map order, until one is placed. So every category has a
+storefront, or has tried all its places, before any category has a second; where the facades run
+short, every category has had its turns before any has more.
 
 A recipe may add storefronts where the map has none (``fill_per_km2``): usable facades with the
 sidewalk in front, drawn at random, get a category drawn from the synthetic cities' place table, and
 go through the same steps.
-Every rejection is counted by reason, and the map places lost by category and reason (``lost``).
+Every rejection is counted by reason, and the map places lost by category and reason (``lost``):
+``no facade within reach`` (no building within ``search_radius``), ``no facade onto a street or
+walkable ground`` (none near faces a road, nor the walkable ground within ``approach_distance``: a
+place far from any walkable surface, or whose building is outside the window), or the first
+facade's reason for refusing it.
 """
 
 from __future__ import annotations
@@ -54,6 +70,7 @@ import shapely
 from pydantic import AfterValidator, Field
 from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.base import BaseGeometry
+from shapely.ops import nearest_points
 
 from navverse.assets.facade.storefronts import (
     MIN_HEIGHT,
@@ -99,8 +116,19 @@ _ENTRANCE_OUT = 0.6  # the entrance point: this far in front of the door (m)
 _CLEAR_OUT = 1.5  # the doorway kept clear of objects: this deep (m)
 _CUT_OUTSIDE = 0.05  # the recess box reaches this far out of the facade, so no face is coplanar
 _ROOF_MARGIN = 0.1  # a storefront's top stays this far below its building's roof
-_FACADES_TRIED = 6
-"""Facades a map place tries, in order (:meth:`_Placer.facade_options`), before it is rejected."""
+_FACADES_TRIED = 16
+"""Facades a map place tries on each footing (onto the street, then set back), in order
+(:meth:`_Placer.place_map_place`), before it is rejected."""
+_WALL_STEP = 0.25  # spacing of the probes that find where a facade's wall stands (m)
+_WALL_PROBE_OUT = 0.5  # a probe starts this far out of the facade's segment and looks back at it (m)
+_WALL_TOLERANCE = 0.03  # the wall is on the segment where a probe meets it this close to it (m)
+_APPROACH_HALF_ANGLE = math.radians(45.0)  # a set-back door faces the walkable ground within this
+_OWN_REACH = 2.0
+"""A place mapped in a building may go on that building's facades up to this many times
+``search_radius`` away, after every nearer facade."""
+_SET_BACK_PROBES = 9  # points of a facade from which a set-back door's view is tried
+_BARRIERS = ("building", "road", "curb", "lowered_curb", "crosswalk", "water", "rail")
+"""Street plan classes the way from a set-back door to the walkable ground may not cross."""
 
 
 def _known_place_categories(names: list[str] | None) -> list[str] | None:
@@ -134,7 +162,9 @@ class StorefrontSettings(FacadeReach):
     shifted sideways to fit and kept ``corner_margin`` from the facade's ends; it is accepted when its
     recess is carved, its door opens onto the sidewalk (across at most ``sidewalk_gap`` m of open
     ground) and its sign is seen from the walkable ground in front (within ``view_radius``) at
-    ``camera_height``. ``fill_per_km2`` adds storefronts on such facades where the map has fewer
+    ``camera_height``. A place set back from the street, whose facades near it all fail, goes on a
+    facade whose door faces the walkable ground within ``approach_distance``, across open ground.
+    ``fill_per_km2`` adds storefronts on such facades where the map has fewer
     places (categories drawn from the synthetic cities' place table); ``categories`` limits the place
     categories placed.
     """
@@ -158,6 +188,12 @@ class StorefrontSettings(FacadeReach):
     """The place categories placed (all when None)."""
     rays: Annotated[int, Field(ge=8, le=720)] = 72
     """Horizontal rays cast from a place to find its facade."""
+    approach_distance: Annotated[float, Field(ge=0.0, le=50.0)] = 25.0
+    """How far (m) the walkable ground (a sidewalk, footway, path, plaza or pedestrian street) may be
+    from the door of a map place set back from the street: when no facade near the place opens onto
+    it within ``sidewalk_gap``, a facade whose door faces it (within 45° of straight ahead) across
+    open ground, crossing no building, road, water or railway, takes the storefront (its sign seen
+    from up to ``view_radius`` beyond that); 0 places no storefront set back."""
 
 
 @dataclass(frozen=True)
@@ -174,15 +210,24 @@ class StorefrontPlacement:
         ``places`` (map places with a place category), ``filled`` (candidates added by
         ``fill_per_km2``), ``placed``, ``rejected`` {reason: n}, ``categories`` {category: n placed},
         ``lost`` {category: {reason: n}} (map places not placed), ``objects_cleared``, ``narrowed``
-        (storefronts made narrower to fit) and ``shifted`` (moved sideways from their place).
+        (storefronts made narrower to fit), ``shifted`` (moved sideways from their place) and
+        ``set_back`` (storefronts whose door faces the walkable ground from beyond ``sidewalk_gap``).
     """
 
     scene: Scene
     counts: dict = field(default_factory=dict)
 
 
-_Option = tuple[BuildingAnnotation, FacadeAnnotation, float]
-"""A facade a place may go on: its building, the facade, and where along it (m) the place is."""
+@dataclass(frozen=True)
+class _Option:
+    """A facade a place may go on: its building, the facade, where along it (m) the place is, and
+    whether its door may stand back from the walkable ground (``approach_distance``) rather than
+    open onto it (``sidewalk_gap``)."""
+
+    building: BuildingAnnotation
+    facade: FacadeAnnotation
+    at: float
+    set_back: bool = False
 
 
 @dataclass(frozen=True)
@@ -203,6 +248,8 @@ class _Placed:
     normal: np.ndarray
     facade_point: np.ndarray  # xy on the facade below the storefront's centre
     span: tuple[float, float]  # the stretch of its facade it covers (m along it)
+    set_back: bool  # its door faces the walkable ground `approach` m away (not within sidewalk_gap)
+    approach: float  # how far the walkable ground is from its door (m; 0: it opens onto it)
 
 
 # ------------------------------------------------------------------------------------------- helpers
@@ -266,6 +313,47 @@ class _FacadeFinder:
             for k in np.flatnonzero(np.isfinite(t) & (t <= reach))
         ]
         return sorted(found, key=lambda hit: (hit[0], hit[1]))
+
+    def off_wall(self, building: BuildingAnnotation, facade: FacadeAnnotation) -> list[tuple[float, float]]:
+        """Stretches of a facade (m along it) where its building's wall is not on its base segment.
+
+        A facade is a run of outline edges that turn little, so on a curved or stepped outline its
+        segment is a chord that cuts across the wall: a recess carved there would miss the wall (or
+        bury the storefront in it). Horizontal probes every :data:`_WALL_STEP` from just out of the
+        segment look back at it; where one meets no wall of the building within
+        :data:`_WALL_TOLERANCE` of the segment, the stretch around it is off the wall.
+        """
+        start, along, length = _facade_frame(facade)
+        normal = np.asarray(facade.normal, dtype=np.float64)
+        at = np.arange(_WALL_STEP / 2.0, length, _WALL_STEP)
+        if not len(self._owner) or not len(at):
+            return [(0.0, length)]
+        cast = np.zeros((len(at), 6), dtype=np.float32)
+        cast[:, :2] = start + along * at[:, None] + normal * _WALL_PROBE_OUT - self._origin
+        cast[:, 2] = building.base_height + _RAY_HEIGHT
+        cast[:, 3:5] = -normal
+        result = self._rays.cast_rays(self._o3d.core.Tensor(cast))
+        t = result["t_hit"].numpy().astype(np.float64)
+        ids = result["primitive_ids"].numpy().astype(np.int64)
+        hit = np.isfinite(t)
+        on = np.zeros(len(at), dtype=bool)
+        on[hit] = (np.abs(t[hit] - _WALL_PROBE_OUT) <= _WALL_TOLERANCE) & (
+            self._owner[ids[hit]] == building.id
+        )
+        return _runs(at, ~on, _WALL_STEP / 2.0, length)
+
+
+def _runs(at: np.ndarray, flags: np.ndarray, half: float, length: float) -> list[tuple[float, float]]:
+    """The stretches (m along a facade of `length`) covered by the runs of flagged probes at `at`,
+    each probe covering `half` either side."""
+    spans: list[tuple[float, float]] = []
+    for k in np.flatnonzero(flags):
+        a, b = max(0.0, float(at[k]) - half), min(length, float(at[k]) + half)
+        if spans and a <= spans[-1][1] + 1e-9:
+            spans[-1] = (spans[-1][0], b)
+        else:
+            spans.append((a, b))
+    return spans
 
 
 def _building_number(name: str) -> int | None:
@@ -371,9 +459,14 @@ class _Placer:
         footprints = [Polygon(b.footprint) for b in scene.annotations.buildings]
         self.footprints = shapely.STRtree(footprints)
         self.footprint_ids = [b.id for b in scene.annotations.buildings]
+        self.footprint_index = {number: index for index, number in enumerate(self.footprint_ids)}
         self.footprint_shapes = footprints
         self.by_map_id = {b.map_id: b.id for b in scene.annotations.buildings if b.map_id is not None}
         self.walkway_ahead: dict[int, bool] = {}  # facade id -> walkable ground straight ahead
+        self.set_back_at: dict[int, list[float]] = {}  # facade id -> where a set-back door faces it
+        self.off_wall: dict[int, list[tuple[float, float]]] = {}  # facade id -> stretches off its wall
+        self.barriers = union_of(plan.classes.get(name, Polygon()) for name in _BARRIERS)
+        shapely.prepare(self.barriers)
         self.existing = list(scene.annotations.storefronts)
         self.occupied: dict[int, list[tuple[float, float]]] = _spans(
             self.existing, scene.annotations.buildings
@@ -384,22 +477,56 @@ class _Placer:
         self.narrowed = 0
         self.shifted = 0
         self.serial = len(self.existing)
-        self.spare: dict[int, tuple[_Candidate, list[_Option]]] = {}  # placed id -> facades not tried
+        # placed id -> the map place, the facades it did not try, whether its set-back ones are left
+        self.spare: dict[int, tuple[_Candidate, list[_Option], bool]] = {}
 
     # -- finding the facade
 
-    def facade_options(self, candidate: _Candidate) -> list[_Option] | str:
-        """The facades a map place may go on, in the order they are tried, or why there is none.
+    def place_map_place(self, candidate: _Candidate) -> bool:
+        """Place a map place on the first of its facades that takes it; whether it was placed (a place
+        that was not is counted lost, with its reason).
 
-        First the usable facades its rays hit, nearest first (only its own building's, when it is
-        mapped in one), then its own building's other usable facades, then the usable facades of
-        the buildings around within ``search_radius``, nearest first; at most
-        :data:`_FACADES_TRIED`.
+        Onto the street first: the usable facades its rays hit, nearest first (only its own
+        building's, when it is mapped in one), then its own building's other usable facades, then
+        the usable facades of the buildings within ``search_radius``, nearest first. Only when none
+        takes it, set back from the street: the facades whose doors face the walkable ground within
+        ``approach_distance`` (:meth:`_set_back_options`). At most :data:`_FACADES_TRIED` of each.
         """
+        xy, own = self._where(candidate)
+        street, hits = self._street_options(xy, own)
+        reason = self.place_on_one(candidate, street[:_FACADES_TRIED], set_back_left=True)
+        if reason is None:
+            return True
+        later = self.place_on_one(candidate, self._set_back_options(xy, own)[:_FACADES_TRIED])
+        if later is None:
+            return True
+        reason = reason or later
+        if not reason and not hits and not self._buildings_near(xy) and own is None:
+            reason = "no facade within reach"
+        reason = reason or "no facade onto a street or walkable ground"
+        self.rejected[reason] += 1
+        self.lost[candidate.category, reason] += 1
+        return False
+
+    def retry(self, number: int) -> bool:
+        """Place the map place of a dropped storefront (whose sign proved hidden) on the facades it had
+        left, once; whether it was placed again."""
+        candidate, rest, set_back_left = self.spare.pop(number, (None, [], False))
+        if candidate is None:
+            return False
+        if set_back_left:
+            rest = rest + self._set_back_options(*self._where(candidate))[:_FACADES_TRIED]
+        return self.place_on_one(candidate, rest) is None
+
+    def _where(self, candidate: _Candidate) -> tuple[np.ndarray, int | None]:
+        """A map place's position and the scene building it is mapped in (None: none)."""
         poi = candidate.poi
         assert poi is not None
-        xy = np.asarray(poi.position, dtype=np.float64)
-        own = self._own_building(poi)
+        return np.asarray(poi.position, dtype=np.float64), self._own_building(poi)
+
+    def _street_options(self, xy: np.ndarray, own: int | None) -> tuple[list[_Option], int]:
+        """The usable facades of a place, in the order they are tried (:meth:`place_map_place`), and how
+        many walls its rays hit."""
         z = self._ground_under(xy) + _RAY_HEIGHT
         hits = self.finder.hits(xy, z, self.settings.rays, self.settings.search_radius)
         options: dict[int, _Option] = {}
@@ -410,15 +537,34 @@ class _Placer:
             facade = _facade_at(building, point)
             if facade is not None and facade.id not in options and self._usable(facade):
                 start, along, _ = _facade_frame(facade)
-                options[facade.id] = (building, facade, float((point - start) @ along))
-        near = self._facades_near(xy, own)
-        for building, facade in near:
-            options.setdefault(facade.id, (building, facade, _along(facade, xy)))
-        if options:
-            return list(options.values())[:_FACADES_TRIED]
-        if not hits and not self._buildings_near(xy):
-            return "no facade within reach"
-        return "no road-facing facade"
+                options[facade.id] = _Option(building, facade, float((point - start) @ along))
+        for building, facade in self._facades_near(xy, own):
+            options.setdefault(facade.id, _Option(building, facade, _along(facade, xy)))
+        return list(options.values()), len(hits)
+
+    def _set_back_options(self, xy: np.ndarray, own: int | None) -> list[_Option]:
+        """Facades whose doors face the walkable ground across open ground (:meth:`_walkable_faced`):
+        its own building's within ``search_radius``, then the other buildings' within it, nearest
+        first, then its own building's up to :data:`_OWN_REACH` times as far (a place inside a large
+        building, a mall or a station, opens onto its outside); each at the point of it nearest the
+        place from which the walkable ground is faced."""
+        radius = self.settings.search_radius
+        indices = set(self._buildings_near(xy))
+        if own is not None:
+            indices.add(self.footprint_index[own])
+        found = []
+        for index in sorted(indices):
+            building = self.finder.buildings[self.footprint_ids[index]]
+            if not building.facades:
+                continue
+            for facade, distance in zip(building.facades, _facade_distances(building, xy), strict=True):
+                reach = radius * (_OWN_REACH if building.id == own else 1.0)
+                reached = self._walkable_faced(facade) if distance <= reach and self._fits(facade) else []
+                if reached:
+                    at = min(reached, key=lambda a: (abs(a - _along(facade, xy)), a))
+                    key = (distance > radius, building.id != own, float(distance), facade.id)
+                    found.append((key, _Option(building, facade, at, set_back=True)))
+        return [option for _, option in sorted(found, key=lambda row: row[0])]
 
     def _own_building(self, poi: Poi) -> int | None:
         """The scene building of the map building a place is mapped in (None: none)."""
@@ -446,15 +592,21 @@ class _Placer:
         found.sort(key=lambda row: row[:3])
         return [(building, facade) for *_, building, facade in found]
 
-    def place_on_one(self, candidate: _Candidate, options: Sequence[_Option]) -> str | None:
-        """Place a map place on the first of its facades that takes it (the facades after it are kept
-        in :attr:`spare`, should its sign prove hidden); the first facade's reason for refusing it when
-        none does, else None."""
-        first = None
+    def place_on_one(
+        self, candidate: _Candidate, options: Sequence[_Option], *, set_back_left: bool = False
+    ) -> str | None:
+        """Place a map place on the first of these facades that takes it (the facades after it are
+        kept in :attr:`spare`, should its sign prove hidden; with `set_back_left`, its set-back
+        facades too); None when one does, else the first facade's reason for refusing it ("" when
+        there is none)."""
+        first = ""
         for index, option in enumerate(options):
-            reason = self.place(candidate, *option)
+            reason = self.place(
+                candidate, option.building, option.facade, option.at, set_back=option.set_back
+            )
             if reason is None:
-                self.spare[self.placed[-1].annotation.id] = (candidate, list(options[index + 1 :]))
+                rest = list(options[index + 1 :])
+                self.spare[self.placed[-1].annotation.id] = (candidate, rest, set_back_left)
                 return None
             first = first or reason
         return first
@@ -466,14 +618,16 @@ class _Placer:
         height = self.heights(xy)[0]
         return 0.0 if math.isnan(height) else float(height)
 
+    def _fits(self, facade: FacadeAnnotation) -> bool:
+        """Whether a facade is wide and high enough for a storefront."""
+        return (
+            facade.width >= MIN_WIDTH + 2 * self.settings.corner_margin
+            and facade.height >= MIN_HEIGHT + _ROOF_MARGIN
+        )
+
     def _usable(self, facade: FacadeAnnotation) -> bool:
         """Whether a storefront may go on a facade: wide and high enough, opening onto a street."""
-        s = self.settings
-        return (
-            facade.width >= MIN_WIDTH + 2 * s.corner_margin
-            and facade.height >= MIN_HEIGHT + _ROOF_MARGIN
-            and (self._faces_road(facade) or self._faces_walkway(facade))
-        )
+        return self._fits(facade) and (self._faces_road(facade) or self._faces_walkway(facade))
 
     def _faces_road(self, facade: FacadeAnnotation) -> bool:
         reach = self.settings.max_road_distance
@@ -486,6 +640,24 @@ class _Placer:
             middle = np.mean(np.asarray(facade.segment, dtype=np.float64), axis=0)
             self.walkway_ahead[facade.id] = self._sidewalk_ahead(middle, np.asarray(facade.normal))
         return self.walkway_ahead[facade.id]
+
+    def _walkable_faced(self, facade: FacadeAnnotation) -> list[float]:
+        """Where along a facade (m, at most :data:`_SET_BACK_PROBES` points spread over it) a door
+        would face the walkable ground within ``approach_distance`` (:meth:`_approach`)."""
+        if facade.id not in self.set_back_at:
+            start, along, length = _facade_frame(facade)
+            normal = np.asarray(facade.normal, dtype=np.float64)
+            probes = (np.arange(_SET_BACK_PROBES) + 0.5) * (length / _SET_BACK_PROBES)
+            self.set_back_at[facade.id] = [
+                float(a) for a in probes if self._approach(start + along * a, normal) is not None
+            ]
+        return self.set_back_at[facade.id]
+
+    def _off_wall(self, building: BuildingAnnotation, facade: FacadeAnnotation) -> list[tuple[float, float]]:
+        """Stretches of a facade off its building's wall (:meth:`_FacadeFinder.off_wall`), once per facade."""
+        if facade.id not in self.off_wall:
+            self.off_wall[facade.id] = self.finder.off_wall(building, facade)
+        return self.off_wall[facade.id]
 
     def fill_facades(self) -> list[tuple[BuildingAnnotation, FacadeAnnotation]]:
         """Every usable facade with the sidewalk in front of its middle, in a random order."""
@@ -505,18 +677,26 @@ class _Placer:
     # -- placing on a facade
 
     def place(
-        self, candidate: _Candidate, building: BuildingAnnotation, facade: FacadeAnnotation, at: float
+        self,
+        candidate: _Candidate,
+        building: BuildingAnnotation,
+        facade: FacadeAnnotation,
+        at: float,
+        *,
+        set_back: bool = False,
     ) -> str | None:
-        """Place a storefront on the facade near `at` (m along it); the reason it failed, or None."""
+        """Place a storefront on the facade near `at` (m along it); the reason it failed, or None.
+
+        With `set_back`, its door may face the walkable ground up to ``approach_distance`` away
+        (:meth:`_approach`) rather than open onto it within ``sidewalk_gap``.
+        """
         s = self.settings
-        start, along, length = _facade_frame(facade)
+        start, along, _ = _facade_frame(facade)
         normal = np.asarray(facade.normal, dtype=np.float64)
         want = float(self.rng.uniform(MIN_WIDTH + 1.0, max(MIN_WIDTH + 1.0, s.max_width)))
-        occupied = list(self.occupied.get(facade.id, []))
-        occupied += self._reaching_over(facade, start, along, normal, length)
-        span = _free_span(occupied, length, s.corner_margin, want, at)
-        if span is None:
-            return "no room on the facade"
+        span = self._free_stretch(building, facade, want, at)
+        if isinstance(span, str):
+            return span
         width = span[1] - span[0]
         middle = start + along * (0.5 * (span[0] + span[1]))
         ground = self.heights(middle + normal * 0.5)[0]
@@ -537,8 +717,9 @@ class _Placer:
         entrance = rotation @ np.asarray(built.entrance) + centre
         door_xy = entrance[:2]
         entrance_xy = door_xy + normal * _ENTRANCE_OUT
-        if not self._sidewalk_ahead(door_xy, normal):
-            return "no sidewalk in front"
+        approach = self._door_front(door_xy, normal, set_back=set_back)
+        if isinstance(approach, str):
+            return approach
         protrusion = built.size[1] - recess
         s_door = float((door_xy - start) @ along)
         front = _rectangle(start, along, normal, span[0], span[1], max(protrusion, 0.05)).union(
@@ -603,8 +784,70 @@ class _Placer:
                 normal=normal,
                 facade_point=middle,
                 span=span,
+                set_back=set_back,
+                approach=approach,
             )
         )
+        return None
+
+    def _free_stretch(
+        self, building: BuildingAnnotation, facade: FacadeAnnotation, want: float, at: float
+    ) -> tuple[float, float] | str:
+        """The stretch of a facade (m along it) a storefront up to `want` wide takes nearest `at`: clear
+        of its corners, of the storefronts there or reaching over from a neighbouring facade, and on
+        the building's wall (:meth:`_FacadeFinder.off_wall`); or why there is none."""
+        s = self.settings
+        start, along, length = _facade_frame(facade)
+        normal = np.asarray(facade.normal, dtype=np.float64)
+        occupied = list(self.occupied.get(facade.id, []))
+        occupied += self._reaching_over(facade, start, along, normal, length)
+        span = _free_span(occupied + self._off_wall(building, facade), length, s.corner_margin, want, at)
+        if span is not None:
+            return span
+        if _free_span(occupied, length, s.corner_margin, want, at) is not None:
+            return "no straight wall on the facade"
+        return "no room on the facade"
+
+    def _door_front(self, door: np.ndarray, normal: np.ndarray, *, set_back: bool) -> float | str:
+        """How far the walkable ground is from a door (0 when it opens onto it within
+        ``sidewalk_gap``), or why the door has none in front."""
+        if not set_back:
+            return 0.0 if self._sidewalk_ahead(door, normal) else "no sidewalk in front"
+        approach = self._approach(door, normal)
+        return "no walkable ground in front" if approach is None else approach
+
+    def _approach(self, door: np.ndarray, normal: np.ndarray) -> float | None:
+        """How far (m) a door set back from the street is from the walkable ground it faces, or None.
+
+        The walkable ground faced is the part within ``approach_distance`` of the door and within
+        :data:`_APPROACH_HALF_ANGLE` of straight out of it; its point straight ahead, else its
+        nearest point, must be reached by a straight line that crosses none of :data:`_BARRIERS`
+        (open ground, a lawn, a parking lot or a service road may lie between).
+        """
+        start = door + normal * 0.05
+        reach = self.settings.approach_distance
+        if reach <= 0.0:
+            return None
+        angles = np.linspace(-_APPROACH_HALF_ANGLE, _APPROACH_HALF_ANGLE, 7) + math.atan2(
+            normal[1], normal[0]
+        )
+        arc = start + reach * np.stack([np.cos(angles), np.sin(angles)], axis=1)
+        wedge = Polygon([start, *arc])
+        if not self.walkable.intersects(wedge):
+            return None
+        faced = shapely.clip_by_rect(self.walkable, *wedge.bounds).intersection(wedge)
+        if faced.is_empty:
+            return None
+        ahead = LineString([start, start + normal * reach]).intersection(faced)
+        ends = [] if ahead.is_empty else [nearest_points(ahead, Point(start))[0]]
+        ends.append(nearest_points(faced, Point(start))[0])
+        for end in sorted(ends, key=lambda e: (e.distance(Point(start)), e.x, e.y)):
+            distance = end.distance(Point(start))
+            if distance < 0.1:
+                return 0.0
+            way = LineString([start, start + (np.asarray(end.coords[0]) - start) * (1.0 - 0.05 / distance)])
+            if not way.intersects(self.barriers):
+                return float(distance)
         return None
 
     def _sidewalk_ahead(self, door: np.ndarray, normal: np.ndarray) -> bool:
@@ -734,11 +977,12 @@ def _invisible(
     heights = SurfaceHeights(scene)
     hidden = set()
     for p in placed:
+        radius = settings.view_radius + p.approach  # a set-back sign is seen from beyond its approach
         along = np.array([-p.normal[1], p.normal[0]])
-        offsets = np.arange(-settings.view_radius, settings.view_radius + 1e-9, 2.0)
-        outs = np.arange(1.0, settings.view_radius + 1e-9, 1.5)
+        offsets = np.arange(-radius, radius + 1e-9, 2.0)
+        outs = np.arange(1.0, radius + 1e-9, 1.5)
         grid = np.array([p.facade_point + along * a + p.normal * o for a in offsets for o in outs])
-        grid = grid[np.hypot(*(grid - p.facade_point).T) <= settings.view_radius]
+        grid = grid[np.hypot(*(grid - p.facade_point).T) <= radius]
         inside = shapely.contains_xy(walkable, grid[:, 0], grid[:, 1])
         views = grid[inside]
         if not len(views):
@@ -776,17 +1020,25 @@ def _candidates(city: CityMap, settings: StorefrontSettings) -> list[_Candidate]
     return found
 
 
-def _in_turns(candidates: Sequence[_Candidate]) -> list[_Candidate]:
-    """Map places in turns of their categories: the first place of every category, then the second of
-    every category left, and so on, the rarer categories first within a turn (then map order); so
-    where the facades run short, every category has had its turns before any has more."""
-    sizes = Counter(c.category for c in candidates)
-    turn: Counter[str] = Counter()
-    keyed = []
-    for index, candidate in enumerate(candidates):
-        keyed.append((turn[candidate.category], sizes[candidate.category], index, candidate))
-        turn[candidate.category] += 1
-    return [candidate for *_, candidate in sorted(keyed, key=lambda row: row[:3])]
+def _by_category(candidates: Sequence[_Candidate]) -> list[list[_Candidate]]:
+    """Map places by category, each in map order, the rarer categories first (then the one mapped
+    first)."""
+    groups: dict[str, list[_Candidate]] = {}
+    for candidate in candidates:
+        groups.setdefault(candidate.category, []).append(candidate)
+    return sorted(groups.values(), key=len)
+
+
+def _in_rounds(placer: _Placer, groups: Sequence[Sequence[_Candidate]]) -> None:
+    """Place map places in rounds of their categories (:func:`_by_category`): in each round every
+    category with places left tries them in turn until one is placed, so every category has a
+    storefront, or has tried all its places, before any has a second (where the facades run short,
+    each category has had its turns before any has more)."""
+    queues = [list(group)[::-1] for group in groups]
+    while any(queues):
+        for queue in queues:
+            while queue and not placer.place_map_place(queue.pop()):
+                pass
 
 
 def _fill_categories(settings: StorefrontSettings) -> tuple[list[str], np.ndarray]:
@@ -824,12 +1076,7 @@ def place_storefronts(
     """
     placer = _Placer(scene, plan, rng, settings)
     candidates = _candidates(city, settings)
-    for candidate in _in_turns(candidates):
-        options = placer.facade_options(candidate)
-        reason = options if isinstance(options, str) else placer.place_on_one(candidate, options)
-        if reason is not None:
-            placer.rejected[reason] += 1
-            placer.lost[candidate.category, reason] += 1
+    _in_rounds(placer, _by_category(candidates))
     (x0, y0, x1, y1) = city.window
     filled = _fill(placer, int(settings.fill_per_km2 * (x1 - x0) * (y1 - y0) / 1e6), rng, settings)
     return _finish(placer, settings, places=len(candidates), filled=filled)
@@ -896,6 +1143,7 @@ def _finish(
         "objects_cleared": cleared,
         "narrowed": placer.narrowed,
         "shifted": placer.shifted,
+        "set_back": sum(p.set_back for p in placer.placed),
     }
     return StorefrontPlacement(scene=result, counts=counts)
 
@@ -909,8 +1157,7 @@ def _drop_hidden(placer: _Placer, hidden: set[int], *, retry: bool) -> int:
     placer.drop(hidden)
     again = 0
     for annotation in dropped:
-        candidate, rest = placer.spare.pop(annotation.id, (None, []))
-        if retry and candidate is not None and rest and placer.place_on_one(candidate, rest) is None:
+        if retry and placer.retry(annotation.id):
             again += 1
             continue
         placer.rejected["sign not visible"] += 1

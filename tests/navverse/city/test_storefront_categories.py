@@ -1,7 +1,7 @@
 """Storefronts of many categories: OSM values map to the place categories a person would take them for;
 a real window with many shops gets a storefront of (nearly) every category its places map to; a place
-outside any building, or on a pedestrian street, still gets its storefront; places are taken in turns
-of their categories."""
+outside any building, or on a pedestrian street, still gets its storefront; places are taken by
+category, the rarer first (the rounds: ``test_storefront_fallbacks.py``)."""
 
 from __future__ import annotations
 
@@ -208,6 +208,10 @@ def _candidate(category: str) -> placing._Candidate:
     return placing._Candidate(category=category, name=None, poi=None)
 
 
-def test_places_are_taken_in_turns_of_their_categories_the_rarer_first() -> None:
-    ordered = placing._in_turns([_candidate(c) for c in ["cafe", "cafe", "cafe", "bank", "bar", "bar"]])
-    assert [c.category for c in ordered] == ["bank", "bar", "cafe", "bar", "cafe", "cafe"]
+def test_places_are_grouped_by_category_the_rarer_first() -> None:
+    groups = placing._by_category([_candidate(c) for c in ["cafe", "cafe", "cafe", "bank", "bar", "bar"]])
+    assert [[c.category for c in group] for group in groups] == [
+        ["bank"],
+        ["bar", "bar"],
+        ["cafe", "cafe", "cafe"],
+    ]
