@@ -95,3 +95,33 @@ def test_buildings_and_land_areas_take_their_place(plan):
     assert _class_at(plan, 30.0, 30.0) == "green"
     # The junction is filled: no gap where the side street meets the main street.
     assert _class_at(plan, 3.2, 3.2) in ("road", "curb")
+
+
+def test_ground_under_a_raised_building_keeps_its_own_class():
+    # A footbridge building over a railway (base 3 m) and a passage's raised piece over a sidewalk: the
+    # rail and the sidewalk beneath stay rail and sidewalk (the track is not walked on beneath it).
+    city = _t_junction()
+    rail = LandArea(
+        id="area-2", cls="rail", polygon=Polygon2(exterior=[(-40, 20), (-5, 20), (-5, 30), (-40, 30)])
+    )
+    bridge = Building(
+        id="building-2",
+        footprint=Polygon2(exterior=[(-25.0, 15.0), (-20.0, 15.0), (-20.0, 35.0), (-25.0, 35.0)]),
+        height=6.0,
+        base_height=3.0,
+        height_source="height",
+    )
+    over = Building(
+        id="building-3",
+        footprint=Polygon2(exterior=[(-35.0, -6.0), (-25.0, -6.0), (-25.0, -3.0), (-35.0, -3.0)]),
+        height=12.0,
+        base_height=3.5,
+        height_source="height",
+    )
+    city = city.model_copy(
+        update={"areas": [*city.areas, rail], "buildings": [*city.buildings, bridge, over]}
+    )
+    plan = plan_surfaces(city, curb_width=CURB_WIDTH, crosswalk_width=CROSSWALK_WIDTH)
+    assert plan["rail"].contains(Point(-22.5, 25.0)) and not plan["building"].intersects(Point(-22.5, 25.0))
+    assert plan["sidewalk"].contains(Point(-30.0, -5.0))
+    assert plan["building"].contains(Point(-20.0, -20.0))  # standing on the ground: its own class
