@@ -9,7 +9,9 @@ scene type and over all:
 SR is given twice: with the robot's own success distance (1.0 + r_robot) and with the episode's (the
 one its goal regions were built for, the dataset's embodiment): a path that ends at the edge of a
 Spot goal region does not bring a robot of smaller r_robot within its own, smaller, success distance.
-Submissions are kept in ``--out`` and reused when present (delete them to run again).
+Submissions are kept in ``--out``, in a folder per dataset version, split and limit named with the
+dataset's manifest checksum, and reused when present (delete them to run again): a dataset rebuilt
+under the same version, or another dataset or split, runs afresh.
 """
 
 from __future__ import annotations
@@ -42,6 +44,8 @@ def _rows(robot: str, mu: float, own: list[dict], by_episode: list[dict]) -> lis
     rows = []
     for scene_type in [*sorted({r["scene_type"] for r in run}, key=SCENE_TYPES.index), "all"]:
         group = [r for r in run if scene_type in ("all", r["scene_type"])]
+        if not group:  # no valid trajectory at all: nothing to tell
+            continue
         reached = sum(episode_label[r["episode_id"]] == "success" for r in group)
         rows.append({
             "robot": robot,
@@ -54,6 +58,14 @@ def _rows(robot: str, mu: float, own: list[dict], by_episode: list[dict]) -> lis
             "mean_speed": sum(r["speed"] for r in group) / len(group),
         })  # fmt: skip
     return rows
+
+
+def _runs_folder(dataset: Dataset, *, split: str, limit: int | None) -> str:
+    """The folder of a dataset version's runs on a split: its name, version, split, episode limit and
+    the first 12 digits of its manifest's checksum (the dataset's content)."""
+    every = "all" if limit is None else f"limit{limit}"
+    name = f"{dataset.manifest.name}-v{dataset.manifest.version}"
+    return f"{name}-{split}-{every}-{dataset.manifest_sha256[:12]}"
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -74,11 +86,12 @@ def main(argv: Sequence[str] | None = None) -> int:
             dataset.episodes(split=args.split), built_dir=Workspace.find().built_dir
         )
         out = Path(args.out)
-        out.mkdir(parents=True, exist_ok=True)
+        runs = out / _runs_folder(dataset, split=args.split, limit=args.limit)
+        runs.mkdir(parents=True, exist_ok=True)
         rows = []
         for robot in args.robots:
             for mu in args.friction:
-                submission_path = out / f"oracle-{robot}-mu{mu:g}.jsonl.gz"
+                submission_path = runs / f"oracle-{robot}-mu{mu:g}.jsonl.gz"
                 if not submission_path.is_file():
                     console.print(f"oracle with {robot} at μ = {mu:g} ...")
                     run_agent(dataset, agent="oracle", split=args.split, embodiment=robot,
