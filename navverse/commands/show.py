@@ -108,15 +108,26 @@ def _dataset_parser(ssub: Subparsers) -> None:
     dataset = command(
         ssub, "dataset", summary="episode counts and goal categories of a dataset",
         examples=(f"navverse show dataset {MINI}",
-                  "navverse show dataset episodes/navverse-outdoor --top 10"),
+                  "navverse show dataset episodes/navverse-outdoor --top 10",
+                  f"navverse show dataset {MINI} --stats --split eval --figure mini-stats.png"),
     )  # fmt: skip
     dataset.add_argument("dataset", help=DATASET_HELP)
     dataset.add_argument("--top", type=int, default=25, help="goal categories listed (default: 25)")
+    dataset.add_argument(
+        "--stats", action="store_true",
+        help="also per task and scene type: geodesic length and verified duration "
+             "(10th percentile, median, 90th percentile) and difficulty tertiles",
+    )  # fmt: skip
+    dataset.add_argument("--split", default=None, help="the statistics of one split (default: all)")
+    dataset.add_argument(
+        "--figure", type=Path, default=None, metavar="PNG",
+        help="draw the statistics (length and duration distributions, tertiles) into this PNG",
+    )  # fmt: skip
     dataset.set_defaults(func=cmd_show_dataset)
 
 
 def cmd_show_dataset(args: argparse.Namespace, console: Console) -> int:
-    """Print a dataset's episode counts and goal categories."""
+    """Print a dataset's episode counts and goal categories (and with `--stats` its statistics)."""
     from navverse.dataset import Dataset
     from navverse.episodes.inspect import category_table, counts_table
 
@@ -128,6 +139,13 @@ def cmd_show_dataset(args: argparse.Namespace, console: Console) -> int:
         console.print(f"{task}: easy < {low:.2f} m <= medium < {high:.2f} m <= hard (geodesic length)")
     splits = "; ".join(f"{name}: {', '.join(scenes)}" for name, scenes in manifest.splits.items())
     console.print(f"splits (scene-disjoint): {splits}", highlight=False)
+    if args.stats or args.figure is not None:
+        from navverse.episodes.statistics import dataset_statistics, statistics_figure, statistics_table
+
+        stats = dataset_statistics(dataset, split=args.split)
+        console.print(statistics_table(stats))
+        if args.figure is not None:
+            console.print(f"wrote {statistics_figure(stats, args.figure)}", highlight=False)
     return 0
 
 

@@ -357,3 +357,36 @@ def test_eval_scores_the_oracle_and_counts_bad_records_as_failures(
     assert (
         broken.returncode == 1 and "not gzip-compressed" in broken.stderr and "Traceback" not in broken.stderr
     )
+
+
+def test_dataset_statistics_per_task_and_scene_type_as_a_table_and_a_figure(
+    built: Built, dataset: Dataset, tmp_path: Path
+):
+    from navverse.episodes.statistics import dataset_statistics
+
+    stats = dataset_statistics(dataset, split="eval")
+    episodes = list(dataset.episodes(split="eval"))
+    assert sum(len(cell.lengths) for cell in stats.cells.values()) == len(episodes)
+    for (task, scene_type), cell in stats.cells.items():
+        mine = [e for e in episodes if (e.task, e.scene_type) == (task, scene_type)]
+        assert sorted(cell.lengths) == sorted(e.info.geodesic_distance for e in mine)
+        assert sum(cell.difficulty.values()) == len(mine) == len(cell.durations)
+        assert all(5.0 <= d <= 100.0 for d in cell.durations)  # verified rollouts last 5-100 s
+    picture = tmp_path / "stats" / "eval.png"
+    shown = navverse_command(
+        built.workspace.root, "show", "dataset", str(dataset.root), "--stats", "--split", "eval",
+        "--figure", str(picture),
+    )  # fmt: skip
+    assert shown.returncode == 0, shown.stderr
+    text = " ".join(shown.stdout.split())
+    assert "episode statistics (eval split)" in text and f"wrote {picture}" in text
+    task, scene_type = next(iter(stats.cells))
+    assert re.search(
+        rf"{task}\s+│?\s*{scene_type}\s+│?\s*{len(stats.cells[task, scene_type].lengths)}\b", shown.stdout
+    )
+    assert picture.stat().st_size > 20_000
+    wrong = navverse_command(
+        built.workspace.root, "show", "dataset", str(dataset.root), "--stats", "--split", "x"
+    )
+    assert wrong.returncode == 1 and "has no split 'x'" in wrong.stderr + wrong.stdout
+    assert "Traceback" not in wrong.stderr
