@@ -321,7 +321,8 @@ def _status_parser(sub: Subparsers, shared: Shared) -> None:
     status = command(
         sub, "status", parents=[shared.recipe_options],
         summary="fresh / stale / missing / corrupt per target",
-        examples=("navverse status", "navverse status 'office-*' --verify"),
+        examples=("navverse status", "navverse status 'office-*' --verify",
+                  "navverse status navverse-full --cost"),
     )  # fmt: skip
     status.add_argument(
         "targets", nargs="*", metavar="TARGET",
@@ -331,6 +332,11 @@ def _status_parser(sub: Subparsers, shared: Shared) -> None:
         "--verify",
         action="store_true",
         help="check the sha256 of every built file (default: sizes only); exit 1 if one differs",
+    )
+    status.add_argument(
+        "--cost",
+        action="store_true",
+        help="also per stage: stage runs built of all, and the CPU and wall hours the built ones took",
     )
     status.set_defaults(func=cmd_status)
 
@@ -360,6 +366,8 @@ def cmd_status(args: argparse.Namespace, console: Console) -> int:
     counts = {s: list(statuses.values()).count(s) for s in colour}
     console.print(", ".join(f"{n} {s}" for s, n in counts.items() if n or s != "corrupt"))
     print_corrupt(corrupt, store, console)
+    if args.cost:
+        console.print(_cost_table(graph, store))
     if corrupt:
         console.print("run `navverse build` to rebuild the corrupt artifacts", highlight=False)
     running = running_build(store.lock_path)
@@ -368,6 +376,26 @@ def cmd_status(args: argparse.Namespace, console: Console) -> int:
             f"note: {running} is running in this workspace; these statuses may change", soft_wrap=True
         )
     return 1 if corrupt else 0
+
+
+def _cost_table(graph, store):
+    """Per stage: stage runs built / in the graph, CPU hours (the stage's processes and the pools they
+    waited for), wall hours and largest peak memory of the built runs; and the total."""
+    from rich.table import Table
+
+    from pipeline.costs import stage_costs
+
+    costs = stage_costs(graph, store)
+    table = Table(title="cost of the built stage runs (as they ran)")
+    for column in ("stage", "built / runs", "CPU h", "wall h", "peak MB"):
+        table.add_column(column, justify="left" if column == "stage" else "right")
+    for cost in costs:
+        table.add_row(cost.stage, f"{cost.built} / {cost.runs}", f"{cost.cpu_s / 3600:.2f}",
+                      f"{cost.wall_s / 3600:.2f}", f"{cost.peak_rss_mb:.0f}")  # fmt: skip
+    built, runs = sum(c.built for c in costs), sum(c.runs for c in costs)
+    cpu, wall = sum(c.cpu_s for c in costs) / 3600, sum(c.wall_s for c in costs) / 3600
+    table.add_row("all", f"{built} / {runs}", f"{cpu:.2f}", f"{wall:.2f}", "", style="bold")
+    return table
 
 
 def _clean_parser(sub: Subparsers, shared: Shared) -> None:

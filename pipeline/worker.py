@@ -287,14 +287,14 @@ def run_task(task: StageTask, progress: Any = None) -> TaskResult:
     """
     store = ArtifactStore(Path(task.store_root))
     log_path = store.log_path(task.target, task.stage)
-    started, cpu_started = time.perf_counter(), time.process_time()
+    started, cpu_started = time.perf_counter(), _cpu_seconds()
     tmp_dirs: dict[str, Path] = {}
     log: _StageLog | None = None
     try:
         log = _StageLog(store, task)
         ctx = _run_stage(task, store, log.logger, tmp_dirs, progress)
         wall = time.perf_counter() - started
-        cpu = time.process_time() - cpu_started
+        cpu = _cpu_seconds() - cpu_started
         peak = _peak_rss_mb()
         log.logger.info("done in %.2f s wall, %.2f s cpu, peak %.0f MB", wall, cpu, peak)
         _commit_outputs(
@@ -403,6 +403,13 @@ def _commit_outputs(
             },
         }
         store.commit(tmp, Path(out.final), manifest, replace=out.replace)
+
+
+def _cpu_seconds() -> float:
+    """CPU seconds of this process and of the child processes it has waited for (a stage's process
+    pools), user and system."""
+    times = os.times()
+    return time.process_time() + times.children_user + times.children_system
 
 
 # -- running in a worker process ---------------------------------------------------------------

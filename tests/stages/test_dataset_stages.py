@@ -390,3 +390,26 @@ def test_dataset_statistics_per_task_and_scene_type_as_a_table_and_a_figure(
     )
     assert wrong.returncode == 1 and "has no split 'x'" in wrong.stderr + wrong.stdout
     assert "Traceback" not in wrong.stderr
+
+
+def test_status_tells_what_each_stage_of_a_build_cost(built: Built):
+    from navverse.cli import _graph_for
+    from pipeline.costs import stage_costs
+
+    _, _, graph, store = _graph_for([], every_target=True, root=built.workspace.root)
+    costs = {cost.stage: cost for cost in stage_costs(graph, store)}
+    assert sum(cost.runs for cost in costs.values()) == len(graph.nodes)
+    verify = costs["verify_episodes"]
+    assert verify.built == verify.runs >= 1 and verify.cpu_s > 0.0 and verify.wall_s > 0.0
+    manifests = [
+        store.read_manifest(store.artifact_path(n.stage, *sorted(n.artifact_keys.items())[0]))
+        for n in graph.nodes.values()
+        if n.stage == "verify_episodes"
+    ]
+    assert abs(verify.cpu_s - sum(m["run"]["cpu_s"] for m in manifests)) < 1e-6
+    shown = navverse_command(built.workspace.root, "status", "--cost")
+    assert shown.returncode == 0, shown.stderr
+    text = " ".join(shown.stdout.split())
+    assert (
+        "cost of the built stage runs" in text and f"verify_episodes │ {verify.built} / {verify.runs}" in text
+    )
