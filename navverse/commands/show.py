@@ -145,7 +145,7 @@ def cmd_show_dataset(args: argparse.Namespace, console: Console) -> int:
         stats = dataset_statistics(dataset, split=args.split)
         console.print(statistics_table(stats))
         if args.figure is not None:
-            console.print(f"wrote {statistics_figure(stats, args.figure)}", highlight=False)
+            console.print(f"wrote {statistics_figure(stats, args.figure)}", highlight=False, soft_wrap=True)
     return 0
 
 
