@@ -397,14 +397,15 @@ def generate_i2o(
     *,
     scene_id: str,
     settings: AssemblySettings | None = None,
-    tries: int = 6,
+    tries: int = 16,
 ) -> I2OAssembly:
     """Generate a procedural building sized to a road-facing city building and join it there.
 
     The city's road-facing facades are ranked by how much of the building type's footprint ranges
     (length along its spine, depth across it) the city building behind them can hold: a type whose
     exit is in its long front wall (``sides: back``) turns that wall to the facade, one whose exits
-    end its spine turns its depth to the facade. For the best `tries`, a building of that footprint
+    end its spine turns its depth to the facade. For the best `tries` (16: in a city with few sidewalks
+    the roomiest facades often have none in front of the exit), a building of that footprint
     is generated (from `rng`) and joined with :func:`assemble_i2o` at that facade; the first that fits
     is kept, and its record names the footprint asked for.
 
