@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import fnmatch
-import importlib.util
 from pathlib import Path
 
 import pytest
@@ -11,18 +10,12 @@ import pytest
 from pipeline.recipes import RecipeLoader, Target
 from pipeline.stage import discover
 from pipeline.workspace import Workspace
+from tests.script_module import load_script
 
 REPO = Path(__file__).resolve().parents[1]
 
 
-def _sizing_module():
-    spec = importlib.util.spec_from_file_location("full_sizing", REPO / "scripts" / "full_sizing.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-sizing = _sizing_module()
+sizing = load_script("full_sizing")
 
 
 @pytest.fixture(scope="module")

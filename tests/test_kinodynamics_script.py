@@ -2,21 +2,11 @@
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
 from types import SimpleNamespace
 
-REPO = Path(__file__).resolve().parent.parent
+from tests.script_module import load_script
 
-
-def _script():
-    spec = importlib.util.spec_from_file_location("kinodynamics", REPO / "scripts" / "kinodynamics.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-kinodynamics = _script()
+kinodynamics = load_script("kinodynamics")
 
 
 def _dataset(name: str, sha: str) -> SimpleNamespace:
