@@ -535,16 +535,19 @@ class _Builder:
         self,
         pieces: list[tuple[_Outline, BaseGeometry, dict[str, Any]]],
         passages: list[tuple[Polygon, float]],
+        grounds: STRtree | None,
     ) -> list[tuple[_Outline, BaseGeometry, dict[str, Any]]]:
         """Pieces of a building with the ground of the passages through them freed: over a passage the
         piece stands from the passage's headroom up (none at all when its top is less than
-        :data:`_LOWEST_SPAN` above the headroom); elsewhere it stands as it was."""
-        if not passages:
+        :data:`_LOWEST_SPAN` above the headroom); elsewhere it stands as it was. ``grounds`` indexes
+        the passages' ground (None: no passage)."""
+        if grounds is None:
             return pieces
         out = []
         for source, geometry, heights in pieces:
             rest = geometry
-            for ground, clearance in passages:
+            for index in sorted(grounds.query(geometry).tolist()):  # in the passages' order
+                ground, clearance = passages[index]
                 if heights["base_height"] >= clearance or not ground.intersects(rest):
                     continue
                 under = repaired(intersection(rest, ground), self.dropped)
@@ -573,6 +576,7 @@ class _Builder:
         ``passages`` (ground, headroom) a building stands from the headroom up.
         """
         entrances = {n.id: n.xy for n in self.nodes if tag_value(n.tags, "entrance") not in (None, "no")}
+        grounds = STRtree([ground for ground, _ in passages]) if passages else None
         parts_of, loose = self._parts_of(outlines)
         drafts: list[tuple[Key, dict[str, Any]]] = []
         shapes: dict[Key, tuple[tuple[int, int], Polygon, float]] = {}
@@ -583,7 +587,8 @@ class _Builder:
             refs = set(outline.refs).union(*(part.refs for part in parts))
             doors = [entrances[ref] for ref in sorted(refs) if ref in entrances]
             numbers: Counter[tuple[int, int]] = Counter()
-            for source, geometry, heights in self._over_passages(self._pieces(outline, parts), passages):
+            pieces = self._over_passages(self._pieces(outline, parts), passages, grounds)
+            for source, geometry, heights in pieces:
                 common = {"osm": f"{source.osm_type}/{source.osm_id}", **heights}
                 common["name"] = text_value(outline.tags.get("name"))
                 common["type"] = kind
