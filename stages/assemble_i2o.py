@@ -3,13 +3,22 @@ in a road-facing facade."""
 
 from __future__ import annotations
 
-from typing import Annotated
+from collections.abc import Callable
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, NamedTuple
 
 from pydantic import AfterValidator
 
 from navverse.city.i2o.assembly import AssemblySettings
 from navverse.city.i2o.densify import DensifySettings
 from pipeline import Input, Params, StageContext, stage
+
+if TYPE_CHECKING:
+    from navverse.city.city_settings import CitySettings
+    from navverse.city.geometry.street_plan import StreetPlan
+    from navverse.city.i2o.assembly import I2OAssembly
+    from navverse.city.map import CityMap
+    from navverse.scene.geometry import Scene
 
 
 def _building_type(name: str) -> str:
@@ -39,7 +48,9 @@ class AssembleI2OParams(Params, AssemblySettings, DensifySettings):
 
     The recipe links the pair: ``city`` (the ``geometry`` of a city target, after its storefronts)
     and ``building`` (the ``geometry`` of an indoor building target); when a link's globs match
-    several targets, the target's seed draws one of each (``seeds: [0, 1, 2]`` makes three pairs).
+    several targets, the target's seed draws one of each (``seeds: [0, 1, 2]`` makes three pairs); a
+    drawn city with no room for the building passes it to the next linked city (in scene-id order, the
+    record's ``cities_refused`` says why each was passed over).
     The building's exit (``exit``, by default its first) is set into the road-facing facade chosen
     (or ``facade``, a city facade id) with ``exit_margin`` of facade on each side and the sidewalk
     within ``sidewalk_gap`` in front; the building must fit clear of streets and other buildings.
@@ -63,11 +74,14 @@ def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
     from navverse.city.i2o.assembly import assemble_i2o as assemble
     from navverse.scene.directory import read_scene
 
-    city, city_map, plan, carried = _read_city(ctx)
+    cities = _cities_in_turn(ctx)
     building = read_scene(_draw(ctx, "building"))
+    settings = AssemblySettings.of(params)
     ctx.progress(1, 3, "assembling")
-    result = assemble(city, plan, building, scene_id=ctx.target, settings=AssemblySettings.of(params))
-    _finish(ctx, params, result, city_map, plan, carried, city=city.scene_id, building=building.scene_id)
+    joined = _join(
+        ctx, cities, lambda city, plan: assemble(city, plan, building, scene_id=ctx.target, settings=settings)
+    )
+    _finish(ctx, params, joined, building=building.scene_id)
 
 
 class GenerateI2OParams(AssembleI2OParams):
@@ -89,16 +103,65 @@ def generate_i2o(ctx: StageContext, params: GenerateI2OParams) -> None:
     """An i2o scene: a procedural building sized to a road-facing city building, set in its place."""
     from navverse.city.i2o.assembly import generate_i2o as generate
 
-    city, city_map, plan, carried = _read_city(ctx)
-    ctx.progress(1, 3, "generating")
+    cities = _cities_in_turn(ctx)
     settings = AssemblySettings.of(params)
-    result = generate(city, plan, params.building_type, ctx.rng, scene_id=ctx.target, settings=settings)
-    _finish(ctx, params, result, city_map, plan, carried, city=city.scene_id, building=params.building_type)
+    ctx.progress(1, 3, "generating")
+    joined = _join(
+        ctx,
+        cities,
+        lambda city, plan: generate(
+            city, plan, params.building_type, ctx.rng, scene_id=ctx.target, settings=settings
+        ),
+    )
+    _finish(ctx, params, joined, building=params.building_type)
 
 
-def _read_city(ctx: StageContext):
-    """The linked city scene, the map it was made from, its street plan and the settings it was
-    built with (all in its directory)."""
+class _Joined(NamedTuple):
+    """An assembled i2o scene with the city it was joined to: the map the city was made from, its
+    street plan and the settings it was built with."""
+
+    result: I2OAssembly
+    city: Scene
+    city_map: CityMap
+    plan: StreetPlan
+    carried: CitySettings
+    cities_refused: dict[str, str]
+    """Linked cities tried before it, with the reason each refused."""
+
+
+def _join(
+    ctx: StageContext, cities: list[Path], assemble: Callable[[Scene, StreetPlan], I2OAssembly]
+) -> _Joined:
+    """Assemble with the first of `cities` (in turn) that takes the building.
+
+    Raises
+    ------
+    AssemblyError
+        If none of them does: every city's reason.
+    """
+    from navverse.city.i2o.assembly import AssemblyError
+
+    refusals: dict[str, str] = {}
+    for city_dir in cities:
+        city, city_map, plan, carried = _read_city(city_dir)
+        try:
+            result = assemble(city, plan)
+        except AssemblyError as exc:
+            ctx.log.info("%s: %s refused: %s", ctx.target, city.scene_id, exc)
+            refusals[city.scene_id] = str(exc)
+            continue
+        return _Joined(result, city, city_map, plan, carried, refusals)
+    if len(refusals) == 1:
+        raise AssemblyError(next(iter(refusals.values())))
+    raise AssemblyError(
+        f"none of the {len(refusals)} linked cities takes the building; link another city:\n  "
+        + "\n  ".join(f"{city}: {reason}" for city, reason in refusals.items())
+    )
+
+
+def _read_city(city_dir: Path) -> tuple[Scene, CityMap, StreetPlan, CitySettings]:
+    """A linked city scene, the map it was made from, its street plan and the settings it was built
+    with (all in its directory)."""
     from navverse.city.city_settings import CITY_SETTINGS_FILE, load_city_settings
     from navverse.city.geometry.street_plan import STREET_PLAN_FILE, load_street_plan
     from navverse.city.i2o.assembly import AssemblyError
@@ -106,8 +169,6 @@ def _read_city(ctx: StageContext):
     from navverse.scene.directory import read_scene
     from stages.city import CITY_MAP_FILE
 
-    ctx.progress(0, 3, "reading")
-    city_dir = _draw(ctx, "city")
     needed = (CITY_MAP_FILE, STREET_PLAN_FILE, CITY_SETTINGS_FILE)
     missing = [name for name in needed if not (city_dir / name).is_file()]
     if missing:
@@ -120,17 +181,7 @@ def _read_city(ctx: StageContext):
     return read_scene(city_dir), city_map, plan, load_city_settings(city_dir / CITY_SETTINGS_FILE)
 
 
-def _finish(
-    ctx: StageContext,
-    params: AssembleI2OParams,
-    result,
-    city_map,
-    plan,
-    carried,
-    *,
-    city: str,
-    building: str,
-) -> None:
+def _finish(ctx: StageContext, params: AssembleI2OParams, joined: _Joined, *, building: str) -> None:
     """Densify the neighbourhood of the exit by the city's own settings, write the scene and record
     how it was made."""
     from shapely.geometry import Point
@@ -138,6 +189,7 @@ def _finish(
     from navverse.city.i2o.densify import densify_neighbourhood
     from navverse.scene.directory import write_scene_dir
 
+    result, city_map, plan = joined.result, joined.city_map, joined.plan
     anchor = result.scene.annotations.indoor_anchor
     doorway = Point(anchor[0], anchor[1]).buffer(params.clear_depth + 1.5)
     densify = DensifySettings.of(params)
@@ -149,13 +201,20 @@ def _finish(
         region=densify.region_around(anchor[0], anchor[1]),
         keep_clear=[doorway],
         settings=densify,
-        populate=carried.effective_populate,
-        storefronts=carried.effective_storefronts,
+        populate=joined.carried.effective_populate,
+        storefronts=joined.carried.effective_storefronts,
     )
     ctx.progress(2, 3, "writing")
     write_scene_dir(nearby.scene, ctx.output)
     ctx.progress(3, 3, "done")
-    ctx.record(city=city, building=building, densified=nearby.counts, **result.record)
+    city = joined.city.scene_id
+    ctx.record(
+        city=city,
+        building=building,
+        cities_refused=joined.cities_refused,
+        densified=nearby.counts,
+        **result.record,
+    )
     ctx.log.info(
         "%s: %s joined to %s at facade %d (%d placements fit), step %.3f m",
         ctx.target, building, city, result.record["facade"], result.record["candidates"],
@@ -163,10 +222,25 @@ def _finish(
     )  # fmt: skip
 
 
-def _draw(ctx: StageContext, name: str):
-    """The linked scene directory of input `name`: the only one, or one drawn with the target's seed
-    among several (ordered by scene id, so the draw does not depend on where artifacts are stored)."""
+def _cities_in_turn(ctx: StageContext) -> list[Path]:
+    """The linked city directories in the order they are tried: the one drawn with the target's seed
+    (:func:`_draw`), then the others after it in scene-id order, so a city that has no room for the
+    building passes it to another city of the same link."""
+    linked = _linked(ctx, "city")
+    first = int(ctx.rng.integers(len(linked))) if len(linked) > 1 else 0
+    return linked[first:] + linked[:first]
+
+
+def _linked(ctx: StageContext, name: str) -> list[Path]:
+    """The linked scene directories of input `name`, ordered by scene id (so a draw does not depend on
+    where artifacts are stored)."""
     from navverse.scene.directory import read_annotations
 
-    linked = sorted(ctx.inputs[name], key=lambda path: read_annotations(path).scene_id)
+    return sorted(ctx.inputs[name], key=lambda path: read_annotations(path).scene_id)
+
+
+def _draw(ctx: StageContext, name: str) -> Path:
+    """The linked scene directory of input `name`: the only one, or one drawn with the target's seed
+    among several (:func:`_linked`'s order)."""
+    linked = _linked(ctx, name)
     return linked[int(ctx.rng.integers(len(linked)))] if len(linked) > 1 else linked[0]

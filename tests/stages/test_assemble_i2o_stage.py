@@ -127,3 +127,47 @@ def test_densification_follows_the_city_s_own_settings(built: Built) -> None:
     new = [o for o in scene.objects if o.source == "grammar" and (o.category, *o.center) not in old]
     assert new
     assert all(base_footprint(o).intersection(walkway).area < 0.01 for o in new)
+
+
+PARK_CITY = """\
+extends: outdoor-city
+stages:
+  synthetic_city: {size: [200, 200], park_share: 1.0, river_width: 0}
+"""
+
+
+def _seed_drawing(target: str, stage_name: str, index: int, count: int) -> int:
+    """A recipe seed whose stage rng first draws `index` of `count` (the linked city tried first)."""
+    from pipeline.seeds import derive_seed, make_rng
+
+    return next(
+        seed
+        for seed in range(1000)
+        if int(make_rng(derive_seed(seed, target, stage_name)).integers(count)) == index
+    )
+
+
+@pytest.mark.slow(seconds=20)  # the park city's build
+def test_a_city_without_room_passes_the_building_to_the_next_linked_city(built: Built) -> None:
+    """A city of parks only has no facade: drawn first, it refuses and the next linked city takes the
+    cafe; the record says which city refused and why. Linked alone, it fails the build with that
+    reason, exit 1, no traceback."""
+    root = built.workspace.root
+    (root / "recipes" / "scenes" / "park-city.yaml").write_text(PARK_CITY)
+    seed = _seed_drawing("cafe-fallback", "assemble_i2o", 1, 2)  # by scene id: city, park-city
+    recipe = I2O.format(options="{}", city="city, park-city") + f"seed: {seed}\n"
+    (root / "recipes" / "scenes" / "cafe-fallback.yaml").write_text(recipe)
+    result = navverse_command(root, "build", "cafe-fallback")
+    assert result.returncode == 0, result.stdout + result.stderr
+    stats = built.manifest("cafe-fallback", "geometry")["stats"]
+    assert stats["city"] == "city" and list(stats["cities_refused"]) == ["park-city"]
+    assert "road-facing facade" in stats["cities_refused"]["park-city"]
+
+    (root / "recipes" / "scenes" / "cafe-in-parks.yaml").write_text(
+        I2O.format(options="{}", city="park-city")
+    )
+    result = navverse_command(root, "build", "cafe-in-parks")
+    output = result.stdout + result.stderr
+    assert result.returncode == 1 and "Traceback" not in output, output
+    assert "park-city" in output and "road-facing facade" in output
+    assert not (root / "data" / "built" / "targets" / "cafe-in-parks").exists()
