@@ -10,12 +10,12 @@ DATASET ?= episodes/navverse-mini
 SPLIT ?= eval
 OUT ?= eval-out
 
-.PHONY: all setup scenes episodes eval bench status lint test docs clean help
+.PHONY: all setup scenes full-scenes episodes eval bench status lint test docs clean help
 
 all: setup scenes episodes  ## set up, then build the default scenes and dataset
 
 help:  ## list the targets
-	@grep -E '^[a-z]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/:.*## /\t/'
+	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/:.*## /\t/'
 
 setup: $(STAMP)  ## system packages, virtual environment, editable install (runs once)
 
@@ -28,6 +28,9 @@ $(STAMP): pyproject.toml setup.py scripts/system-deps.sh
 
 scenes: $(STAMP)  ## build every scene recipe in recipes/scenes
 	$(NAVVERSE) build scenes --jobs $(JOBS)
+
+full-scenes: $(STAMP)  ## the 200 scenes of the published navverse-full, checked against its scene hashes (~1 CPU-hour)
+	$(NAVVERSE) build navverse-full-scenes --jobs $(JOBS)
 
 episodes: $(STAMP)  ## build the dataset recipes in recipes/datasets (navverse-mini; manual ones by name)
 	$(NAVVERSE) build datasets --jobs $(JOBS)

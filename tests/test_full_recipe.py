@@ -57,3 +57,12 @@ def test_i2o_scenes_stand_in_cities_of_their_own_split(targets):
         ]
         assert cities, scene
         assert set(cities) <= set(outdoor[split]), (scene, sorted(set(cities) - set(outdoor[split])))
+
+
+def test_the_scenes_target_builds_exactly_the_parts_scenes(targets):
+    """navverse-full-scenes links the same 200 scenes as the three parts of navverse-full."""
+    parts = set()
+    for part in sizing.FULL_PARTS.values():
+        parts |= set(sizing.linked_scenes(targets[part], targets))
+    scenes = set(sizing.linked_scenes(targets["navverse-full-scenes"], targets))
+    assert len(parts) == 200 and scenes == parts, sorted(scenes ^ parts)
