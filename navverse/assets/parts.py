@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike
 
 from navverse.assets.materials import RGB
 from navverse.assets.primitives import boxes
-from navverse.scene.geometry import MeshData
+from navverse.scene.geometry import MeshData, apply_linear, snap_to_grid
 
 __all__ = [
     "Assembly",
@@ -175,7 +175,7 @@ def ellipsoid(center: ArrayLike, radii: ArrayLike, *, segments: int = 12, rings:
 def _to_manifold(solid: Solid) -> manifold3d.Manifold:
     vertices, faces = solid
     mesh = manifold3d.Mesh64(
-        vert_properties=np.ascontiguousarray(vertices, dtype=np.float64),
+        vert_properties=np.ascontiguousarray(snap_to_grid(vertices)),
         tri_verts=np.ascontiguousarray(faces, dtype=np.uint32),
     )
     result = manifold3d.Manifold(mesh)
@@ -308,7 +308,7 @@ def torus(
 
 def hull(points: ArrayLike) -> Solid:
     """The convex hull of 3-D points (at least four, not coplanar)."""
-    pts = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
+    pts = np.ascontiguousarray(snap_to_grid(np.asarray(points, dtype=np.float64).reshape(-1, 3)))
     return _from_manifold(manifold3d.Manifold.hull_points(pts))
 
 
@@ -367,7 +367,7 @@ def rotate(solid: Solid, axis: str, angle: float, *, about: ArrayLike = (0.0, 0.
         "z": np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]),
     }
     pivot = _vec3(about)
-    return (solid[0] - pivot) @ matrices[axis].T + pivot, solid[1]
+    return apply_linear(solid[0] - pivot, matrices[axis]) + pivot, solid[1]
 
 
 def difference(base: Solid, *cutters: Solid) -> Solid:

@@ -17,7 +17,7 @@ import numpy as np
 from navverse.assets.errors import AssetSizeError
 from navverse.assets.materials import PHYSICAL_MATERIALS
 from navverse.assets.parts import Assembly
-from navverse.scene.geometry import MeshData
+from navverse.scene.geometry import MeshData, snap_to_grid
 
 __all__ = [
     "CONTEXTS",
@@ -224,7 +224,10 @@ class Asset:
             If `size` is not three finite lengths > 0.
         """
         checked = check_size(size)
-        return fit_to_size(self.builder(rng, checked).mesh(), checked)
+        built = self.builder(rng, checked).mesh()
+        # Snapped before the fit (whose arithmetic is exact IEEE): the same bytes on every machine.
+        snapped = MeshData(snap_to_grid(built.vertices), built.faces, built.face_colors)
+        return fit_to_size(snapped, checked)
 
     def support_areas(self, size: Sequence[float]) -> list[SupportArea]:
         """Flat areas on the object of `size` where other objects can stand ([] if none)."""

@@ -16,7 +16,15 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 from shapely.geometry import LinearRing, Point, Polygon
 
 from navverse.errors import SceneError, rebuild_hint
@@ -60,9 +68,29 @@ _VERSION = re.compile(r"^(\d+)\.(\d+)$")
 _SCENE_ID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 _OBJECT_PRIM_PATH = re.compile(rf"^{re.escape(OBJECTS_ROOT)}/[A-Za-z_][A-Za-z0-9_]*$")
 
-Vec3 = tuple[float, float, float]
+POSITION_DECIMALS = 9
+"""Decimals (m) positions and extents of annotations are rounded to (:func:`_rounded`)."""
+
+
+ANGLE_DECIMALS = 12
+"""Decimals (rad) annotated angles are rounded to."""
+
+
+def _rounded(values: tuple[float, ...]) -> tuple[float, ...]:
+    """`values` rounded to :data:`POSITION_DECIMALS` decimals (a nanometre).
+
+    Placements computed with ``@``/``dot`` (OpenBLAS kernels) or numpy's AVX-512 functions can differ in
+    the last bit between processors; rounding (Python's correctly rounded ``round``) makes the
+    annotations, and the poses written from them, the same bytes on every machine, and keeps short
+    decimals as written (0.7 stays 0.7)."""
+    return tuple(round(v, POSITION_DECIMALS) + 0.0 for v in values)
+
+
+Vec3 = Annotated[tuple[float, float, float], AfterValidator(_rounded)]
+Angle = Annotated[float, AfterValidator(lambda v: round(v, ANGLE_DECIMALS) + 0.0)]
+"""An angle (rad), rounded to :data:`ANGLE_DECIMALS` for the reason positions are (:func:`_rounded`)."""
 PositiveFloat = Annotated[float, Field(gt=0.0)]
-PositiveVec3 = tuple[PositiveFloat, PositiveFloat, PositiveFloat]
+PositiveVec3 = Annotated[tuple[PositiveFloat, PositiveFloat, PositiveFloat], AfterValidator(_rounded)]
 Channel = Annotated[int, Field(ge=0, le=255)]
 Vec2 = tuple[float, float]
 MapId = Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]*-[0-9]+$")]
@@ -114,7 +142,7 @@ class ObjectAnnotation(BaseModel):
     prim_path: str
     center: Vec3
     size: PositiveVec3
-    yaw: float
+    yaw: Angle
     zone: str | None = None
     """Where a populated city's object stands (``furniture``, ``frontage``, ``verge``, ``open``,
     ``parking_lane``, ``curbside``, ``parking_lot``...); None for objects not placed by zone."""

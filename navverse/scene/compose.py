@@ -16,10 +16,11 @@ import math
 from collections import Counter
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike
+from pydantic import BaseModel
 
 from navverse.errors import SceneError
 from navverse.scene.annotations import (
@@ -34,10 +35,12 @@ from navverse.scene.annotations import (
     TerrainClass,
     Vec3,
 )
-from navverse.scene.geometry import MeshData, Scene, SceneObject, Surface, yaw_matrix
+from navverse.scene.geometry import MeshData, Scene, SceneObject, Surface, apply_linear, yaw_matrix
 from navverse.scene.naming import object_prim_path, unique_name
 from navverse.scene.terrain import terrain_classes as default_terrain_classes
 from navverse.scene_types import SceneType
+
+_M = TypeVar("_M", bound=BaseModel)
 
 __all__ = [
     "ObjectPart",
@@ -275,15 +278,15 @@ class _Rigid:
         return self.yaw == 0.0 and not self.offset.any()
 
     def point(self, xyz: Sequence[float]) -> Vec3:
-        moved = self.rotation @ np.asarray(xyz, dtype=np.float64) + self.offset
+        moved = apply_linear(xyz, self.rotation) + self.offset
         return (float(moved[0]), float(moved[1]), float(moved[2]))
 
     def xy(self, point: Sequence[float]) -> tuple[float, float]:
-        moved = self.rotation[:2, :2] @ np.asarray(point, dtype=np.float64) + self.offset[:2]
+        moved = apply_linear(point, self.rotation[:2, :2]) + self.offset[:2]
         return (float(moved[0]), float(moved[1]))
 
     def direction(self, xy: Sequence[float]) -> tuple[float, float]:
-        turned = self.rotation[:2, :2] @ np.asarray(xy, dtype=np.float64)
+        turned = apply_linear(xy, self.rotation[:2, :2])
         length = math.hypot(turned[0], turned[1])
         return (float(turned[0] / length), float(turned[1] / length))
 
@@ -306,12 +309,10 @@ class _Rigid:
                     for r in b.rooms
                 ],
                 "doors": [
-                    d.model_copy(update={"center": self.point(d.center), "facing": self.angle(d.facing)})
-                    for d in b.doors
+                    _validated(d, center=self.point(d.center), facing=self.angle(d.facing)) for d in b.doors
                 ],
                 "exits": [
-                    e.model_copy(update={"center": self.point(e.center), "facing": self.angle(e.facing)})
-                    for e in b.exits
+                    _validated(e, center=self.point(e.center), facing=self.angle(e.facing)) for e in b.exits
                 ],
                 "facades": [
                     f.model_copy(
@@ -699,3 +700,9 @@ def _cut_surface(mesh: MeshData, cutter) -> MeshData:
     occupancy = solid.compute_occupancy(o3d.core.Tensor((mesh.vertices - origin).astype(np.float32)))
     corner_inside = occupancy.numpy() > 0.5
     return mesh.face_subset(~corner_inside[mesh.faces].all(axis=1))
+
+
+def _validated(model: _M, **changes: Any) -> _M:
+    """`model` with `changes`, validated (``model_copy(update=...)`` is not: positions would not be
+    rounded as the annotations round them)."""
+    return type(model).model_validate({**dict(model), **changes})

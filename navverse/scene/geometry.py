@@ -18,15 +18,50 @@ from navverse.scene.annotations import ObjectAnnotation, SceneAnnotations
 from navverse.scene.naming import is_identifier
 
 __all__ = [
+    "VERTEX_GRID",
     "LabeledMesh",
     "MeshData",
     "Scene",
     "SceneObject",
     "Surface",
     "Texture",
+    "apply_linear",
     "merge_textures",
+    "snap_to_grid",
     "yaw_matrix",
 ]
+
+VERTEX_GRID = 2.0**-20
+"""Step (m, about 1 µm) of the grid generated vertices are snapped to (:func:`snap_to_grid`)."""
+
+
+def snap_to_grid(values: ArrayLike, step: float = VERTEX_GRID) -> np.ndarray:
+    """`values` rounded to the nearest multiple of `step` (a power of two: the rounding is exact).
+
+    Generated geometry passes through functions whose last bit depends on the machine: numpy's
+    AVX-512 versions of ``exp``/``log``/``arctan2``/``power``, and OpenBLAS's kernels behind ``@`` and
+    ``dot``, which differ between processors. Snapping the vertices of generated meshes (and the
+    points whose convex hull or boolean is taken) to this grid makes those last-bit differences vanish,
+    so a scene is the same bytes on every x86-64 machine; a difference survives only if a value lies
+    within a few units in the last place of a half-step, about one value in 10^9. A zero comes out
+    as 0.0 whatever its sign was.
+    """
+    grid = np.asarray(values, dtype=np.float64) / step
+    return np.round(grid) * step + 0.0  # + 0.0: -0.0 (a tiny negative rounded) becomes 0.0
+
+
+def apply_linear(points: ArrayLike, matrix: ArrayLike) -> np.ndarray:
+    """``points @ matrix.T`` for points (..., d) and a (k, d) matrix, with the same bits on every machine.
+
+    ``@`` goes to the BLAS library, whose kernels (and their use of fused multiply-adds) differ between
+    processors; this sums the d products in a fixed order with numpy's element-wise arithmetic.
+    """
+    p = np.asarray(points, dtype=np.float64)
+    m = np.asarray(matrix, dtype=np.float64)
+    total = p[..., 0:1] * m[:, 0]
+    for k in range(1, m.shape[1]):
+        total = total + p[..., k : k + 1] * m[:, k]
+    return total
 
 
 def yaw_matrix(yaw: float) -> np.ndarray:
@@ -247,7 +282,7 @@ class MeshData:
             ``Rz(yaw) @ v + translation`` for every vertex ``v``; faces and colours unchanged.
         """
         offset = np.asarray(translation, dtype=np.float64).reshape(3)
-        vertices = self.vertices @ yaw_matrix(yaw).T + offset
+        vertices = apply_linear(self.vertices, yaw_matrix(yaw)) + offset
         return MeshData(
             vertices, self.faces, self.face_colors, self.face_uvs, self.face_texture, self.textures
         )
