@@ -11,6 +11,12 @@ navverse-full's recipes::
 
     make episodes                       # builds navverse-mini and its parts
     python scripts/full_sizing.py       # the table; --check exits 1 where a recipe asks for too few
+
+With ``--dataset DIR`` it compares a built or published dataset version with the paper instead: its
+episodes per split, task and scene type against ``tab:episode_counts``, cell by cell (exit 1 on any
+difference)::
+
+    python scripts/full_sizing.py --dataset episodes/navverse-full/v1.0
 """
 
 from __future__ import annotations
@@ -139,12 +145,57 @@ def problems(rows: Sequence[dict]) -> list[str]:
     return out
 
 
+def count_differences(counts: dict[str, dict[str, dict[str, int]]]) -> list[tuple[str, str, str, int, int]]:
+    """Each (split, task, scene type, paper, dataset) cell where a dataset's manifest ``counts`` differ
+    from the paper's, including cells the paper does not have."""
+    out = []
+    cells = {(split, task, scene_type) for (task, scene_type), by in PAPER_COUNTS.items() for split in by}
+    cells |= {
+        (s, t, st)
+        for s, tasks in counts.items()
+        for t, types in tasks.items()
+        for st, n in types.items()
+        if n
+    }
+    for split, task, scene_type in sorted(cells):
+        paper = PAPER_COUNTS.get((task, scene_type), {}).get(split, 0)
+        got = counts.get(split, {}).get(task, {}).get(scene_type, 0)
+        if got != paper:
+            out.append((split, task, scene_type, paper, got))
+    return out
+
+
+def compare_dataset(path: str) -> int:
+    """Print a dataset's counts beside the paper's; 1 if any cell differs."""
+    from navverse.dataset import Dataset
+
+    manifest = Dataset(path).manifest
+    table = Table(title=f"{manifest.name} v{manifest.version} against tab:episode_counts")
+    for column in ("task", "scene type", "paper train", "dataset train", "paper eval", "dataset eval"):
+        table.add_column(column, justify="left" if column in ("task", "scene type") else "right")
+    for (task, scene_type), paper in PAPER_COUNTS.items():
+        got = {split: manifest.counts.get(split, {}).get(task, {}).get(scene_type, 0) for split in paper}
+        table.add_row(
+            task, scene_type, str(paper["train"]), str(got["train"]), str(paper["eval"]), str(got["eval"])
+        )
+    Console(width=120).print(table)
+    differing = count_differences(manifest.counts)
+    for split, task, scene_type, paper, got in differing:
+        print(f"  {split} {task} {scene_type}: {got} episodes, the paper has {paper}")
+    if not differing:
+        print("every cell equals the paper's")
+    return 1 if differing else 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Print the sizing table; with ``--check``, the exit status says whether the recipes agree."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--margin", type=float, default=1.15, help="candidates beyond the need (1.15)")
     parser.add_argument("--check", action="store_true", help="exit 1 when a recipe asks for too few")
+    parser.add_argument("--dataset", metavar="DIR", help="compare a dataset version's counts with the paper")
     args = parser.parse_args(argv)
+    if args.dataset:
+        return compare_dataset(args.dataset)
     workspace = Workspace.find()
     loader = RecipeLoader(workspace, stages=discover("stages"))
     targets = {t.id: t for t in loader.load()}

@@ -66,3 +66,17 @@ def test_the_scenes_target_builds_exactly_the_parts_scenes(targets):
         parts |= set(sizing.linked_scenes(targets[part], targets))
     scenes = set(sizing.linked_scenes(targets["navverse-full-scenes"], targets))
     assert len(parts) == 200 and scenes == parts, sorted(scenes ^ parts)
+
+
+def test_a_dataset_s_counts_are_compared_with_the_paper_cell_by_cell():
+    counts: dict = {}
+    for (task, scene_type), by_split in sizing.PAPER_COUNTS.items():
+        for split, n in by_split.items():
+            counts.setdefault(split, {}).setdefault(task, {})[scene_type] = n
+    assert sizing.count_differences(counts) == []
+    counts["eval"]["vln"]["i2o"] = 149
+    counts["eval"]["placenav"]["indoor"] = 3  # a cell the paper does not have
+    assert sizing.count_differences(counts) == [
+        ("eval", "placenav", "indoor", 0, 3),
+        ("eval", "vln", "i2o", 150, 149),
+    ]

@@ -103,6 +103,10 @@ def cmd_show_presets(args: argparse.Namespace, console: Console) -> int:
     return 0
 
 
+_LISTED_SCENES = 30
+"""At most this many scenes, ``show dataset`` lists them by split without ``--scenes``."""
+
+
 def _dataset_parser(ssub: Subparsers) -> None:
     """``navverse show dataset``."""
     dataset = command(
@@ -113,6 +117,10 @@ def _dataset_parser(ssub: Subparsers) -> None:
     )  # fmt: skip
     dataset.add_argument("dataset", help=DATASET_HELP)
     dataset.add_argument("--top", type=int, default=25, help="goal categories listed (default: 25)")
+    dataset.add_argument(
+        "--scenes", action="store_true",
+        help=f"list each split's scenes (listed anyway when there are at most {_LISTED_SCENES})",
+    )  # fmt: skip
     dataset.add_argument(
         "--stats", action="store_true",
         help="also per task and scene type: geodesic length and verified duration "
@@ -129,16 +137,20 @@ def _dataset_parser(ssub: Subparsers) -> None:
 def cmd_show_dataset(args: argparse.Namespace, console: Console) -> int:
     """Print a dataset's episode counts and goal categories (and with `--stats` its statistics)."""
     from navverse.dataset import Dataset
-    from navverse.episodes.inspect import category_table, counts_table
+    from navverse.episodes.inspect import category_table, counts_table, scenes_table
 
     dataset = Dataset(args.dataset)
     manifest = dataset.manifest
     console.print(counts_table(dataset))
+    console.print(scenes_table(dataset))
     console.print(category_table(dataset, top=args.top))
     for task, (low, high) in manifest.difficulty_thresholds.items():
         console.print(f"{task}: easy < {low:.2f} m <= medium < {high:.2f} m <= hard (geodesic length)")
-    splits = "; ".join(f"{name}: {', '.join(scenes)}" for name, scenes in manifest.splits.items())
-    console.print(f"splits (scene-disjoint): {splits}", highlight=False)
+    if args.scenes or sum(map(len, manifest.splits.values())) <= _LISTED_SCENES:
+        splits = "; ".join(f"{name}: {', '.join(scenes)}" for name, scenes in manifest.splits.items())
+        console.print(f"splits (scene-disjoint): {splits}", highlight=False)
+    else:
+        console.print("splits are scene-disjoint; --scenes lists each split's scenes", highlight=False)
     if args.stats or args.figure is not None:
         from navverse.episodes.statistics import dataset_statistics, statistics_figure, statistics_table
 

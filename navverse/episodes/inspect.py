@@ -19,7 +19,15 @@ if TYPE_CHECKING:
     from navverse.episodes.sampling import SamplingSettings
     from navverse.episodes.verification import VerificationSettings
 
-__all__ = ["ReplayReport", "category_table", "check_bounds", "counts_table", "draw_episode", "replay"]
+__all__ = [
+    "ReplayReport",
+    "category_table",
+    "check_bounds",
+    "counts_table",
+    "draw_episode",
+    "replay",
+    "scenes_table",
+]
 
 
 def counts_table(dataset: Dataset) -> Table:
@@ -36,6 +44,21 @@ def counts_table(dataset: Dataset) -> Table:
             totals.update(dict(zip(scene_types, row, strict=True)))
             table.add_row(split, task, *map(str, row), str(sum(row)))
     table.add_row("all", "", *(str(totals[t]) for t in scene_types), str(sum(totals.values())), style="bold")
+    return table
+
+
+def scenes_table(dataset: Dataset) -> Table:
+    """Scenes per split, by scene type (each scene's type is that of its episodes)."""
+    types = {e.scene_id: e.scene_type for e in dataset.episodes()}
+    table = Table(title="scenes")
+    for column in ("split", *SCENE_TYPES, "total"):
+        table.add_column(column, justify="left" if column == "split" else "right")
+    totals: Counter[str] = Counter()
+    for split, scenes in dataset.manifest.splits.items():
+        row = Counter(types.get(scene, "no episodes") for scene in scenes)
+        totals.update(row)
+        table.add_row(split, *(str(row[t]) for t in SCENE_TYPES), str(len(scenes)))
+    table.add_row("all", *(str(totals[t]) for t in SCENE_TYPES), str(sum(totals.values())), style="bold")
     return table
 
 

@@ -214,6 +214,10 @@ def test_show_and_validate_a_dataset_from_the_command_line(built: Built, dataset
     assert shown.returncode == 0, shown.stderr
     total = len(list(dataset.episodes()))
     assert re.search(rf"all\s.*\s{total}\s", shown.stdout) and "goal categories" in shown.stdout
+    # the scenes table: the tiny dataset's two apartments, one per split
+    assert re.search(r"eval\s*│\s*1\s*│\s*0\s*│\s*0\s*│\s*1\s", shown.stdout), shown.stdout
+    assert re.search(r"all\s*│\s*2\s*│\s*0\s*│\s*0\s*│\s*2\s", shown.stdout), shown.stdout
+    assert "eval: apartment-s1" in shown.stdout  # two scenes: listed without --scenes
     episode = next(e for e in dataset.episodes() if e.task == "vln")
     picture = tmp_path / "ep.png"
     drawn = navverse_command(

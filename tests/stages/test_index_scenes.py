@@ -40,11 +40,12 @@ def test_the_index_lists_every_linked_scene_with_its_type_and_hash(built: Built)
     result = _index(built, "apartments", "apartment-s*", "dataset: published.json")
     assert result.returncode == 0, result.stdout + result.stderr
     index = json.loads((built.output("apartments", "scenes") / "scenes.json").read_text())
-    assert index["counts"] == {"indoor": 2} and index["dataset"] == "tiny v1.0"
+    assert index["counts"] == {"indoor": 2, "outdoor from maps": 0} and index["dataset"] == "tiny v1.0"
     for scene in ("apartment-s0", "apartment-s1"):
         assert index["scenes"][scene] == {
             "scene_type": "indoor",
             "scene_hash": scene_hash(built.output(scene, "scene")),
+            "map": None,
         }
 
 
