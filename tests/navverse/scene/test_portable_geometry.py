@@ -40,9 +40,13 @@ print(digest.hexdigest())
 
 def _other_processor() -> dict[str, str]:
     """Environment under which numpy, OpenBLAS and glibc take the code paths of an older x86-64."""
-    from numpy._core._multiarray_umath import __cpu_features__ as features
+    try:  # numpy 2
+        from numpy._core._multiarray_umath import __cpu_features__ as features
+    except ImportError:  # numpy 1.26
+        from numpy.core._multiarray_umath import __cpu_features__ as features
 
-    avx512 = [name for name in ("AVX512_SPR", "AVX512_ICL", "X86_V4") if features.get(name)]
+    # numpy 2 names its AVX-512 dispatch targets X86_V4, AVX512_ICL, AVX512_SPR; numpy 1.26 AVX512F, ...
+    avx512 = [name for name, found in features.items() if found and ("AVX512" in name or name == "X86_V4")]
     env = {
         **os.environ,
         "OPENBLAS_CORETYPE": "Nehalem",
