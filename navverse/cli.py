@@ -417,7 +417,8 @@ def cmd_clean(args: argparse.Namespace, console: Console) -> int:
     store = ArtifactStore(workspace.built_dir)
     if args.all:
         with _locked(store, wait=True):
-            for child in (store.artifacts_dir, store.targets_dir, store.tmp_dir, store.logs_dir):
+            for child in (store.artifacts_dir, store.targets_dir, store.tmp_dir, store.logs_dir,
+                          store.checkpoints_dir):  # fmt: skip
                 shutil.rmtree(child, ignore_errors=True)
         console.print(f"removed every build output in {workspace.built_dir}")
         return 0
@@ -440,6 +441,12 @@ def _clean_unused(graph, store, console: Console) -> int:
                 shutil.rmtree(path, ignore_errors=True)
                 removed += 1
     removed += store.clean_stale_tmp()
+    runs = {node.key for node in graph.nodes.values()}
+    if store.checkpoints_dir.is_dir():  # the saved map results of stage runs no target makes now
+        for path in sorted(store.checkpoints_dir.iterdir()):
+            if path.name not in runs:
+                shutil.rmtree(path, ignore_errors=True)
+                removed += 1
     console.print(f"removed {removed} unused artifacts; kept {len(keep)} current ones")
     return 0
 

@@ -18,14 +18,25 @@ the call). If ``fn`` raises, the stage fails with :class:`MapError` naming the l
 item's index (``ctx.map: fn raised on item 17 of 50: ValueError: ...``), the same index whatever
 ran it: earlier chunks are waited for, later ones are dropped (cancelled in a local pool; left to end
 on Ray, whose cancellation can abort the calling process). Progress is reported per chunk.
+
+Resuming a killed stage
+-----------------------
+Each item's result is saved as it is made (``checkpoints/<stage run key>/map-<n>/<item digest>.pkl``
+in the build store, written atomically; ``n`` counts the stage run's ``ctx.map`` calls), and a run of
+the same key (same code, params, inputs and seed) takes a saved result instead of calling ``fn``
+again: a stage of hours killed part way loses only the items in flight. Since ``fn`` draws no
+randomness of its own, the result is the one ``fn`` would make. The worker removes the checkpoints
+once the stage's outputs are committed.
 """
 
 from __future__ import annotations
 
 import concurrent.futures as cf
+import hashlib
 import logging
 import math
 import multiprocessing
+import os
 import pickle
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
@@ -121,6 +132,7 @@ def run_map(
     fanout: FanOut,
     chunksize: int | None = None,
     progress: ProgressSink | None = None,
+    checkpoints: Path | None = None,
 ) -> list[Any]:
     """Apply ``fn`` to every item where ``fanout`` says; the engine of :meth:`StageContext.map`.
 
@@ -136,6 +148,9 @@ def run_map(
         Items per chunk.
     progress : callable, optional
         Called with ``(done items, total, description)`` after each chunk.
+    checkpoints : Path, optional
+        A directory where each item's result is saved as it is made, and taken from on a later call
+        (see "Resuming a killed stage" above).
 
     Returns
     -------
@@ -151,9 +166,11 @@ def run_map(
     """
     values = list(items)
     _check_picklable(fn)
+    description = f"map {getattr(fn, '__name__', 'fn')}"
+    if checkpoints is not None:
+        fn = _Saving(fn, checkpoints)
     bounds = chunk_bounds(len(values), fanout.workers, chunksize)
     chunks = [(start, values[start:stop]) for start, stop in bounds]
-    description = f"map {getattr(fn, '__name__', 'fn')}"
 
     def report(done: int) -> None:
         if progress is not None:
@@ -166,6 +183,33 @@ def run_map(
 
         return ray_map(fn, chunks, len(values), report)
     return _map_processes(fn, chunks, len(values), report, workers=fanout.workers)
+
+
+class _Saving:
+    """``fn`` whose result for an item is taken from ``checkpoints`` when an earlier run saved it, else
+    made and saved there (atomically); it pickles by reference to ``fn``, as ``fn`` does."""
+
+    def __init__(self, fn: Callable[[Any], Any], checkpoints: Path) -> None:
+        self.fn = fn
+        self.checkpoints = checkpoints
+        self.__qualname__ = getattr(fn, "__qualname__", repr(fn))  # what a MapError names
+
+    def __call__(self, item: Any) -> Any:
+        name = f"{getattr(self.fn, '__module__', '')}.{self.__qualname__}"
+        digest = hashlib.sha256(pickle.dumps((name, item), protocol=5)).hexdigest()[:32]
+        path = self.checkpoints / f"{digest}.pkl"
+        try:
+            return pickle.loads(path.read_bytes())
+        except FileNotFoundError:
+            pass
+        except Exception:  # a file a crash left unreadable: make the result again
+            path.unlink(missing_ok=True)
+        result = self.fn(item)
+        self.checkpoints.mkdir(parents=True, exist_ok=True)
+        partial = path.with_name(f".{path.name}.{os.getpid()}.partial")
+        partial.write_bytes(pickle.dumps(result, protocol=5))
+        os.replace(partial, path)
+        return result
 
 
 def _check_picklable(fn: Callable[[Any], Any]) -> None:
@@ -248,6 +292,9 @@ class StageContext:
         Writes to the stage's log file.
     fanout : FanOut
         Where :meth:`map` runs (set by the executor).
+    checkpoints : Path or None
+        Where :meth:`map` saves each item's result for a killed run to resume from (set by the
+        worker: the store's checkpoint directory of this stage run); None saves nothing.
     """
 
     target: str
@@ -262,6 +309,8 @@ class StageContext:
     stats: dict[str, Any] = field(default_factory=dict)
     progress_sink: ProgressSink | None = None
     fanout: FanOut = FanOut()
+    checkpoints: Path | None = None
+    _maps: int = field(default=0, repr=False)
 
     @property
     def output(self) -> Path:
@@ -310,4 +359,10 @@ class StageContext:
         MapError
             ``fn`` raised; the message names the (lowest) failing item's index.
         """
-        return run_map(fn, items, fanout=self.fanout, chunksize=chunksize, progress=self.progress)
+        saved = None
+        if self.checkpoints is not None:
+            self._maps += 1
+            saved = self.checkpoints / f"map-{self._maps}"
+        return run_map(
+            fn, items, fanout=self.fanout, chunksize=chunksize, progress=self.progress, checkpoints=saved
+        )

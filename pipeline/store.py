@@ -5,6 +5,7 @@ Layout::
     artifacts/<stage>/<output>-<key>/      one committed artifact: files + stage.log + manifest.json
     targets/<target>/<output>  -> symlink  the current artifact of each target output
     tmp/                                   work in progress; never read, cleaned on the next run
+    checkpoints/<key>/map-<n>/<item>.pkl   results of ``ctx.map`` items of a stage run not committed yet
     logs/<target>/<stage>.log              the log of the latest run of each stage
     build.lock                             held (flock) by the build or clean working here
 
@@ -106,6 +107,16 @@ class ArtifactStore:
     def tmp_dir(self) -> Path:
         """Artifacts being written."""
         return self.root / "tmp"
+
+    @property
+    def checkpoints_dir(self) -> Path:
+        """The checkpoints of stage runs not committed yet (:meth:`checkpoint_dir`)."""
+        return self.root / "checkpoints"
+
+    def checkpoint_dir(self, key: str) -> Path:
+        """Where the stage run of cache key ``key`` keeps the results of its ``ctx.map`` items until it
+        commits: a run killed part way resumes from them (:mod:`pipeline.context`)."""
+        return self.checkpoints_dir / key
 
     @property
     def logs_dir(self) -> Path:

@@ -300,6 +300,7 @@ def run_task(task: StageTask, progress: Any = None) -> TaskResult:
         _commit_outputs(
             task, store, tmp_dirs, log, ctx, run={"wall_s": wall, "cpu_s": cpu, "peak_rss_mb": peak}
         )
+        shutil.rmtree(store.checkpoint_dir(task.node_key), ignore_errors=True)  # committed: not needed
         return TaskResult(
             node_id=task.node_id,
             ok=True,
@@ -362,6 +363,7 @@ def _run_stage(
         log=logger,
         progress_sink=sink,
         fanout=task.fanout,
+        checkpoints=store.checkpoint_dir(task.node_key),
     )
     logger.info("stage %s for %s (key %s, seed %d)", task.stage, task.target, task.node_key, task.seed)
     spec.fn(ctx, params)

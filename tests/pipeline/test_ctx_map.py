@@ -87,6 +87,48 @@ def test_error_names_the_lowest_failing_item(kind, request):
     assert info.value.index == 13
 
 
+CALLS: list[int] = []
+
+
+def recorded(item: int) -> int:
+    """``3 * item``, noting each call (inline runs only: they share this process's list)."""
+    CALLS.append(item)
+    return 3 * item
+
+
+@pytest.mark.parametrize("fanout", [FanOut("inline", 1), FanOut("processes", 2)], ids=str)
+def test_saved_results_are_taken_instead_of_made_again(tmp_path, fanout):
+    """A map killed part way resumes: each item's result is saved as it is made, and a later run takes
+    the saved ones, makes the missing (and unreadable) ones, and returns the same list."""
+    saved = tmp_path / "map-1"
+    assert run_map(kernel, ITEMS, fanout=fanout, chunksize=4, checkpoints=saved) == EXPECTED
+    files = sorted(saved.glob("*.pkl"))
+    assert len(files) == len(ITEMS) and not list(saved.glob(".*"))  # no partial file left
+    for path in files[:5]:  # as if these items were in flight when the run was killed
+        path.unlink()
+    files[5].write_bytes(b"torn")
+    assert run_map(kernel, ITEMS, fanout=fanout, chunksize=4, checkpoints=saved) == EXPECTED
+    assert len(list(saved.glob("*.pkl"))) == len(ITEMS)
+
+
+def test_only_missing_items_are_made_on_resume(tmp_path):
+    saved = tmp_path / "map-1"
+    CALLS.clear()
+    assert run_map(recorded, list(range(20)), fanout=FanOut("inline", 1), checkpoints=saved) == [
+        3 * i for i in range(20)
+    ]
+    assert sorted(CALLS) == list(range(20))
+    for path in sorted(saved.glob("*.pkl"))[:3]:
+        path.unlink()
+    CALLS.clear()
+    assert run_map(recorded, list(range(20)), fanout=FanOut("inline", 1), checkpoints=saved) == [
+        3 * i for i in range(20)
+    ]
+    assert len(CALLS) == 3  # the other 17 were taken from their files
+    # another function over the same items, in the same place, gets its own results, not recorded's
+    assert run_map(kernel, list(range(20)), fanout=FanOut("inline", 1), checkpoints=saved) == EXPECTED[:20]
+
+
 def test_a_lambda_is_refused_on_every_executor():
     with pytest.raises(TypeError, match="module-level function"):
         run_map(lambda x: x, ITEMS, fanout=FanOut("inline", 1))
@@ -108,6 +150,7 @@ def test_stage_map_is_the_same_on_every_executor(tmp_path, ray_instance):
     from pipeline.ray_executor import RayExecutor
 
     inline, stats_inline = _build_values(tmp_path / "inline", InlineExecutor)
+    assert not list((tmp_path / "inline" / "data" / "built").glob("checkpoints/*"))  # removed on commit
     pooled, stats_pool = _build_values(tmp_path / "pool", lambda: LocalProcessExecutor(1, map_workers=2))
     on_ray, stats_ray = _build_values(tmp_path / "ray", lambda: RayExecutor(None, 2))
     assert (stats_inline["fanout"], stats_pool["fanout"], stats_ray["fanout"]) == (
