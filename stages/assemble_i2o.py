@@ -74,7 +74,7 @@ def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
     from navverse.city.i2o.assembly import assemble_i2o as assemble
     from navverse.scene.directory import read_scene
 
-    cities = _cities_in_turn(ctx)
+    cities = _in_turn(ctx, "city")
     building = read_scene(_draw(ctx, "building"))
     settings = AssemblySettings.of(params)
     ctx.progress(1, 3, "assembling")
@@ -103,7 +103,7 @@ def generate_i2o(ctx: StageContext, params: GenerateI2OParams) -> None:
     """An i2o scene: a procedural building sized to a road-facing city building, set in its place."""
     from navverse.city.i2o.assembly import generate_i2o as generate
 
-    cities = _cities_in_turn(ctx)
+    cities = _in_turn(ctx, "city")
     settings = AssemblySettings.of(params)
     ctx.progress(1, 3, "generating")
     joined = _join(
@@ -222,25 +222,18 @@ def _finish(ctx: StageContext, params: AssembleI2OParams, joined: _Joined, *, bu
     )  # fmt: skip
 
 
-def _cities_in_turn(ctx: StageContext) -> list[Path]:
-    """The linked city directories in the order they are tried: the one drawn with the target's seed
-    (:func:`_draw`), then the others after it in scene-id order, so a city that has no room for the
-    building passes it to another city of the same link."""
-    linked = _linked(ctx, "city")
+def _in_turn(ctx: StageContext, name: str) -> list[Path]:
+    """The linked scene directories of input `name` in the order they are tried: the one drawn with
+    the target's seed (the only one, or a draw among several ordered by scene id, so the draw does not
+    depend on where artifacts are stored), then the others after it in scene-id order, so a city with
+    no room for the building passes it to another city of the same link."""
+    from navverse.scene.directory import read_annotations
+
+    linked = sorted(ctx.inputs[name], key=lambda path: read_annotations(path).scene_id)
     first = int(ctx.rng.integers(len(linked))) if len(linked) > 1 else 0
     return linked[first:] + linked[:first]
 
 
-def _linked(ctx: StageContext, name: str) -> list[Path]:
-    """The linked scene directories of input `name`, ordered by scene id (so a draw does not depend on
-    where artifacts are stored)."""
-    from navverse.scene.directory import read_annotations
-
-    return sorted(ctx.inputs[name], key=lambda path: read_annotations(path).scene_id)
-
-
 def _draw(ctx: StageContext, name: str) -> Path:
-    """The linked scene directory of input `name`: the only one, or one drawn with the target's seed
-    among several (:func:`_linked`'s order)."""
-    linked = _linked(ctx, name)
-    return linked[int(ctx.rng.integers(len(linked)))] if len(linked) > 1 else linked[0]
+    """The linked scene directory of input `name` drawn with the target's seed (:func:`_in_turn`)."""
+    return _in_turn(ctx, name)[0]
