@@ -31,10 +31,15 @@ import numpy as np
 import open3d as o3d
 from numpy.typing import ArrayLike
 
+from navverse.look.materials import srgb_to_linear
+from navverse.look.scene_look import SceneLook, scene_look
+from navverse.look.settings import EVAL_LOOK, LookSettings
 from navverse.scene.colors import default_color
 from navverse.scene.geometry import MeshData, Scene, merge_textures
 from navverse.scene_types import scene_profile
 from navverse.sim.camera import CameraIntrinsics, check_pose
+from navverse.sim.lighting import Lighting
+from navverse.sim.tile_sampler import TileSampler
 
 __all__ = ["BACKGROUND_CLASS", "BACKGROUND_ID", "DEFAULT_INTRINSICS", "Frame", "SceneRenderer", "Shading"]
 
@@ -203,13 +208,18 @@ class SceneRenderer:
         depth_range: tuple[float, float] = (0.1, 1000.0),
         hidden_classes: Sequence[str] = (),
         shading: Shading | None = None,
+        look: LookSettings | SceneLook | None = None,
         threads: int = 0,
     ) -> None:
         near, far = (float(v) for v in depth_range)
         if not (math.isfinite(near) and math.isfinite(far) and 0.0 < near < far):
             raise ValueError(f"depth_range must be (near, far) with 0 < near < far, got {depth_range!r}")
+        if shading is not None and look is not None:
+            raise ValueError("give a look (lit images) or a shading (flat images), not both")
+        sky = scene_profile(scene.annotations.scene_type).sky
+        flat = shading is not None
         if shading is None:
-            shading = Shading(sky=scene_profile(scene.annotations.scene_type).sky)
+            shading = Shading(sky=sky, terrain_lighten=0.0)
         self._intrinsics = intrinsics
         self._near, self._far = near, far
         self._shading = shading
@@ -261,6 +271,29 @@ class SceneRenderer:
         self._y = np.ascontiguousarray(dirs[:, 0, 1], dtype=np.float32)
         self._inv_length = (1.0 / np.linalg.norm(dirs, axis=-1)).astype(np.float32)
         self._rays = np.empty((intrinsics.height, intrinsics.width, 6), dtype=np.float32)
+        self._lighting: Lighting | None = None
+        if not flat:
+            if not isinstance(look, SceneLook):
+                look = scene_look(scene, look or EVAL_LOOK, hidden_classes=tuple(hidden_classes))
+            if len(look.face_kind) != num_faces + 1:
+                raise ValueError(
+                    "the look was compiled for other faces (another scene or other hidden classes)"
+                )
+            self._look = look
+            geo = scene.annotations.geo
+            self._lighting = Lighting(
+                look.settings,
+                rooms=look.rooms,
+                latitude_deg=None if geo is None else geo.origin_lat,
+                raycaster=self._raycaster,
+                origin=self._origin,
+                sky=sky,
+                threads=threads,
+            )
+            self._tiles = TileSampler(look.tiles, look.tile_sizes)
+            self._linear = srgb_to_linear(colors).T.copy()  # (3, F + 1) albedo per face
+            self._to_linear = srgb_to_linear(np.arange(256))
+            self._pixel_angle = 1.0 / intrinsics.fx
 
     @property
     def intrinsics(self) -> CameraIntrinsics:
@@ -274,8 +307,13 @@ class SceneRenderer:
 
     @property
     def shading(self) -> Shading:
-        """The lighting parameters."""
+        """The flat-image parameters (their sky and background also serve lit images)."""
         return self._shading
+
+    @property
+    def look(self) -> LookSettings | None:
+        """The look of lit images; None when the renderer makes flat ones (a `shading` was given)."""
+        return None if self._lighting is None else self._lighting.settings
 
     @property
     def class_names(self) -> tuple[str, ...]:
@@ -343,14 +381,29 @@ class SceneRenderer:
     def _shade(self, hits: tuple[np.ndarray, np.ndarray, np.ndarray]) -> Frame:
         """Turn the hits of the last cast (whose rays are still in the buffer) into the four images."""
         t_hit, face, barycentric = hits
-        shading = self._shading
         depth = t_hit + np.float32(self._near)
         missed = ~(depth <= self._far)  # inf (no hit) compares False
         np.copyto(face, np.uint32(self._miss), where=missed)
         np.copyto(depth, np.float32(0.0), where=missed)
         semantic = self._instance.take(face)
         terrain = self._terrain.take(face)
+        if self._lighting is None:
+            rgb = self._flat_rgb(face, barycentric, depth, missed, semantic, terrain)
+        else:
+            rgb = self._lit_rgb(t_hit, face, barycentric, depth, missed)
+        return Frame(rgb=rgb, depth=depth, semantic=semantic, terrain=terrain)
 
+    def _flat_rgb(
+        self,
+        face: np.ndarray,
+        barycentric: np.ndarray,
+        depth: np.ndarray,
+        missed: np.ndarray,
+        semantic: np.ndarray,
+        terrain: np.ndarray,
+    ) -> np.ndarray:
+        """Flat images (:class:`Shading`): face colours under fixed lights, fog and outlines."""
+        shading = self._shading
         # Lighting: cosine between ray and normal (for the headlight and the side facing the camera).
         normals = self._normals.take(face, axis=0)
         n_dot_ray = np.einsum("ijk,ijk->ij", normals, self._rays[..., 3:])
@@ -397,7 +450,105 @@ class SceneRenderer:
             np.clip(channel, 0.0, 255.0, out=channel)
             np.rint(channel, out=channel)
             rgb[..., c] = channel
-        return Frame(rgb=rgb, depth=depth, semantic=semantic, terrain=terrain)
+        return rgb
+
+    def _lit_rgb(
+        self,
+        t_hit: np.ndarray,
+        face: np.ndarray,
+        barycentric: np.ndarray,
+        depth: np.ndarray,
+        missed: np.ndarray,
+    ) -> np.ndarray:
+        """Lit images (the look's :class:`~navverse.sim.lighting.Lighting`): albedo times light, exposed."""
+        lighting = self._lighting
+        assert lighting is not None
+        height, width = face.shape
+        radiance = self._lit_radiance(t_hit, face, barycentric, depth, missed)
+        flat_missed = missed.reshape(-1)
+        sky = self._shading.sky and bool(flat_missed.any())
+        rgb = lighting.encode(radiance, measured=None if sky or flat_missed.all() else ~flat_missed)
+        if not sky and flat_missed.any():
+            rgb[flat_missed] = np.asarray(self._shading.background, dtype=np.uint8)  # the void: no light
+        return rgb.reshape(height, width, 3)
+
+    def radiance(self, camera_to_world: ArrayLike) -> np.ndarray:
+        """The linear radiance a lit renderer sees from a pose, before exposure and tone mapping.
+
+        Parameters
+        ----------
+        camera_to_world : array_like, shape (4, 4)
+            Pose of the optical frame.
+
+        Returns
+        -------
+        ndarray of float32, shape (H, W, 3)
+            Linear RGB radiance (1.0: a white surface in the open sky's light); the sky where a scene
+            has one, 0 where nothing is hit in a scene without.
+
+        Raises
+        ------
+        ValueError
+            If the renderer makes flat images (a `shading` was given) or the pose is not rigid.
+        """
+        if self._lighting is None:
+            raise ValueError("a renderer made with a shading has no radiance: make it with a look")
+        t_hit, face, barycentric = self._cast(check_pose(camera_to_world))
+        depth = t_hit + np.float32(self._near)
+        missed = ~(depth <= self._far)
+        np.copyto(face, np.uint32(self._miss), where=missed)
+        np.copyto(depth, np.float32(0.0), where=missed)
+        height, width = face.shape
+        return self._lit_radiance(t_hit, face, barycentric, depth, missed).T.reshape(height, width, 3)
+
+    def _lit_radiance(
+        self,
+        t_hit: np.ndarray,
+        face: np.ndarray,
+        barycentric: np.ndarray,
+        depth: np.ndarray,
+        missed: np.ndarray,
+    ) -> np.ndarray:
+        """The ``(3, H * W)`` linear radiance of the last cast: albedo (materials, textures, object
+        colours) times the look's light; the sky or 0 where nothing was hit."""
+        lighting = self._lighting
+        assert lighting is not None
+        height, width = face.shape
+        flat_face = face.reshape(-1)
+        hits = np.flatnonzero(~missed.reshape(-1))
+        hit_face = flat_face.take(hits)
+        rays = self._rays.reshape(-1, 6)
+        directions = rays.take(hits, axis=0)
+        points = directions[:, :3] + t_hit.reshape(-1).take(hits)[:, None] * directions[:, 3:]
+        normals = self._normals.take(hit_face, axis=0)
+        along = np.einsum("ij,ij->i", normals, directions[:, 3:])
+        normals[along > 0.0] *= np.float32(-1.0)
+        albedo = self._linear.take(hit_face, axis=1)
+        hit_depth = depth.reshape(-1).take(hits)
+        surface = self._look.surface(hit_face, points.astype(np.float64) + self._origin)
+        tiled = np.flatnonzero(surface.tile >= 0)
+        if len(tiled):
+            cosine = np.abs(along.take(tiled)) / np.linalg.norm(directions[tiled, 3:], axis=1)
+            footprint = hit_depth.take(tiled) * self._pixel_angle / np.maximum(cosine, 0.2)
+            srgb = self._tiles.sample(surface.tile[tiled], surface.u[tiled], surface.v[tiled], footprint)
+            for c in range(3):
+                albedo[c, tiled] = self._to_linear.take(np.rint(srgb[c]).astype(np.intp))
+        if len(surface.replaced):
+            albedo[:, surface.replaced] = surface.albedo
+        if self._sampler is not None:
+            pixels, colors = self._sampler.sample(face, barycentric)
+            if len(pixels):
+                slot = np.searchsorted(hits, pixels)  # textured pixels are hits
+                for c in range(3):
+                    albedo[c, slot] = self._to_linear.take(np.rint(colors[c]).astype(np.intp).clip(0, 255))
+        radiance = np.zeros((3, height * width), dtype=np.float32)
+        radiance[:, hits] = lighting.radiance(points, normals, albedo, hit_depth, surface.reflect)
+        misses = np.flatnonzero(missed.reshape(-1))
+        if self._shading.sky and len(misses):
+            ray = rays.take(misses, axis=0)[:, 3:]
+            ray /= np.linalg.norm(ray, axis=1, keepdims=True)
+            radiance[:, misses] = lighting.sky(ray)
+        return radiance
 
     def _sky(self, missed: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
         """Flat indices of the missed pixels and their three sky channels, by the elevation of their rays."""

@@ -28,7 +28,7 @@ from navverse.scene.colors import default_color
 from navverse.scene.geometry import Scene, SceneObject
 from navverse.sim.camera import CameraIntrinsics, check_pose
 from navverse.sim.keyframes import camera_poses
-from navverse.sim.render import SceneRenderer
+from navverse.sim.render import SceneRenderer, Shading
 
 __all__ = ["PALETTE", "LandmarkFinder", "SeenLandmark", "color_name", "object_color"]
 
@@ -153,7 +153,8 @@ class LandmarkFinder:
         self._camera_to_base = check_pose(camera_to_base)
         self._settings = settings
         intrinsics = CameraIntrinsics.from_hfov(*settings.resolution, 90.0)
-        self._renderer = SceneRenderer(scene, intrinsics=intrinsics)
+        # Only instance ids and depth are read: flat shading, the cheapest colours, and no look.
+        self._renderer = SceneRenderer(scene, intrinsics=intrinsics, shading=Shading())
         self._objects = {o.annotation.id: o for o in scene.objects}
         self._colors: dict[int, str] = {}
         self._places = _storefront_places(scene)

@@ -141,12 +141,13 @@ def test_shaded_colour_follows_the_lighting_formula(scene: Scene) -> None:
     cosine = 1.0 / np.linalg.norm(ray)  # normal is -z in the optical frame
     expected = np.array(OBJECT_RGB) * (0.2 + 0.8 * cosine)
     np.testing.assert_allclose(frame.rgb[row, col], expected, atol=1.0)
-    # Default shading keeps the hue and a recognisable brightness.
+    # The default, lit look keeps the hue (red well above green and blue, which the sky's bluish light
+    # moves a little) and a recognisable brightness.
     default = SceneRenderer(scene, intrinsics=SMALL).render(pose)
     shaded = default.rgb[row, col].astype(float)
     ratio = shaded / np.array(OBJECT_RGB)
     assert 0.5 < ratio[0] < 1.3
-    assert shaded[0] > 3 * shaded[1] and abs(shaded[1] - shaded[2]) < 3
+    assert shaded[0] > 3 * max(shaded[1], shaded[2]) and abs(shaded[1] - shaded[2]) < 8
 
 
 def test_projection_agrees_with_the_rays(scene: Scene) -> None:

@@ -1,0 +1,369 @@
+"""A scene's look compiled for the renderer: the material under every hit point and its overlays.
+
+:func:`scene_look` reads a scene once and decides, per face of its world mesh (the renderer's order:
+visible surfaces, then objects), what the face is: an object (its own colours), a plain surface of a
+material (by terrain class: asphalt roads, slab sidewalks, curb stones, grass...), a floor (its
+material by the type of the room the hit is in), a wall (paint inside a room, render with a plinth
+outside), a facade (:mod:`navverse.look.facades`), a roof, a road (markings from the map:
+:mod:`navverse.look.markings`) or a crosswalk (zebra stripes along its long side).
+:meth:`SceneLook.surface` then gives, for the hits of a frame, the material tile to sample, the
+surface coordinates to sample it at, and the albedo that overlays replace it with.
+
+Surface coordinates are in meters: ``(x, y)`` on faces that look up or down, along-the-wall and
+height on the others (for facades, from the facade's own start and the building's base, so windows
+sit in whole bays). Materials repeat as tiles (:func:`~navverse.look.materials.bake_tile`), baked once
+per material and variant in a process.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import cache, lru_cache
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon
+
+from navverse.city.map import CityMap
+from navverse.look.facades import OVERLAY_ALBEDO, OVERLAY_NAMES, FacadeFrames, facade_frames
+from navverse.look.markings import MarkedRoad, RoadMarkings, road_markings
+from navverse.look.materials import (
+    CLASS_MATERIALS,
+    MATERIAL_NAMES,
+    MATERIALS,
+    bake_tile,
+    facade_style,
+    material_index,
+    room_floor,
+    srgb_to_linear,
+)
+from navverse.look.patterns import cell_value
+from navverse.look.rooms import RoomLights, room_lights
+from navverse.look.settings import LookSettings
+from navverse.scene.geometry import MeshData, Scene
+
+__all__ = ["KIND_NAMES", "MapDetails", "SceneLook", "SurfaceLook", "map_details", "scene_look"]
+
+OBJECT, PLAIN, FLOOR, WALL, FACADE, CROSSWALK, ROAD = range(7)
+KIND_NAMES = ("object", "plain", "floor", "wall", "facade", "crosswalk", "road")
+"""What a face is, by its kind number in :attr:`SceneLook.face_kind`."""
+_BUILDING_SURFACE = re.compile(r"^building_(\d+)$")  # a city building's solid, named by its id
+_UPWARD = 0.5  # |normal z| at and above which a face is floor-like (coordinates x, y)
+_PLINTH = 0.4  # meters of plinth at the foot of outer walls
+_STRIPE = 0.5  # zebra stripe and gap width (m)
+
+
+@dataclass(frozen=True)
+class MapDetails:
+    """What a city map adds to a scene's look: building types and levels, and the roads' markings.
+
+    Attributes
+    ----------
+    buildings : dict
+        By scene building id, its map type (``building=*``, None for ``yes``) and levels (or None).
+    roads : list of MarkedRoad
+        The mapped roads.
+    """
+
+    buildings: dict[int, tuple[str | None, float | None]]
+    roads: list[MarkedRoad]
+
+
+def map_details(scene: Scene, city_map: CityMap) -> MapDetails:
+    """The map details of a city scene made from `city_map` (its buildings name their map ids)."""
+    by_map_id = {b.id: b for b in city_map.buildings}
+    buildings = {}
+    for building in scene.annotations.buildings:
+        mapped = by_map_id.get(building.map_id) if building.map_id else None
+        if mapped is not None:
+            buildings[building.id] = (None if mapped.type in (None, "yes") else mapped.type, mapped.levels)
+    roads = [
+        MarkedRoad(
+            tuple((float(x), float(y)) for x, y in r.centerline.points), r.width, r.lanes, r.oneway, r.highway
+        )
+        for r in city_map.roads
+    ]
+    return MapDetails(buildings=buildings, roads=roads)
+
+
+@dataclass(frozen=True)
+class SurfaceLook:
+    """What the renderer shows at `K` hits: tiles to sample, or an albedo that replaces them.
+
+    Attributes
+    ----------
+    tile : ndarray of int32, shape (K,)
+        Index into :attr:`SceneLook.tiles` (``-1``: an object face, which keeps its own colour).
+    u, v : ndarray of float64, shape (K,)
+        Surface coordinates in meters.
+    replaced : ndarray of int64, shape (M,)
+        Hits whose albedo an overlay sets (windows, frames, doors, plinths, stripes, markings)...
+    albedo : ndarray of float32, shape (3, M)
+        ... to this linear RGB.
+    reflect : ndarray of float32, shape (K,)
+        Share of the sky each hit mirrors (glass, water).
+    """
+
+    tile: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    replaced: np.ndarray
+    albedo: np.ndarray
+    reflect: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class SceneLook:
+    """A scene's look for the renderer (see the module's docstring); made by :func:`scene_look`.
+
+    Attributes
+    ----------
+    settings : LookSettings
+        The look's settings.
+    rooms : RoomLights
+        The rooms' lamps and raster.
+    tiles : tuple of ndarray
+        Baked sRGB tiles ``(n, n, 3)``, one per material of
+        :data:`~navverse.look.materials.MATERIAL_NAMES`.
+    tile_sizes : ndarray of float64, shape (T,)
+        Side of each tile in meters.
+    face_kind, face_material, face_frame : ndarray, shape (F + 1,)
+        Per face (and the miss row): its kind, its material (plain surfaces, roofs; ``-1`` for
+        objects) and its frame (facades: a row of `facades`; crosswalks: a row of `crossings`; ``-1``
+        otherwise).
+    face_normals : ndarray of float64, shape (F + 1, 3)
+        Unit face normals (zero on objects and the miss row).
+    facades : FacadeFrames
+        The facade frames.
+    crossings : ndarray of float64, shape (C, 4)
+        Per crosswalk patch, a corner and the unit direction of its long side.
+    room_floor : ndarray of int32, shape (R,)
+        Each room's floor material.
+    markings : RoadMarkings or None
+        The road markings (None without a map).
+    """
+
+    settings: LookSettings
+    rooms: RoomLights
+    tiles: tuple[np.ndarray, ...]
+    tile_sizes: np.ndarray
+    face_kind: np.ndarray
+    face_material: np.ndarray
+    face_frame: np.ndarray
+    face_normals: np.ndarray
+    facades: FacadeFrames
+    crossings: np.ndarray
+    room_floor: np.ndarray
+    markings: RoadMarkings | None
+
+    def surface(self, face: np.ndarray, points: np.ndarray) -> SurfaceLook:
+        """The tiles, coordinates and overlays at hits on `face` (``(K,)`` world-mesh face indices) at
+        world `points` ``(K, 3)`` (float64)."""
+        kind = self.face_kind.take(face)
+        material = self.face_material.take(face).astype(np.int32)
+        normal = self.face_normals.take(face, axis=0)
+        flat = np.abs(normal[:, 2]) >= _UPWARD
+        horizontal = np.hypot(normal[:, 0], normal[:, 1])
+        horizontal[horizontal == 0.0] = 1.0
+        along_wall = (points[:, 1] * normal[:, 0] - points[:, 0] * normal[:, 1]) / horizontal
+        u = np.where(flat, points[:, 0], along_wall)
+        v = np.where(flat, points[:, 1], points[:, 2])
+        reflect = np.zeros(len(face), dtype=np.float32)
+        painted = _Overlays()
+        inside = np.flatnonzero((kind == FLOOR) | (kind == WALL))
+        if len(inside):
+            room = self.rooms.room_at(points[inside] + normal[inside] * 0.05)
+            is_floor = kind[inside] == FLOOR
+            floors = is_floor & (room >= 0)
+            material[inside[floors]] = self.room_floor.take(room[floors])
+            material[inside[~is_floor & (room >= 0)]] = material_index("wall_paint")
+            outer = inside[~is_floor & (room < 0)]
+            material[outer] = material_index("render")
+            base = float(self.rooms.floors.min()) if not self.rooms.empty else 0.0
+            painted.add(outer[points[outer, 2] - base < _PLINTH], "plinth")
+        facade = np.flatnonzero(kind == FACADE)
+        if len(facade):
+            paint = self.facades.paint(self.face_frame.take(face.take(facade)), points[facade])
+            u[facade], v[facade] = paint.s, paint.h
+            material[facade] = paint.wall
+            for index, name in enumerate(OVERLAY_NAMES):
+                painted.add(facade[paint.overlay == index], name, albedo=OVERLAY_ALBEDO[:, index])
+            reflect[facade[paint.overlay == OVERLAY_NAMES.index("glass")]] = MATERIALS["glass"].reflect
+        stripes = np.flatnonzero(kind == CROSSWALK)
+        if len(stripes):
+            patch = self.crossings.take(self.face_frame.take(face.take(stripes)), axis=0)
+            along = (points[stripes, 0] - patch[:, 0]) * patch[:, 2] + (
+                points[stripes, 1] - patch[:, 1]
+            ) * patch[:, 3]
+            painted.add(stripes[np.mod(along, 2.0 * _STRIPE) < _STRIPE], "marking")
+        roads = np.flatnonzero(kind == ROAD)
+        if len(roads) and self.markings is not None:
+            painted.add(roads[self.markings.painted(points[roads])], "marking")
+        reflect[(material == material_index("water")) & (kind == PLAIN)] = MATERIALS["water"].reflect
+        replaced, albedo = painted.joined()
+        return SurfaceLook(tile=material, u=u, v=v, replaced=replaced, albedo=albedo, reflect=reflect)
+
+
+class _Overlays:
+    """Hits painted over, with their albedo, gathered in order (a later one wins on the same hit)."""
+
+    def __init__(self) -> None:
+        self._hits: list[np.ndarray] = []
+        self._albedo: list[np.ndarray] = []
+
+    def add(self, hits: np.ndarray, name: str, *, albedo: np.ndarray | None = None) -> None:
+        color = _base_albedo(name) if albedo is None else albedo
+        self._hits.append(hits)
+        self._albedo.append(np.broadcast_to(np.asarray(color, dtype=np.float32)[:, None], (3, len(hits))))
+
+    def joined(self) -> tuple[np.ndarray, np.ndarray]:
+        if not self._hits:
+            return np.zeros(0, dtype=np.int64), np.zeros((3, 0), dtype=np.float32)
+        return np.concatenate(self._hits), np.concatenate(self._albedo, axis=1)
+
+
+@cache
+def _base_albedo(name: str) -> np.ndarray:
+    """Linear base albedo of a material (overlays use it flat)."""
+    return srgb_to_linear(MATERIALS[name].color)
+
+
+@lru_cache(maxsize=4)
+def _tiles(variant: int) -> tuple[np.ndarray, ...]:
+    """Every material's tile for a material variant (baked once per process)."""
+    return tuple(bake_tile(MATERIALS[name], seed=1000 + variant) for name in MATERIAL_NAMES)
+
+
+def scene_look(
+    scene: Scene,
+    settings: LookSettings,
+    *,
+    hidden_classes: Sequence[str] = (),
+    details: MapDetails | None = None,
+) -> SceneLook:
+    """Compile the look of `scene` for the renderer.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    settings : LookSettings
+        The look's settings (its material variant picks the materials' variants and the houses' walls).
+    hidden_classes : sequence of str
+        Terrain classes the renderer leaves out (the face order follows it).
+    details : MapDetails, optional
+        The city map's building types and levels and its roads (:func:`map_details`); without them,
+        buildings are houses of brick or render with storeys from their height, and roads bare.
+
+    Returns
+    -------
+    SceneLook
+    """
+    hidden = set(hidden_classes)
+    variant = settings.material_variant
+    known = details.buildings if details is not None else {}
+    styles = {}
+    for building in scene.annotations.buildings:
+        map_type, levels = known.get(building.id, (None, None))
+        pick = float(cell_value(np.array([building.id]), np.array([0]), variant)[0])
+        styles[building.id] = (facade_style(map_type, pick=pick), levels)
+    facades, facade_rows = facade_frames(scene.annotations.buildings, styles)
+    buildings = {b.id: b for b in scene.annotations.buildings}
+    crossings: list[tuple[float, float, float, float]] = []
+    kinds, materials, frames, normals = [], [], [], []
+    for surface in scene.surfaces:
+        if surface.terrain_class in hidden:
+            continue
+        mesh = surface.mesh
+        face_normals = _unit_normals(mesh)
+        kind = np.full(mesh.num_faces, PLAIN, dtype=np.int8)
+        material = np.full(
+            mesh.num_faces, material_index(CLASS_MATERIALS.get(surface.terrain_class, "concrete"))
+        )
+        frame = np.full(mesh.num_faces, -1, dtype=np.int32)
+        match = _BUILDING_SURFACE.match(surface.name)
+        if surface.terrain_class == "floor":
+            kind[:] = FLOOR
+        elif surface.terrain_class == "wall":
+            kind[:] = WALL
+        elif surface.terrain_class == "road":
+            kind[:] = ROAD
+        elif surface.terrain_class == "crosswalk":
+            kind[:] = CROSSWALK
+            frame[:] = _crosswalk_patches(mesh, crossings)
+        elif surface.terrain_class == "building" and match and int(match.group(1)) in buildings:
+            building = buildings[int(match.group(1))]
+            up = np.abs(face_normals[:, 2]) >= _UPWARD
+            material[up] = material_index("roof")
+            walls = np.flatnonzero(~up)
+            if building.facades and len(walls):
+                kind[walls] = FACADE
+                frame[walls] = [
+                    facade_rows[(building.id, f)] for f in _nearest_facades(building, mesh, walls)
+                ]
+        kinds.append(kind)
+        materials.append(material)
+        frames.append(frame)
+        normals.append(face_normals)
+    for obj in scene.objects:
+        n = obj.mesh.num_faces
+        kinds.append(np.full(n, OBJECT, dtype=np.int8))
+        materials.append(np.full(n, -1))
+        frames.append(np.full(n, -1, dtype=np.int32))
+        normals.append(np.zeros((n, 3)))
+    rooms = room_lights(scene.annotations)
+    return SceneLook(
+        settings=settings,
+        rooms=rooms,
+        tiles=_tiles(variant),
+        tile_sizes=np.array([MATERIALS[name].tile for name in MATERIAL_NAMES]),
+        face_kind=np.concatenate([*kinds, [OBJECT]]).astype(np.int8),
+        face_material=np.concatenate([*materials, [-1]]).astype(np.int16),
+        face_frame=np.concatenate([*frames, [-1]]).astype(np.int32),
+        face_normals=np.concatenate([*normals, np.zeros((1, 3))]),
+        facades=facades,
+        crossings=np.asarray(crossings, dtype=np.float64).reshape(-1, 4),
+        room_floor=np.array([material_index(room_floor(t)) for t in rooms.room_types], dtype=np.int32),
+        markings=road_markings(details.roads) if details is not None and details.roads else None,
+    )
+
+
+def _nearest_facades(building, mesh: MeshData, walls: np.ndarray) -> list[int]:
+    """The facade (id) of each wall face of a building's solid: the one whose outward normal agrees
+    with the face's and whose line runs nearest the face's centre."""
+    segments = np.array([f.segment for f in building.facades], dtype=np.float64)
+    outward = np.array([f.normal for f in building.facades], dtype=np.float64)
+    centers = mesh.vertices[mesh.faces[walls]].mean(axis=1)[:, :2]
+    normals = _unit_normals(mesh)[walls, :2]
+    offset = np.abs(centers @ outward.T - np.einsum("nk,nk->n", segments[:, 0], outward)[None, :])
+    disagreement = 1.0 - normals @ outward.T
+    best = np.argmin(offset + 10.0 * disagreement, axis=1)
+    return [building.facades[k].id for k in best]
+
+
+def _crosswalk_patches(mesh: MeshData, crossings: list[tuple[float, float, float, float]]) -> np.ndarray:
+    """The patch (a row appended to `crossings`: a corner and the direction of its long side) of
+    each face of a crosswalk surface; a patch is a connected piece of its top view."""
+    triangles = mesh.vertices[mesh.faces][:, :, :2]
+    pieces = [Polygon(t).buffer(0.01) for t in triangles]
+    merged = shapely.unary_union([p for p in pieces if not p.is_empty])
+    patches = list(getattr(merged, "geoms", [merged]))
+    nearest = shapely.STRtree(patches).nearest(shapely.points(triangles.mean(axis=1)))
+    first = len(crossings)
+    for patch in patches:
+        box = np.asarray(patch.minimum_rotated_rectangle.exterior.coords)[:4]
+        edges = np.diff(np.vstack([box, box[:1]]), axis=0)
+        longest = edges[np.argmax(np.hypot(edges[:, 0], edges[:, 1]))]
+        direction = longest / np.hypot(*longest)
+        crossings.append((float(box[0, 0]), float(box[0, 1]), float(direction[0]), float(direction[1])))
+    return first + np.asarray(nearest, dtype=np.int32)
+
+
+def _unit_normals(mesh: MeshData) -> np.ndarray:
+    """Unit face normals; zero for degenerate faces."""
+    tri = mesh.vertices[mesh.faces]
+    normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    length = np.linalg.norm(normals, axis=1, keepdims=True)
+    return np.divide(normals, length, out=np.zeros_like(normals), where=length > 0)

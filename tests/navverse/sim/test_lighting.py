@@ -1,0 +1,135 @@
+"""The lit look on known geometry: Lambert's cosine law, shadows, zebra stripes where the map has them."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from navverse.city.geometry.scene import CityGeometry, city_scene
+from navverse.city.osm.reader import read_osm
+from navverse.look.scene_look import map_details, scene_look
+from navverse.look.settings import LookSettings
+from navverse.look.sky import sun_sky
+from navverse.scene.geometry import Scene, Surface
+from navverse.sim.camera import CameraIntrinsics, look_at
+from navverse.sim.render import SceneRenderer, Shading
+from tests.scenes import box_part, quad, scene_of
+
+SMALL = CameraIntrinsics.from_hfov(160, 120, 90.0)
+NOON = LookSettings(time_of_day=12.0, day_of_year=80, latitude_deg=45.0)  # the sun due south, 45 deg up
+GREY = (180, 180, 180)
+T_JUNCTION = Path(__file__).parents[1] / "city" / "data" / "t_junction.osm"
+
+
+def _pixel(pose: np.ndarray, intrinsics: CameraIntrinsics, point: np.ndarray) -> tuple[int, int]:
+    """(row, col) of the pixel a world point projects to."""
+    local = np.linalg.inv(pose) @ np.append(point, 1.0)
+    u, v = intrinsics.project(local[:3])
+    return math.floor(v), math.floor(u)
+
+
+def _seen(renderer: SceneRenderer, point: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """Radiance at a surface point seen head-on from 4 m in front of it."""
+    eye = point + 4.0 * normal
+    pose = look_at(eye, point)
+    row, col = _pixel(pose, renderer.intrinsics, point)
+    return renderer.radiance(pose)[row, col]
+
+
+def test_a_face_turned_from_the_sun_is_darker_by_lamberts_ratio() -> None:
+    # Three grey panels, their faces vertical (the same sky light): A faces the sun's azimuth, B is turned
+    # 60 degrees from it, C faces away (sky light only).
+    faces = {"A": 0.0, "B": math.radians(60.0), "C": math.pi}
+    objects = [
+        box_part("panel", (6.0 * k, 0.0, 1.0), (1.0, 0.2, 1.0), yaw, rgb=GREY)
+        for k, yaw in enumerate(faces.values())
+    ]
+    scene = scene_of(
+        [Surface("floor", "floor", quad(-5.0, -5.0, 20.0, 5.0, 0.0))], objects, scene_id="panels"
+    )
+    renderer = SceneRenderer(scene, intrinsics=SMALL, look=NOON)
+    sun = sun_sky(NOON).sun_direction
+    seen, cosines = {}, {}
+    for k, (name, yaw) in enumerate(faces.items()):
+        normal = np.array([math.sin(yaw), -math.cos(yaw), 0.0])  # the panel's -y face, turned by its yaw
+        seen[name] = _seen(renderer, np.array([6.0 * k, 0.0, 1.0]) + 0.1 * normal, normal)
+        cosines[name] = float(normal @ sun)
+    assert cosines["A"] > 0.6 and cosines["C"] < 0.0
+    direct_a, direct_b = seen["A"] - seen["C"], seen["B"] - seen["C"]
+    assert (seen["B"] < seen["A"]).all()
+    np.testing.assert_allclose(direct_b / direct_a, cosines["B"] / cosines["A"], rtol=0.02)
+
+
+def test_a_point_behind_an_occluder_is_in_shadow() -> None:
+    # A 2 m wall along x on a grey ground; the noon sun in the south throws its shadow 2 m to the north.
+    objects = [
+        box_part("ground", (0.0, 0.0, -0.05), (40.0, 40.0, 0.1), rgb=GREY),
+        box_part("wall", (0.0, 0.0, 1.0), (6.0, 0.2, 2.0), rgb=GREY),
+    ]
+    scene = scene_of([Surface("far", "floor", quad(-1.0, -1.0, 1.0, 1.0, -30.0))], objects, scene_id="shadow")
+    renderer = SceneRenderer(scene, intrinsics=SMALL, look=NOON)
+    sky = sun_sky(NOON)
+    pose = look_at(np.array([4.0, 1.5, 9.0]), np.array([0.0, 1.5, 0.0]))
+    image = renderer.radiance(pose)
+    shaded = image[_pixel(pose, SMALL, np.array([0.0, 1.0, 0.0]))]
+    lit = image[_pixel(pose, SMALL, np.array([0.0, 4.0, 0.0]))]
+    south = image[_pixel(pose, SMALL, np.array([0.0, -3.0, 0.0]))]
+    np.testing.assert_allclose(lit, south, rtol=1e-4)
+    # In the shadow only the sky lights the ground; in the open the sun adds its cosine.
+    expected = sky.sky_light / (sky.sky_light + sky.sun_color * sky.sun_direction[2])
+    np.testing.assert_allclose(shaded / lit, expected, rtol=0.02)
+    without = SceneRenderer(scene, intrinsics=SMALL, look=NOON.model_copy(update={"shadows": False}))
+    np.testing.assert_allclose(
+        without.radiance(pose)[_pixel(pose, SMALL, np.array([0.0, 1.0, 0.0]))], lit, rtol=1e-4
+    )
+
+
+@pytest.fixture(scope="module")
+def junction() -> tuple[Scene, object]:
+    city = read_osm(T_JUNCTION, center=(48.0, 11.0), size_m=(200.0, 200.0))
+    return city_scene(city, scene_id="t-junction", geometry=CityGeometry(junction_crosswalks=False)), city
+
+
+def test_the_mapped_zebra_crossing_shows_its_stripes_there(junction: tuple[Scene, object]) -> None:
+    # The map's crossing is at x = -20 on the main street (along x, 7 m wide): stripes along the street
+    # direction, 0.5 m wide and 0.5 m apart, across the whole carriageway; none on the road beside it.
+    scene, city = junction
+    look = scene_look(scene, LookSettings(), details=map_details(scene, city))
+    intrinsics = CameraIntrinsics.from_hfov(320, 240, 90.0)
+    renderer = SceneRenderer(scene, intrinsics=intrinsics, look=look)
+    pose = look_at(np.array([-20.0, 0.0, 12.0]), np.array([-20.0, 0.0, 0.0]), up=(0.0, 1.0, 0.0))
+    frame = renderer.render(pose)
+    crosswalk = frame.terrain == renderer.class_names.index("crosswalk")
+    rows, cols = np.nonzero(crosswalk)
+    # Pixel -> world on the ground: 12 m below a camera looking straight down (y up the image).
+    metres = 12.0 / intrinsics.fx
+    xs = -20.0 + (cols + 0.5 - intrinsics.cx) * metres
+    ys = -(rows + 0.5 - intrinsics.cy) * metres
+    assert abs(xs.mean() + 20.0) < 0.5 and ys.max() - ys.min() > 6.0  # at the mapped place, road-wide
+    luma = frame.rgb.astype(float) @ np.array([0.2126, 0.7152, 0.0722])
+    bright = luma[rows, cols] > 170.0
+    assert 0.35 < bright.mean() < 0.65
+    # Along the crossing the stripes alternate with a 1 m period: brightness in phase with the stripes.
+    phase = np.mod(ys - ys[bright].min(), 1.0) < 0.5
+    assert (bright == phase).mean() > 0.85
+    beside = (np.abs(xs + 20.0) < 1.0) & ~crosswalk[rows, cols]
+    assert not beside.any()
+    road = frame.terrain == renderer.class_names.index("road")
+    road_rows, road_cols = np.nonzero(road)
+    road_x = -20.0 + (road_cols + 0.5 - intrinsics.cx) * metres
+    road_y = -(road_rows + 0.5 - intrinsics.cy) * metres
+    off_lines = (np.abs(road_x + 20.0) > 3.0) & (np.abs(road_y) > 0.3) & (np.abs(road_y) < 3.0)
+    assert (luma[road_rows[off_lines], road_cols[off_lines]] < 150.0).all()
+
+
+def test_flat_images_are_a_shading_and_lit_ones_a_look() -> None:
+    scene = scene_of([Surface("floor", "floor", quad(-1.0, -1.0, 1.0, 1.0, 0.0))], [], scene_id="flat")
+    with pytest.raises(ValueError, match="not both"):
+        SceneRenderer(scene, shading=Shading(), look=LookSettings())
+    flat = SceneRenderer(scene, intrinsics=SMALL, shading=Shading())
+    assert flat.look is None
+    with pytest.raises(ValueError, match="radiance"):
+        flat.radiance(look_at(np.array([0.0, 0.0, 2.0]), np.zeros(3), up=(0.0, 1.0, 0.0)))
