@@ -76,6 +76,7 @@ import numpy as np
 from gymnasium import spaces
 
 from navverse.env_spec import ACTION_MODES, SENSORS, EnvError, check_instruction_type, episode_goal
+from navverse.look.settings import look_option
 from navverse.scene_types import scene_profile
 from navverse.sim.actions import DISCRETE_ACTIONS, ActionRunner, action_index, step_size
 from navverse.sim.camera import CameraIntrinsics
@@ -399,9 +400,20 @@ class NavVerseEnv(gymnasium.Env):
     # ------------------------------------------------------------------ gymnasium API
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
-        """Start an episode (``options={"episode": {...}}``, else a random ObjNav one)."""
+        """Start an episode (``options={"episode": {...}}``, else a random ObjNav one).
+
+        ``options={"appearance": ...}`` sets the camera's look from this episode on: ``"eval"`` (the
+        fixed evaluation look, the default), ``"random"`` (time of day, sun, sky, exposure and material
+        variant drawn from the environment's seeded generator: pass it at every reset to vary them) or
+        a mapping of :class:`~navverse.look.settings.LookSettings` fields.
+        """
         super().reset(seed=seed)
         options = options or {}
+        if "appearance" in options:
+            try:
+                self.renderer.set_look(look_option(options["appearance"], self.np_random))
+            except ValueError as exc:
+                raise EnvError(str(exc)) from None
         episode = options.get("episode")
         self._episode = dict(episode) if episode is not None else self._default_episode()
         self._goal = episode_goal(self._episode, self.instruction_type)

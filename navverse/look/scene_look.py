@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cache, lru_cache
 
 import numpy as np
@@ -42,6 +42,7 @@ from navverse.look.materials import (
 from navverse.look.patterns import cell_value
 from navverse.look.rooms import RoomLights, room_lights
 from navverse.look.settings import LookSettings
+from navverse.scene.annotations import BuildingAnnotation
 from navverse.scene.geometry import MeshData, Scene
 
 __all__ = ["KIND_NAMES", "MapDetails", "SceneLook", "SurfaceLook", "map_details", "scene_look"]
@@ -53,6 +54,12 @@ _BUILDING_SURFACE = re.compile(r"^building_(\d+)$")  # a city building's solid, 
 _UPWARD = 0.5  # |normal z| at and above which a face is floor-like (coordinates x, y)
 _PLINTH = 0.4  # meters of plinth at the foot of outer walls
 _STRIPE = 0.5  # zebra stripe and gap width (m)
+TILE_SEED = 1000
+"""Seed of the baked material tiles (variants tint and shift them; they are baked once)."""
+VARIANT_BRIGHTNESS = 0.2
+"""Largest relative change of a material's brightness in a material variant."""
+VARIANT_HUE = 0.08
+"""Largest relative change of one colour channel of a material in a material variant."""
 
 
 @dataclass(frozen=True)
@@ -143,6 +150,12 @@ class SceneLook:
         Each room's floor material.
     markings : RoadMarkings or None
         The road markings (None without a map).
+    tint, shift : ndarray of float32, shape (T, 3) and (T, 2)
+        The material variant: a colour factor per material (linear RGB) and a shift of its pattern (m).
+    buildings : tuple of BuildingAnnotation
+        The scene's buildings (facade frames are remade from them for other settings).
+    details : MapDetails or None
+        The map details the look was made with.
     """
 
     settings: LookSettings
@@ -157,6 +170,17 @@ class SceneLook:
     crossings: np.ndarray
     room_floor: np.ndarray
     markings: RoadMarkings | None
+    tint: np.ndarray
+    shift: np.ndarray
+    buildings: tuple
+    details: MapDetails | None
+
+    def with_settings(self, settings: LookSettings) -> SceneLook:
+        """This look under other settings: the same scene and map, other facade picks and material
+        variants (cheap: nothing about the surfaces is recomputed)."""
+        facades, _ = facade_frames(self.buildings, _facade_styles(self.buildings, self.details, settings))
+        tint, shift = _variant(settings.material_variant)
+        return replace(self, settings=settings, facades=facades, tint=tint, shift=shift)
 
     def surface(self, face: np.ndarray, points: np.ndarray) -> SurfaceLook:
         """The tiles, coordinates and overlays at hits on `face` (``(K,)`` world-mesh face indices) at
@@ -230,10 +254,42 @@ def _base_albedo(name: str) -> np.ndarray:
     return srgb_to_linear(MATERIALS[name].color)
 
 
-@lru_cache(maxsize=4)
-def _tiles(variant: int) -> tuple[np.ndarray, ...]:
-    """Every material's tile for a material variant (baked once per process)."""
-    return tuple(bake_tile(MATERIALS[name], seed=1000 + variant) for name in MATERIAL_NAMES)
+@cache
+def _tiles() -> tuple[np.ndarray, ...]:
+    """Every material's tile (baked once per process)."""
+    return tuple(bake_tile(MATERIALS[name], seed=TILE_SEED) for name in MATERIAL_NAMES)
+
+
+@lru_cache(maxsize=64)
+def _variant(variant: int) -> tuple[np.ndarray, np.ndarray]:
+    """The colour factors ``(T, 3)`` and pattern shifts ``(T, 2)`` of a material variant: none for 0;
+    else each material lighter or darker by up to :data:`VARIANT_BRIGHTNESS` and its hue moved by up
+    to :data:`VARIANT_HUE` per channel, its pattern shifted by a fraction of its tile."""
+    count = len(MATERIAL_NAMES)
+    if variant == 0:
+        return np.ones((count, 3), dtype=np.float32), np.zeros((count, 2), dtype=np.float32)
+    index = np.arange(count)
+    draws = [cell_value(index, np.full(count, k), variant) for k in range(6)]
+    brightness = 1.0 + VARIANT_BRIGHTNESS * (2.0 * draws[0] - 1.0)
+    hue = 1.0 + VARIANT_HUE * (2.0 * np.stack(draws[1:4], axis=1) - 1.0)
+    tint = (brightness[:, None] * hue).astype(np.float32)
+    sizes = np.array([MATERIALS[name].tile for name in MATERIAL_NAMES])
+    shift = (np.stack(draws[4:6], axis=1) * sizes[:, None]).astype(np.float32)
+    return tint, shift
+
+
+def _facade_styles(
+    buildings: Sequence[BuildingAnnotation], details: MapDetails | None, settings: LookSettings
+) -> dict[int, tuple[str, float | None]]:
+    """Each building's facade style and levels: by its map type where known, houses brick or render
+    by the material variant."""
+    known = details.buildings if details is not None else {}
+    styles = {}
+    for building in buildings:
+        map_type, levels = known.get(building.id, (None, None))
+        pick = float(cell_value(np.array([building.id]), np.array([0]), settings.material_variant)[0])
+        styles[building.id] = (facade_style(map_type, pick=pick), levels)
+    return styles
 
 
 def scene_look(
@@ -262,13 +318,7 @@ def scene_look(
     SceneLook
     """
     hidden = set(hidden_classes)
-    variant = settings.material_variant
-    known = details.buildings if details is not None else {}
-    styles = {}
-    for building in scene.annotations.buildings:
-        map_type, levels = known.get(building.id, (None, None))
-        pick = float(cell_value(np.array([building.id]), np.array([0]), variant)[0])
-        styles[building.id] = (facade_style(map_type, pick=pick), levels)
+    styles = _facade_styles(scene.annotations.buildings, details, settings)
     facades, facade_rows = facade_frames(scene.annotations.buildings, styles)
     buildings = {b.id: b for b in scene.annotations.buildings}
     crossings: list[tuple[float, float, float, float]] = []
@@ -314,10 +364,11 @@ def scene_look(
         frames.append(np.full(n, -1, dtype=np.int32))
         normals.append(np.zeros((n, 3)))
     rooms = room_lights(scene.annotations)
+    tint, shift = _variant(settings.material_variant)
     return SceneLook(
         settings=settings,
         rooms=rooms,
-        tiles=_tiles(variant),
+        tiles=_tiles(),
         tile_sizes=np.array([MATERIALS[name].tile for name in MATERIAL_NAMES]),
         face_kind=np.concatenate([*kinds, [OBJECT]]).astype(np.int8),
         face_material=np.concatenate([*materials, [-1]]).astype(np.int16),
@@ -327,10 +378,14 @@ def scene_look(
         crossings=np.asarray(crossings, dtype=np.float64).reshape(-1, 4),
         room_floor=np.array([material_index(room_floor(t)) for t in rooms.room_types], dtype=np.int32),
         markings=road_markings(details.roads) if details is not None and details.roads else None,
+        tint=tint,
+        shift=shift,
+        buildings=tuple(scene.annotations.buildings),
+        details=details,
     )
 
 
-def _nearest_facades(building, mesh: MeshData, walls: np.ndarray) -> list[int]:
+def _nearest_facades(building: BuildingAnnotation, mesh: MeshData, walls: np.ndarray) -> list[int]:
     """The facade (id) of each wall face of a building's solid: the one whose outward normal agrees
     with the face's and whose line runs nearest the face's centre."""
     segments = np.array([f.segment for f in building.facades], dtype=np.float64)

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Annotated
 
-from pydantic import Field
+import numpy as np
+from pydantic import Field, ValidationError
 
 from navverse.settings import Settings
 
-__all__ = ["EVAL_LOOK", "LOOK_VERSION", "LookSettings"]
+__all__ = ["EVAL_LOOK", "LOOK_VERSION", "LookSettings", "draw_look", "look_option"]
 
 LOOK_VERSION = "1.0"
 """Version of how looks are computed from a scene and its settings; a dataset's manifest records it."""
@@ -43,3 +45,56 @@ class LookSettings(Settings):
 
 EVAL_LOOK = LookSettings()
 """The look every evaluation renders with: the defaults, fixed and documented."""
+
+
+def draw_look(rng: np.random.Generator) -> LookSettings:
+    """A look drawn for training: time of day 7:00 to 18:00 on any day, a material variant, the sun and
+    sky a little stronger or weaker, exposure within half a stop (the latitude stays the scene's).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The draws' source (an episode's or an environment's seeded generator).
+    """
+    return LookSettings(
+        time_of_day=round(float(rng.uniform(7.0, 18.0)), 3),
+        day_of_year=int(rng.integers(1, 366)),
+        sun_intensity=round(float(rng.uniform(2.2, 3.8)), 3),
+        sky_intensity=round(float(rng.uniform(0.75, 1.25)), 3),
+        room_light=round(float(rng.uniform(1.2, 2.0)), 3),
+        exposure_ev=round(float(rng.uniform(-0.5, 0.5)), 3),
+        material_variant=int(rng.integers(1, 1_000_001)),
+    )
+
+
+def look_option(value: object, rng: np.random.Generator) -> LookSettings:
+    """The look an ``appearance`` option asks for.
+
+    Parameters
+    ----------
+    value : object
+        ``"eval"`` (:data:`EVAL_LOOK`), ``"random"`` (:func:`draw_look` from `rng`), a mapping of
+        :class:`LookSettings` fields (the others at their defaults) or a :class:`LookSettings`.
+    rng : numpy.random.Generator
+        Draws ``"random"`` looks.
+
+    Raises
+    ------
+    ValueError
+        Saying what is accepted, or which field is wrong.
+    """
+    if isinstance(value, LookSettings):
+        return value
+    if value == "eval":
+        return EVAL_LOOK
+    if value == "random":
+        return draw_look(rng)
+    if isinstance(value, Mapping):
+        try:
+            return LookSettings.model_validate(dict(value))
+        except ValidationError as exc:
+            problems = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in exc.errors())
+            raise ValueError(
+                f"appearance: {problems} (fields: {', '.join(LookSettings.model_fields)})"
+            ) from None
+    raise ValueError(f'appearance must be "eval", "random" or a mapping of look settings, got {value!r}')

@@ -275,25 +275,45 @@ class SceneRenderer:
         if not flat:
             if not isinstance(look, SceneLook):
                 look = scene_look(scene, look or EVAL_LOOK, hidden_classes=tuple(hidden_classes))
-            if len(look.face_kind) != num_faces + 1:
-                raise ValueError(
-                    "the look was compiled for other faces (another scene or other hidden classes)"
-                )
-            self._look = look
             geo = scene.annotations.geo
-            self._lighting = Lighting(
-                look.settings,
-                rooms=look.rooms,
-                latitude_deg=None if geo is None else geo.origin_lat,
-                raycaster=self._raycaster,
-                origin=self._origin,
-                sky=sky,
-                threads=threads,
-            )
+            self._latitude = None if geo is None else geo.origin_lat
+            self._sky_shown = sky
+            self.set_look(look)
             self._tiles = TileSampler(look.tiles, look.tile_sizes)
             self._linear = srgb_to_linear(colors).T.copy()  # (3, F + 1) albedo per face
             self._to_linear = srgb_to_linear(np.arange(256))
             self._pixel_angle = 1.0 / intrinsics.fx
+
+    def set_look(self, look: LookSettings | SceneLook) -> None:
+        """Render lit images with another look from now on.
+
+        Parameters
+        ----------
+        look : LookSettings or SceneLook
+            Settings (the current look's scene and map under them: cheap) or a look compiled for this
+            renderer's scene and hidden classes.
+
+        Raises
+        ------
+        ValueError
+            If the renderer makes flat images, or `look` was compiled for other faces.
+        """
+        if isinstance(look, LookSettings):
+            if self._lighting is None:
+                raise ValueError("a renderer made with a shading makes flat images: it has no look")
+            look = self._look.with_settings(look)
+        if len(look.face_kind) != self._miss + 1:
+            raise ValueError("the look was compiled for other faces (another scene or other hidden classes)")
+        self._look = look
+        self._lighting = Lighting(
+            look.settings,
+            rooms=look.rooms,
+            latitude_deg=self._latitude,
+            raycaster=self._raycaster,
+            origin=self._origin,
+            sky=self._sky_shown,
+            threads=self._threads,
+        )
 
     @property
     def intrinsics(self) -> CameraIntrinsics:
@@ -530,9 +550,14 @@ class SceneRenderer:
         if len(tiled):
             cosine = np.abs(along.take(tiled)) / np.linalg.norm(directions[tiled, 3:], axis=1)
             footprint = hit_depth.take(tiled) * self._pixel_angle / np.maximum(cosine, 0.2)
-            srgb = self._tiles.sample(surface.tile[tiled], surface.u[tiled], surface.v[tiled], footprint)
+            tile = surface.tile[tiled]
+            shift = self._look.shift.take(tile, axis=0)
+            srgb = self._tiles.sample(
+                tile, surface.u[tiled] + shift[:, 0], surface.v[tiled] + shift[:, 1], footprint
+            )
+            tint = self._look.tint.take(tile, axis=0)
             for c in range(3):
-                albedo[c, tiled] = self._to_linear.take(np.rint(srgb[c]).astype(np.intp))
+                albedo[c, tiled] = self._to_linear.take(np.rint(srgb[c]).astype(np.intp)) * tint[:, c]
         if len(surface.replaced):
             albedo[:, surface.replaced] = surface.albedo
         if self._sampler is not None:

@@ -200,6 +200,25 @@ def test_default_episodes_are_seeded(env: NavVerseEnv):
     assert env.reset(seed=5)[0]["goal"] in {"table", "chair"}
 
 
+def test_appearance_is_fixed_for_eval_and_drawn_from_the_seed_for_training(env: NavVerseEnv):
+    start = {"episode": episode()}
+    evaluation = env.reset(seed=1, options=start)[0]["rgb"]
+    drawn = env.reset(seed=3, options={**start, "appearance": "random"})[0]["rgb"]
+    again = env.reset(seed=3, options={**start, "appearance": "random"})[0]["rgb"]
+    other = env.reset(seed=4, options={**start, "appearance": "random"})[0]["rgb"]
+    assert np.array_equal(drawn, again) and not np.array_equal(drawn, other)
+    assert not np.array_equal(drawn, evaluation)
+    dusk = env.reset(seed=1, options={**start, "appearance": {"time_of_day": 18.5}})[0]["rgb"]
+    assert not np.array_equal(dusk, evaluation)
+    kept = env.reset(seed=2, options=start)[0]["rgb"]  # no appearance option: the last look stays
+    assert np.array_equal(kept, dusk)
+    assert np.array_equal(env.reset(seed=1, options={**start, "appearance": "eval"})[0]["rgb"], evaluation)
+    with pytest.raises(EnvError, match="time_of_day"):
+        env.reset(options={**start, "appearance": {"time_of_day": 30}})
+    with pytest.raises(EnvError, match='"eval", "random"'):
+        env.reset(options={**start, "appearance": "sunny"})
+
+
 def test_bad_input_says_what_to_change(scene_dir: Path, env: NavVerseEnv, tmp_path: Path):
     with pytest.raises(EnvError, match="not a built scene directory"):
         NavVerseEnv(tmp_path)
