@@ -76,6 +76,7 @@ import numpy as np
 from gymnasium import spaces
 
 from navverse.env_spec import ACTION_MODES, SENSORS, EnvError, check_instruction_type, episode_goal
+from navverse.look.files import load_scene_look
 from navverse.look.settings import look_option
 from navverse.scene_types import scene_profile
 from navverse.sim.actions import DISCRETE_ACTIONS, ActionRunner, action_index, step_size
@@ -279,7 +280,8 @@ class NavVerseEnv(gymnasium.Env):
         self.sim = Simulator(self.world, make_embodiment(embodiment))
         self.runner = ActionRunner(self.sim, step=step_size(self.scene.annotations.scene_type))
         self.intrinsics = CameraIntrinsics.from_hfov()
-        self.renderer = SceneRenderer(self.scene, intrinsics=self.intrinsics)
+        look = load_scene_look(self.scene, self.scene_dir)  # the scene's look directory, if built
+        self.renderer = SceneRenderer(self.scene, intrinsics=self.intrinsics, look=look)
         self.monitor = TerminationMonitor(timeout=max_time)
         self.max_steps = max_steps
         self.sensors = tuple(s for s in SENSORS if s in sensors)

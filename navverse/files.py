@@ -139,6 +139,15 @@ def atomic_dir(path: str | os.PathLike[str]) -> Iterator[Path]:
         yield tmp
 
 
+def link_or_copy(source: str | os.PathLike[str], target: str | os.PathLike[str]) -> None:
+    """Hard-link `source` to `target` (for files that never change, such as artifacts' files), copying
+    where a link cannot be made (another filesystem, no link support)."""
+    try:
+        os.link(source, target)
+    except OSError:
+        shutil.copy2(source, target)
+
+
 def file_kind(mode: int) -> str:
     """What a file of ``st_mode`` ``mode`` is, in words, for messages ("a named pipe (FIFO)"...)."""
     kinds = (

@@ -187,7 +187,9 @@ def _finish(ctx: StageContext, params: AssembleI2OParams, joined: _Joined, *, bu
     from shapely.geometry import Point
 
     from navverse.city.i2o.densify import densify_neighbourhood
+    from navverse.city.map import write_city_map
     from navverse.scene.directory import write_scene_dir
+    from stages.city import CITY_MAP_FILE
 
     result, city_map, plan = joined.result, joined.city_map, joined.plan
     anchor = result.scene.annotations.indoor_anchor
@@ -206,6 +208,7 @@ def _finish(ctx: StageContext, params: AssembleI2OParams, joined: _Joined, *, bu
     )
     ctx.progress(2, 3, "writing")
     write_scene_dir(nearby.scene, ctx.output)
+    write_city_map(city_map, ctx.output / CITY_MAP_FILE)  # the street around: its look needs the map
     ctx.progress(3, 3, "done")
     city = joined.city.scene_id
     ctx.record(

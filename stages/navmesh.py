@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-import os
-import shutil
 import time
-from pathlib import Path
 from typing import Annotated
 
 from pydantic import AfterValidator, Field
 
+from navverse.files import link_or_copy
 from navverse.nav.settings import NavMeshOverrides
 from navverse.scene.terrain import known_terrain_class
 from pipeline import Params, StageContext, stage
@@ -53,14 +51,6 @@ class NavmeshParams(Params):
     go round a costly class where the detour costs less than crossing it."""
     excluded_classes: list[TerrainName] = []
     """Navigable terrain classes that path queries never enter."""
-
-
-def _link_or_copy(source: Path, target: Path) -> None:
-    """Hard-link ``source`` to ``target`` (artifacts are immutable), copying where links fail."""
-    try:
-        os.link(source, target)
-    except OSError:
-        shutil.copy2(source, target)
 
 
 @stage(
@@ -121,11 +111,11 @@ def navmesh(ctx: StageContext, params: NavmeshParams) -> None:
     info = describe_navmesh(finder, annotations, preset=preset)
     statistics = annotations.statistics.model_copy(update={"navigable_area_m2": info.navigable_area_m2})
     annotations = annotations.model_copy(update={"statistics": statistics})
-    _link_or_copy(source.usd, files.usd)
+    link_or_copy(source.usd, files.usd)
     if source.textures.is_dir():  # the images a textured scene.usdc names beside it
         files.textures.mkdir(exist_ok=True)
         for image in sorted(source.textures.glob("*.png")):
-            _link_or_copy(image, files.textures / image.name)
+            link_or_copy(image, files.textures / image.name)
     save_annotations(annotations, files.annotations)
     finder.save(files.navmesh)
     write_navmesh_info(info, files.navmesh_info)

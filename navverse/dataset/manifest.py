@@ -53,7 +53,8 @@ class DatasetManifest(BaseModel):
 
     ``files`` lists every file of the version but the manifest, by its path relative to the version
     directory (``<split>/<task>.json.gz`` or ``<split>/<task>.rollouts.json.gz``), with its SHA-256;
-    ``counts`` holds the episodes per split, task and scene type.
+    ``counts`` holds the episodes per split, task and scene type; ``look_version`` how the scenes' RGB
+    images are made.
     """
 
     model_config = RECORD_CONFIG
@@ -70,6 +71,9 @@ class DatasetManifest(BaseModel):
     counts: dict[SplitName, dict[Task, dict[SceneType, NonNegativeInt]]]
     difficulty_thresholds: dict[Task, tuple[float, float]]
     files: dict[str, Sha256]
+    look_version: str | None = None
+    """Version of how the scenes' looks are made (:data:`navverse.look.settings.LOOK_VERSION`) when the
+    version was packaged: the RGB an agent sees; None in versions made before looks (format < 1.2)."""
 
     @field_validator("files")
     @classmethod

@@ -35,9 +35,10 @@ __all__ = [
     "success_distance",
 ]
 
-FORMAT_VERSION = "1.1"
+FORMAT_VERSION = "1.2"
 """Format of the dataset files (``major.minor``); a reader takes its own major, minors up to its own.
-1.1 added the PlaceNav episodes' ``instructions`` by instruction type."""
+1.1 added the PlaceNav episodes' ``instructions`` by instruction type; 1.2 the manifest's
+``look_version``."""
 TASKS = ("objnav", "placenav", "vln")
 
 Vec3 = tuple[float, float, float]

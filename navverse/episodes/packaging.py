@@ -18,6 +18,7 @@ from navverse.dataset import (
     counts_table,
     write_json_gz,
 )
+from navverse.look.settings import LOOK_VERSION
 from navverse.files import atomic_write, file_sha256
 
 __all__ = ["apply_quota", "assign_splits", "difficulty_of", "difficulty_thresholds", "write_dataset"]
@@ -200,6 +201,7 @@ def write_dataset(
         counts=counts_table(labelled, splits),
         difficulty_thresholds=thresholds,
         files=files,
+        look_version=LOOK_VERSION,
     )
     with atomic_write(out / "manifest.json") as handle:
         handle.write((manifest.model_dump_json(indent=2) + "\n").encode("utf-8"))

@@ -318,6 +318,7 @@ class _KeyframeStrips:
 
     def strip(self, scene: str, scene_dir: Path, trajectory: np.ndarray, count: int) -> str:
         """A JPEG data URI of `count` frames side by side, along the trajectory, start on the left."""
+        from navverse.look.files import load_scene_look
         from navverse.scene.scene_cache import cached_scene
         from navverse.sim.camera import CameraIntrinsics
         from navverse.sim.embodiments import make_embodiment
@@ -328,7 +329,9 @@ class _KeyframeStrips:
             self._camera = np.asarray(make_embodiment(self._embodiment).camera_to_base, dtype=float)
         if scene not in self._renderers:
             intrinsics = CameraIntrinsics.from_hfov(*KEYFRAME_SIZE, 90.0)
-            self._renderers[scene] = SceneRenderer(cached_scene(scene_dir), intrinsics=intrinsics)
+            shown = cached_scene(scene_dir)
+            look = load_scene_look(shown, scene_dir)
+            self._renderers[scene] = SceneRenderer(shown, intrinsics=intrinsics, look=look)
         frames = render_keyframes(self._renderers[scene], trajectory, self._camera, count)
         gap = np.full((KEYFRAME_SIZE[1], 2, 3), 255, dtype=np.uint8)
         row = np.concatenate([part for frame in frames for part in (frame, gap)][:-1], axis=1)

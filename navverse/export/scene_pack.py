@@ -9,6 +9,9 @@ directory beside ``out``, renamed at the end)::
     out/<scene_id>/scene.usdc       geometry, labels, physics
     out/<scene_id>/navmesh.bin      the navmesh (navmesh.json, its description, when the scene has it)
     out/<scene_id>/textures/*.png   the images of textured scenes
+    out/<scene_id>/look.json        the scene's look, where it was built (look stage): settings, map details,
+    out/<scene_id>/look.usdc        its materials over scene.usdc,
+    out/<scene_id>/textures/look/   and their images
 
 These are the files the runner, the environment and the evaluator read from a scene directory (the
 scoring fields are derived from them and cached per scene hash); the build store's own files
@@ -30,6 +33,7 @@ from pathlib import Path
 from navverse.dataset import Dataset, DatasetError
 from navverse.errors import NavverseError
 from navverse.files import atomic_dir
+from navverse.look.files import look_files
 from navverse.scene.directory import (
     NAVMESH_BIN,
     NAVMESH_JSON,
@@ -152,10 +156,11 @@ class _Counter:
             self._progress(self.done, self.total)
 
 
-def _pack_scene(scene_id: str, source: Path, names: Sequence[str], tmp: Path, counter: _Counter) -> dict:
-    """Copy one scene into the pack being written; its entry of the index."""
+def _pack_scene(scene_id: str, sources: Mapping[str, Path], tmp: Path, counter: _Counter) -> dict:
+    """Copy one scene (its files by name in the pack) into the pack being written; its entry of the
+    index."""
     target = tmp / scene_id
-    files = {name: _copy(source / name, target / name, counter) for name in names}
+    files = {name: _copy(sources[name], target / name, counter) for name in sorted(sources)}
     return {"scene_hash": scene_hash(target), "files": files}
 
 
@@ -220,12 +225,15 @@ def export_scene_pack(
     scene_dirs = find_scene_dirs(
         _scene_ids(dataset, split), search=search, hashes=hashes, built_dir=built_dir
     )
-    names = {scene_id: pack_files(scene_dir) for scene_id, scene_dir in scene_dirs.items()}
-    total = sum((scene_dirs[s] / n).stat().st_size for s, listed in names.items() for n in listed)
+    sources = {
+        scene_id: {**{name: scene_dir / name for name in pack_files(scene_dir)}, **look_files(scene_dir)}
+        for scene_id, scene_dir in scene_dirs.items()
+    }
+    total = sum(path.stat().st_size for listed in sources.values() for path in listed.values())
     counter = _Counter(total, progress)
     out.parent.mkdir(parents=True, exist_ok=True)
     with atomic_dir(out) as tmp:
-        packed = {s: _pack_scene(s, scene_dirs[s], names[s], tmp, counter) for s in sorted(scene_dirs)}
+        packed = {s: _pack_scene(s, sources[s], tmp, counter) for s in sorted(scene_dirs)}
         _verify(packed, hashes)
         index = {
             "format_version": PACK_FORMAT_VERSION,
@@ -241,6 +249,6 @@ def export_scene_pack(
     return ScenePack(
         root=out,
         scenes={s: entry["scene_hash"] for s, entry in packed.items()},
-        files=sum(len(listed) for listed in names.values()),
+        files=sum(len(listed) for listed in sources.values()),
         bytes=counter.done,
     )

@@ -21,7 +21,23 @@ import numpy as np
 from navverse.look.materials import FACADE_STYLES, MATERIALS, material_index, srgb_to_linear
 from navverse.scene.annotations import BuildingAnnotation
 
-__all__ = ["DOORS_PER_FACADE", "FacadeFrames", "FacadePaint", "facade_frames"]
+__all__ = [
+    "BASE",
+    "DOORS_PER_FACADE",
+    "DX",
+    "DY",
+    "HEIGHT",
+    "LENGTH",
+    "OVERLAY_ALBEDO",
+    "OVERLAY_NAMES",
+    "STOREY",
+    "STYLE",
+    "SX",
+    "SY",
+    "FacadeFrames",
+    "FacadePaint",
+    "facade_frames",
+]
 
 DOORS_PER_FACADE = 2
 """Entrances drawn per facade (the first ones on it)."""

@@ -19,6 +19,7 @@ from itertools import pairwise
 
 import numpy as np
 import shapely
+from PIL import Image, ImageDraw
 from shapely.geometry import LineString
 
 __all__ = ["CENTRE_LINE_WIDTH", "EDGE_LINE_ROADS", "MARKING_CELL", "RoadMarkings", "road_markings"]
@@ -93,6 +94,31 @@ class RoadMarkings:
         return painted
 
 
+def _rasterize(
+    polygon: shapely.Geometry, origin: np.ndarray, shape: tuple[int, int]
+) -> tuple[tuple[slice, slice], np.ndarray]:
+    """The raster cells whose centres `polygon` covers: the window of its bounds, and the mask there."""
+    rows, cols = shape
+    x0, y0, x1, y1 = polygon.bounds
+    c0, c1 = (
+        max(int((x0 - origin[0]) / MARKING_CELL), 0),
+        min(int(np.ceil((x1 - origin[0]) / MARKING_CELL)) + 1, cols),
+    )
+    r0, r1 = (
+        max(int((y0 - origin[1]) / MARKING_CELL), 0),
+        min(int(np.ceil((y1 - origin[1]) / MARKING_CELL)) + 1, rows),
+    )
+    image = Image.new("1", (max(c1 - c0, 1), max(r1 - r0, 1)), 0)
+    draw = ImageDraw.Draw(image)
+    for part in getattr(polygon, "geoms", [polygon]):
+        for ring, fill in [(part.exterior, 1)] + [(hole, 0) for hole in part.interiors]:
+            xy = (
+                (np.asarray(ring.coords) - origin) / MARKING_CELL - [c0, r0] - 0.5
+            )  # cell centres at integers
+            draw.polygon([tuple(p) for p in xy], fill=fill)
+    return (slice(r0, r1), slice(c0, c1)), np.asarray(image, dtype=bool)[: r1 - r0, : c1 - c0]
+
+
 def _lanes(road: MarkedRoad) -> int:
     """How many lanes the lines divide a road into (0: no lines)."""
     if road.lanes is not None and road.lanes >= 1:
@@ -105,6 +131,7 @@ def _lanes(road: MarkedRoad) -> int:
 def road_markings(roads: list[MarkedRoad]) -> RoadMarkings:
     """The markings of `roads` (see :class:`RoadMarkings`)."""
     rows_of: list[tuple[float, ...]] = []
+    owners: list[int] = []
     carriageways = []
     for road in roads:
         points = np.asarray(road.centerline, dtype=np.float64)
@@ -119,29 +146,35 @@ def road_markings(roads: list[MarkedRoad]) -> RoadMarkings:
                 continue
             d = (b - a) / length
             rows_of.append((a[0], a[1], d[0], d[1], length, start, road.width, lanes, edges))
+            owners.append(len(carriageways))
             start += length
         carriageways.append(LineString(points).buffer(0.5 * road.width, cap_style="flat"))
     if not rows_of:
         return RoadMarkings(np.zeros(2), np.full((1, 1), -1, np.int32), np.zeros((0, 9)))
     segments = np.asarray(rows_of, dtype=np.float64)
+    segment_road = np.asarray(owners)
     lo = np.min([c.bounds[:2] for c in carriageways], axis=0)
     hi = np.max([c.bounds[2:] for c in carriageways], axis=0)
     origin = np.floor(lo / MARKING_CELL) * MARKING_CELL
     cols, rows = (np.ceil((hi - origin) / MARKING_CELL).astype(int) + 1).tolist()
     covered = np.zeros((rows, cols), dtype=np.int16)
-    xs = origin[0] + (np.arange(cols) + 0.5) * MARKING_CELL
-    ys = origin[1] + (np.arange(rows) + 0.5) * MARKING_CELL
-    for carriageway in carriageways:
-        x0, y0, x1, y1 = carriageway.bounds
-        c0, c1 = int((x0 - origin[0]) / MARKING_CELL), int(np.ceil((x1 - origin[0]) / MARKING_CELL)) + 1
-        r0, r1 = int((y0 - origin[1]) / MARKING_CELL), int(np.ceil((y1 - origin[1]) / MARKING_CELL)) + 1
-        gx, gy = np.meshgrid(xs[max(c0, 0) : c1], ys[max(r0, 0) : r1])
-        covered[max(r0, 0) : r1, max(c0, 0) : c1] += shapely.contains_xy(carriageway, gx, gy)
+    owner = np.full((rows, cols), -1, dtype=np.int32)
+    for road, carriageway in enumerate(carriageways):
+        window, mask = _rasterize(carriageway, origin, (rows, cols))
+        covered[window] += mask
+        owner[window][mask] = road
     raster = np.full((rows, cols), -1, dtype=np.int32)
-    single = np.argwhere(covered == 1)
-    if len(single):
-        lines = [LineString([(s[0], s[1]), (s[0] + s[2] * s[4], s[1] + s[3] * s[4])]) for s in segments]
-        tree = shapely.STRtree(lines)
-        centers = shapely.points(xs[single[:, 1]], ys[single[:, 0]])
-        raster[single[:, 0], single[:, 1]] = tree.nearest(centers)
+    single = covered == 1
+    for road in np.unique(owner[single]):
+        r, c = np.nonzero(single & (owner == road))
+        x = origin[0] + (c + 0.5) * MARKING_CELL
+        y = origin[1] + (r + 0.5) * MARKING_CELL
+        mine = np.flatnonzero(segment_road == road)
+        seg = segments[mine]
+        along = np.clip(
+            (x[:, None] - seg[:, 0]) * seg[:, 2] + (y[:, None] - seg[:, 1]) * seg[:, 3], 0.0, seg[:, 4]
+        )
+        dx = x[:, None] - (seg[:, 0] + along * seg[:, 2])
+        dy = y[:, None] - (seg[:, 1] + along * seg[:, 3])
+        raster[r, c] = mine[np.argmin(dx * dx + dy * dy, axis=1)]
     return RoadMarkings(origin=origin, raster=raster, segments=segments)

@@ -3,8 +3,9 @@
 Indoor light comes from the rooms' lamps, not the sky: a point inside an indoor building takes its
 room's lamp (with a shadow) and the light the room bounces around, while the sky's light is for points
 in the open. Which room a point is in is read from a raster of the rooms' floor polygons
-(:data:`ROOM_CELL` cells), each grown by :data:`ROOM_MARGIN` so that the faces of the walls around it
-(seen from inside) count as in the room; where grown rooms overlap, the first room wins.
+(:data:`ROOM_CELL` cells), each grown by :data:`ROOM_MARGIN` so that the doorways between rooms count
+as in a room; where grown rooms overlap, the first room wins. A wall's face belongs to the room it
+faces: callers lift a hit off its surface before asking.
 """
 
 from __future__ import annotations
@@ -21,8 +22,9 @@ __all__ = ["LAMP_BELOW_CEILING", "ROOM_CELL", "ROOM_MARGIN", "RoomLights", "room
 
 ROOM_CELL = 0.1
 """Side of a room-raster cell in meters."""
-ROOM_MARGIN = 0.25
-"""How far a room's polygon is grown in the raster (meters): over the walls that bound it."""
+ROOM_MARGIN = 0.12
+"""How far a room's polygon is grown in the raster (meters): over half the walls between rooms, so the
+floor of a doorway belongs to a room, but not out to the outer faces of outer walls."""
 LAMP_BELOW_CEILING = 0.3
 """How far below the ceiling a room's lamp hangs (meters)."""
 

@@ -24,7 +24,6 @@ from functools import cache, lru_cache
 
 import numpy as np
 import shapely
-from shapely.geometry import Polygon
 
 from navverse.city.map import CityMap
 from navverse.look.facades import OVERLAY_ALBEDO, OVERLAY_NAMES, FacadeFrames, facade_frames
@@ -45,7 +44,15 @@ from navverse.look.settings import LookSettings
 from navverse.scene.annotations import BuildingAnnotation
 from navverse.scene.geometry import MeshData, Scene
 
-__all__ = ["KIND_NAMES", "MapDetails", "SceneLook", "SurfaceLook", "map_details", "scene_look"]
+__all__ = [
+    "KIND_NAMES",
+    "MapDetails",
+    "SceneLook",
+    "SurfaceLook",
+    "map_details",
+    "material_tiles",
+    "scene_look",
+]
 
 OBJECT, PLAIN, FLOOR, WALL, FACADE, CROSSWALK, ROAD = range(7)
 KIND_NAMES = ("object", "plain", "floor", "wall", "facade", "crosswalk", "road")
@@ -175,6 +182,12 @@ class SceneLook:
     buildings: tuple
     details: MapDetails | None
 
+    def room_of(self, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
+        """The room of each hit at world `points` on faces with unit `normals` turned towards the viewer:
+        the room holding the point lifted 5 cm off its surface (so a wall's face belongs to the room it
+        faces), ``-1`` in the open."""
+        return self.rooms.room_at(points + normals * 0.05)
+
     def with_settings(self, settings: LookSettings) -> SceneLook:
         """This look under other settings: the same scene and map, other facade picks and material
         variants (cheap: nothing about the surfaces is recomputed)."""
@@ -182,9 +195,10 @@ class SceneLook:
         tint, shift = _variant(settings.material_variant)
         return replace(self, settings=settings, facades=facades, tint=tint, shift=shift)
 
-    def surface(self, face: np.ndarray, points: np.ndarray) -> SurfaceLook:
+    def surface(self, face: np.ndarray, points: np.ndarray, room: np.ndarray) -> SurfaceLook:
         """The tiles, coordinates and overlays at hits on `face` (``(K,)`` world-mesh face indices) at
-        world `points` ``(K, 3)`` (float64)."""
+        world `points` ``(K, 3)`` (float64) in rooms `room` (``(K,)``, ``-1`` in the open: see
+        :meth:`room_of`)."""
         kind = self.face_kind.take(face)
         material = self.face_material.take(face).astype(np.int32)
         normal = self.face_normals.take(face, axis=0)
@@ -198,7 +212,7 @@ class SceneLook:
         painted = _Overlays()
         inside = np.flatnonzero((kind == FLOOR) | (kind == WALL))
         if len(inside):
-            room = self.rooms.room_at(points[inside] + normal[inside] * 0.05)
+            room = room[inside]
             is_floor = kind[inside] == FLOOR
             floors = is_floor & (room >= 0)
             material[inside[floors]] = self.room_floor.take(room[floors])
@@ -255,9 +269,13 @@ def _base_albedo(name: str) -> np.ndarray:
 
 
 @cache
-def _tiles() -> tuple[np.ndarray, ...]:
-    """Every material's tile (baked once per process)."""
-    return tuple(bake_tile(MATERIALS[name], seed=TILE_SEED) for name in MATERIAL_NAMES)
+def material_tiles() -> tuple[np.ndarray, ...]:
+    """Every material's tile, in :data:`~navverse.look.materials.MATERIAL_NAMES` order (baked once per
+    process; read-only)."""
+    tiles = tuple(bake_tile(MATERIALS[name], seed=TILE_SEED) for name in MATERIAL_NAMES)
+    for tile in tiles:
+        tile.setflags(write=False)
+    return tiles
 
 
 @lru_cache(maxsize=64)
@@ -368,7 +386,7 @@ def scene_look(
     return SceneLook(
         settings=settings,
         rooms=rooms,
-        tiles=_tiles(),
+        tiles=material_tiles(),
         tile_sizes=np.array([MATERIALS[name].tile for name in MATERIAL_NAMES]),
         face_kind=np.concatenate([*kinds, [OBJECT]]).astype(np.int8),
         face_material=np.concatenate([*materials, [-1]]).astype(np.int16),
@@ -399,21 +417,31 @@ def _nearest_facades(building: BuildingAnnotation, mesh: MeshData, walls: np.nda
 
 
 def _crosswalk_patches(mesh: MeshData, crossings: list[tuple[float, float, float, float]]) -> np.ndarray:
-    """The patch (a row appended to `crossings`: a corner and the direction of its long side) of
-    each face of a crosswalk surface; a patch is a connected piece of its top view."""
-    triangles = mesh.vertices[mesh.faces][:, :, :2]
-    pieces = [Polygon(t).buffer(0.01) for t in triangles]
-    merged = shapely.unary_union([p for p in pieces if not p.is_empty])
-    patches = list(getattr(merged, "geoms", [merged]))
-    nearest = shapely.STRtree(patches).nearest(shapely.points(triangles.mean(axis=1)))
+    """The patch (a row appended to `crossings`: a corner and the direction of its long side) of each
+    face of a crosswalk surface; a patch is a piece of faces joined by corners within 2 cm in plan."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    corners = mesh.vertices[mesh.faces][:, :, :2].reshape(-1, 2)  # face f's corners are 3f .. 3f + 2
+    count = len(corners)
+    near = cKDTree(corners).query_pairs(0.02, output_type="ndarray")
+    same_face = np.arange(count) // 3 * 3
+    rows = np.concatenate([near[:, 0], np.arange(count)])
+    cols = np.concatenate([near[:, 1], same_face])
+    graph = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(count, count))
+    _, label = connected_components(graph, directed=False)
+    patch_of_face = label[0::3]
     first = len(crossings)
+    patches, index = np.unique(patch_of_face, return_inverse=True)
     for patch in patches:
-        box = np.asarray(patch.minimum_rotated_rectangle.exterior.coords)[:4]
+        points = corners.reshape(-1, 3, 2)[patch_of_face == patch].reshape(-1, 2)
+        box = np.asarray(shapely.MultiPoint(points).minimum_rotated_rectangle.exterior.coords)[:4]
         edges = np.diff(np.vstack([box, box[:1]]), axis=0)
         longest = edges[np.argmax(np.hypot(edges[:, 0], edges[:, 1]))]
-        direction = longest / np.hypot(*longest)
+        direction = longest / max(float(np.hypot(*longest)), 1e-9)
         crossings.append((float(box[0, 0]), float(box[0, 1]), float(direction[0]), float(direction[1])))
-    return first + np.asarray(nearest, dtype=np.int32)
+    return first + index.astype(np.int32)
 
 
 def _unit_normals(mesh: MeshData) -> np.ndarray:

@@ -205,6 +205,7 @@ class ReviewState:
         return {f"keyframe-{k}": _png(frame) for k, frame in enumerate(frames)}
 
     def _keyframes(self, scene_id: str, scene_dir: Path, rollout: np.ndarray) -> list[np.ndarray]:
+        from navverse.look.files import load_scene_look
         from navverse.scene.directory import read_scene
         from navverse.sim.camera import CameraIntrinsics
         from navverse.sim.embodiments import make_embodiment
@@ -216,7 +217,9 @@ class ReviewState:
             self._camera = np.asarray(embodiment.camera_to_base, dtype=float)
         if scene_id not in self._renderers:
             intrinsics = CameraIntrinsics.from_hfov(*KEYFRAME_SIZE, 90.0)
-            self._renderers[scene_id] = SceneRenderer(read_scene(scene_dir), intrinsics=intrinsics)
+            shown = read_scene(scene_dir)
+            look = load_scene_look(shown, scene_dir)
+            self._renderers[scene_id] = SceneRenderer(shown, intrinsics=intrinsics, look=look)
             while len(self._renderers) > MAX_SCENE_RENDERERS:
                 self._renderers.popitem(last=False)
         self._renderers.move_to_end(scene_id)

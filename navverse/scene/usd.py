@@ -63,6 +63,7 @@ __all__ = [
     "UsdObject",
     "UsdScene",
     "UsdSurface",
+    "define_texture_material",
     "export_usd",
     "physics_materials",
     "read_usd",
@@ -271,26 +272,59 @@ def _define_texture_looks(stage: Usd.Stage, textures: Mapping[str, Texture]) -> 
 
 def _define_texture_look(stage: Usd.Stage, name: str) -> UsdShade.Material:
     """A material showing ``textures/<name>.png`` through the ``st`` coordinates of the mesh."""
-    root = f"{LOOKS_ROOT}/{TEXTURE_LOOKS}/{name}"
-    material = UsdShade.Material.Define(stage, root)
-    reader = UsdShade.Shader.Define(stage, f"{root}/TexCoords")
+    return define_texture_material(
+        stage, f"{LOOKS_ROOT}/{TEXTURE_LOOKS}/{name}", texture_asset_path(name), primvar=ST_PRIMVAR
+    )
+
+
+def define_texture_material(
+    stage: Usd.Stage,
+    path: str,
+    asset: str,
+    *,
+    primvar: str,
+    scale: tuple[float, float, float] | None = None,
+    roughness: float = 0.8,
+) -> UsdShade.Material:
+    """A ``UsdPreviewSurface`` material at `path` whose diffuse colour is the image `asset` (an sRGB
+    ``UsdUVTexture``, repeating) read through the mesh's texture-coordinate primvar `primvar`.
+
+    Parameters
+    ----------
+    stage : Usd.Stage
+        Where to define it.
+    path : str
+        The material's prim path.
+    asset : str
+        The image's asset path (relative to the layer).
+    primvar : str
+        The primvar of texture coordinates it reads.
+    scale : tuple of float, optional
+        A factor per colour channel (the texture's ``scale`` input).
+    roughness : float
+        The surface's roughness.
+    """
+    material = UsdShade.Material.Define(stage, path)
+    reader = UsdShade.Shader.Define(stage, f"{path}/TexCoords")
     reader.CreateIdAttr("UsdPrimvarReader_float2")
-    reader.CreateInput("varname", Sdf.ValueTypeNames.String).Set(ST_PRIMVAR)
+    reader.CreateInput("varname", Sdf.ValueTypeNames.String).Set(primvar)
     reader.CreateOutput("result", Sdf.ValueTypeNames.Float2)
-    texture = UsdShade.Shader.Define(stage, f"{root}/Texture")
+    texture = UsdShade.Shader.Define(stage, f"{path}/Texture")
     texture.CreateIdAttr(_TEXTURE_SHADER)
-    texture.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(Sdf.AssetPath(texture_asset_path(name)))
+    texture.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(Sdf.AssetPath(asset))
     texture.CreateInput("st", Sdf.ValueTypeNames.Float2).ConnectToSource(reader.ConnectableAPI(), "result")
     texture.CreateInput("wrapS", Sdf.ValueTypeNames.Token).Set("repeat")
     texture.CreateInput("wrapT", Sdf.ValueTypeNames.Token).Set("repeat")
     texture.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set("sRGB")
+    if scale is not None:
+        texture.CreateInput("scale", Sdf.ValueTypeNames.Float4).Set((*map(float, scale), 1.0))
     texture.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
-    shader = UsdShade.Shader.Define(stage, f"{root}/PreviewSurface")
+    shader = UsdShade.Shader.Define(stage, f"{path}/PreviewSurface")
     shader.CreateIdAttr("UsdPreviewSurface")
     shader.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(
         texture.ConnectableAPI(), "rgb"
     )
-    shader.CreateInput("roughness", Sdf.ValueTypeNames.Float).Set(0.8)
+    shader.CreateInput("roughness", Sdf.ValueTypeNames.Float).Set(float(roughness))
     shader.CreateInput("metallic", Sdf.ValueTypeNames.Float).Set(0.0)
     material.CreateSurfaceOutput().ConnectToSource(shader.ConnectableAPI(), "surface")
     return material

@@ -92,6 +92,7 @@ class Lighting:
         albedo: np.ndarray,
         depth: np.ndarray,
         reflect: np.ndarray,
+        room: np.ndarray,
     ) -> np.ndarray:
         """Radiance ``(3, K)`` of `K` hits.
 
@@ -108,10 +109,13 @@ class Lighting:
         reflect : ndarray of float32, shape (K,)
             Share of the sky each hit mirrors (glass, water): it adds that much of the horizon's
             radiance (the sky a vertical pane mostly sees).
+        room : ndarray of int32, shape (K,)
+            The room each hit is in (``-1``: in the open), :meth:`RoomLights.room_at` of the hit lifted
+            5 cm off its surface. Indoors only the room's lamp lights a hit: the sun and the sky light
+            the open.
         """
         settings, ss = self.settings, self.sun_sky
         k = len(points)
-        room = self.rooms.room_at(points + normals * np.float32(0.05) + self._origin.astype(np.float32))
         indoors = room >= 0
         light = np.zeros((3, k), dtype=np.float32)
         # Sky and ground light in the open: blend by the normal's height.
@@ -122,7 +126,7 @@ class Lighting:
             light[c] *= open_air
         if self._sun_up:
             cosine = normals @ self._sun
-            lit = np.flatnonzero(cosine > 0.0)
+            lit = np.flatnonzero((cosine > 0.0) & ~indoors)
             if settings.shadows and len(lit):
                 lit = lit[
                     ~self._occluded(points[lit], normals[lit], depth[lit], self._sun[None, :], far=np.inf)

@@ -398,13 +398,19 @@ class SceneRenderer:
         result = self._raycaster.cast_rays(o3d.core.Tensor.from_numpy(rays), nthreads=self._threads)
         return result["t_hit"].numpy(), result["primitive_ids"].numpy(), result["primitive_uvs"].numpy()
 
-    def _shade(self, hits: tuple[np.ndarray, np.ndarray, np.ndarray]) -> Frame:
-        """Turn the hits of the last cast (whose rays are still in the buffer) into the four images."""
-        t_hit, face, barycentric = hits
+    def _depth(self, t_hit: np.ndarray, face: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The z-depth image of a cast (0 where nothing was hit within the depth range) and the mask of
+        those misses; `face` is set to the miss row there."""
         depth = t_hit + np.float32(self._near)
         missed = ~(depth <= self._far)  # inf (no hit) compares False
         np.copyto(face, np.uint32(self._miss), where=missed)
         np.copyto(depth, np.float32(0.0), where=missed)
+        return depth, missed
+
+    def _shade(self, hits: tuple[np.ndarray, np.ndarray, np.ndarray]) -> Frame:
+        """Turn the hits of the last cast (whose rays are still in the buffer) into the four images."""
+        t_hit, face, barycentric = hits
+        depth, missed = self._depth(t_hit, face)
         semantic = self._instance.take(face)
         terrain = self._terrain.take(face)
         if self._lighting is None:
@@ -514,10 +520,7 @@ class SceneRenderer:
         if self._lighting is None:
             raise ValueError("a renderer made with a shading has no radiance: make it with a look")
         t_hit, face, barycentric = self._cast(check_pose(camera_to_world))
-        depth = t_hit + np.float32(self._near)
-        missed = ~(depth <= self._far)
-        np.copyto(face, np.uint32(self._miss), where=missed)
-        np.copyto(depth, np.float32(0.0), where=missed)
+        depth, missed = self._depth(t_hit, face)
         height, width = face.shape
         return self._lit_radiance(t_hit, face, barycentric, depth, missed).T.reshape(height, width, 3)
 
@@ -545,7 +548,9 @@ class SceneRenderer:
         normals[along > 0.0] *= np.float32(-1.0)
         albedo = self._linear.take(hit_face, axis=1)
         hit_depth = depth.reshape(-1).take(hits)
-        surface = self._look.surface(hit_face, points.astype(np.float64) + self._origin)
+        world = points.astype(np.float64) + self._origin
+        room = self._look.room_of(world, normals)
+        surface = self._look.surface(hit_face, world, room)
         tiled = np.flatnonzero(surface.tile >= 0)
         if len(tiled):
             cosine = np.abs(along.take(tiled)) / np.linalg.norm(directions[tiled, 3:], axis=1)
@@ -567,7 +572,7 @@ class SceneRenderer:
                 for c in range(3):
                     albedo[c, slot] = self._to_linear.take(np.rint(colors[c]).astype(np.intp).clip(0, 255))
         radiance = np.zeros((3, height * width), dtype=np.float32)
-        radiance[:, hits] = lighting.radiance(points, normals, albedo, hit_depth, surface.reflect)
+        radiance[:, hits] = lighting.radiance(points, normals, albedo, hit_depth, surface.reflect, room)
         misses = np.flatnonzero(missed.reshape(-1))
         if self._shading.sky and len(misses):
             ray = rays.take(misses, axis=0)[:, 3:]

@@ -123,15 +123,17 @@ def test_other_format_versions_are_refused_with_what_to_do(tmp_path: Path, versi
     (root / "manifest.json").write_text(json.dumps(manifest))
     with pytest.raises(DatasetError, match=message):
         Dataset(root)
-    assert FORMAT_VERSION == "1.1"
+    assert FORMAT_VERSION == "1.2"
 
 
 def test_an_older_minor_format_is_read(tmp_path: Path):
     root = build(tmp_path / "tiny" / "v1.0")
     manifest = json.loads((root / "manifest.json").read_text())
     manifest["format_version"] = "1.0"  # before PlaceNav episodes had their instructions by type
+    del manifest["look_version"]  # and before scenes had looks (1.2)
     (root / "manifest.json").write_text(json.dumps(manifest))
     assert Dataset(root).manifest.format_version == "1.0"
+    assert Dataset(root).manifest.look_version is None
 
 
 def test_missing_or_malformed_datasets_say_so(tmp_path: Path):

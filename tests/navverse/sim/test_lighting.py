@@ -112,9 +112,16 @@ def test_the_mapped_zebra_crossing_shows_its_stripes_there(junction: tuple[Scene
     luma = frame.rgb.astype(float) @ np.array([0.2126, 0.7152, 0.0722])
     bright = luma[rows, cols] > 170.0
     assert 0.35 < bright.mean() < 0.65
-    # Along the crossing the stripes alternate with a 1 m period: brightness in phase with the stripes.
-    phase = np.mod(ys - ys[bright].min(), 1.0) < 0.5
-    assert (bright == phase).mean() > 0.85
+
+    # Along the crossing the stripes alternate with a 1 m period: brightness in phase with a square wave
+    # of 0.5 m stripes and gaps (at its best phase), and not with one of another period.
+    def agreement(period: float) -> float:
+        return max(
+            float((bright == (np.mod(ys - phase, period) < period / 2)).mean())
+            for phase in np.linspace(0.0, period, 40, endpoint=False)
+        )
+
+    assert agreement(1.0) > 0.9 and agreement(1.4) < 0.75
     beside = (np.abs(xs + 20.0) < 1.0) & ~crosswalk[rows, cols]
     assert not beside.any()
     road = frame.terrain == renderer.class_names.index("road")

@@ -1,0 +1,104 @@
+"""The look stage: the appearance layer of a scene, outside every cache key of its episodes; its USD
+layer binds a textured material on every mesh, read back through pxr."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from pathlib import Path
+
+import pytest
+from pxr import Usd, UsdGeom, UsdShade
+
+from navverse.dataset import built_version
+from navverse.errors import SceneError
+from navverse.look.files import LOOK_JSON, find_look, load_scene_look, read_look
+from navverse.look.settings import EVAL_LOOK
+from navverse.look.usd_look import LOOK_USD
+from navverse.scene.directory import read_scene
+from tests.stages.conftest import Built, build_all, copy_built
+
+
+def _files(root: Path) -> dict[str, str]:
+    """sha256 of every file under `root`, by relative path."""
+    return {
+        str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest()
+        for p in sorted(root.rglob("*"))
+        if p.is_file()
+    }
+
+
+def test_a_changed_look_rebuilds_only_the_look_and_the_episodes_keep_their_bytes(
+    tiny_build: Built, tmp_path: Path
+) -> None:
+    built = copy_built(tiny_build, tmp_path / "ws")
+    dataset = built_version(built.output("tiny", "dataset"))
+    before = _files(dataset)
+    old_look = built.output("apartment-s0", "look")
+    assert read_look(old_look / LOOK_JSON)[0] == EVAL_LOOK
+    recipe = built.workspace.recipes_dir / "scenes" / "indoor" / "apartment.yaml"
+    recipe.write_text(recipe.read_text() + "  look: {material_variant: 7, time_of_day: 16.0}\n")
+    rebuilt = build_all(built.workspace)
+    assert rebuilt.report.ok, rebuilt.report
+    ran = sorted(rebuilt.report.built)
+    assert ran and all(node.endswith(":look") for node in ran), ran
+    assert {node.split(":")[0] for node in ran} == {"apartment-s0", "apartment-s1"}
+    new_look = built.output("apartment-s0", "look")
+    assert new_look.resolve() != old_look.resolve()
+    assert read_look(new_look / LOOK_JSON)[0].material_variant == 7
+    assert _files(built_version(built.output("tiny", "dataset"))) == before
+
+
+def test_the_look_layer_binds_a_textured_material_on_every_mesh(tiny_build: Built) -> None:
+    look_dir = tiny_build.output("apartment-s0", "look")
+    stage = Usd.Stage.Open(str(look_dir / LOOK_USD))
+    meshes = [prim for prim in stage.Traverse() if prim.IsA(UsdGeom.Mesh)]
+    assert len(meshes) > 10
+    untextured = []
+    for prim in meshes:
+        subsets = UsdShade.MaterialBindingAPI(prim).GetMaterialBindSubsets()
+        # A mesh whose faces all lie in subsets shows their materials; otherwise its own shows too.
+        covered = sum(len(s.GetIndicesAttr().Get()) for s in subsets)
+        faces = len(UsdGeom.Mesh(prim).GetFaceVertexCountsAttr().Get())
+        for bound in [s.GetPrim() for s in subsets] + ([prim] if covered < faces else []):
+            material, _ = UsdShade.MaterialBindingAPI(bound).ComputeBoundMaterial()
+            if not material or not _texture_files(material):
+                untextured.append(str(bound.GetPath()))
+    assert not untextured, untextured[:5]
+
+
+def _texture_files(material: UsdShade.Material) -> list[Path]:
+    """The existing image files the UsdUVTexture shaders of a material read."""
+    files = []
+    for child in material.GetPrim().GetChildren():
+        shader = UsdShade.Shader(child)
+        if shader and shader.GetIdAttr().Get() == "UsdUVTexture":
+            asset = shader.GetInput("file").Get()
+            if asset is not None and asset.resolvedPath and Path(asset.resolvedPath).is_file():
+                files.append(Path(asset.resolvedPath))
+    return files
+
+
+def test_the_renderer_takes_the_built_look_and_a_broken_one_says_what_to_do(
+    tiny_build: Built, tmp_path: Path
+) -> None:
+    scene_dir = tiny_build.output("apartment-s0", "scene")
+    assert find_look(scene_dir).resolve() == (tiny_build.output("apartment-s0", "look") / LOOK_JSON).resolve()
+    scene = read_scene(scene_dir)
+    assert load_scene_look(scene, scene_dir).settings == EVAL_LOOK
+    broken = tmp_path / "scene"
+    broken.mkdir()
+    (broken / LOOK_JSON).write_text(json.dumps({"format_version": "1.0", "settings": {"time_of_day": 99}}))
+    with pytest.raises(SceneError, match="rebuild the scene's look"):
+        load_scene_look(scene, broken)
+    (broken / LOOK_JSON).write_text(json.dumps({"format_version": "7.0"}))
+    with pytest.raises(SceneError, match=r"look format 7\.0 is not 1\.0"):
+        load_scene_look(scene, broken)
+    # A look made for another build of the scene is not used: the evaluation look, with a warning.
+    stale = json.loads((find_look(scene_dir)).read_text())
+    stale["settings"]["time_of_day"], stale["scene_hash"] = 17.0, "0" * 64
+    for name in ("scene.json", "scene.usdc", "navmesh.bin"):
+        (broken / name).write_bytes((scene_dir / name).read_bytes())
+    (broken / LOOK_JSON).write_text(json.dumps(stale))
+    with pytest.warns(UserWarning, match="another build of scene apartment-s0"):
+        assert load_scene_look(scene, broken).settings == EVAL_LOOK
