@@ -151,6 +151,8 @@ MATERIALS = _materials(
     Material("glass", (34, 46, 58), grain=0.02, grain_scale=1.0, reflect=0.22, tile=4.0, texels=16),
     Material("frame", (226, 224, 218), grain=0.0, tile=1.0, texels=16),
     Material("door", (92, 66, 48), grain=0.1, grain_scale=0.1, tile=1.0, texels=64),
+    # Objects keep their own colours; this grain modulates them (paint, plastic, wood, metal up close).
+    Material("object_grain", (186, 186, 186), grain=0.14, grain_scale=0.03, tile=0.96, texels=128),
 )  # fmt: skip
 """Every material by name (read-only)."""
 MATERIAL_NAMES = tuple(MATERIALS)

@@ -109,7 +109,7 @@ class SurfaceLook:
     Attributes
     ----------
     tile : ndarray of int32, shape (K,)
-        Index into :attr:`SceneLook.tiles` (``-1``: an object face, which keeps its own colour).
+        Index into :attr:`SceneLook.tiles` of each hit's material.
     u, v : ndarray of float64, shape (K,)
         Surface coordinates in meters.
     replaced : ndarray of int64, shape (M,)
@@ -118,6 +118,9 @@ class SurfaceLook:
         ... to this linear RGB.
     reflect : ndarray of float32, shape (K,)
         Share of the sky each hit mirrors (glass, water).
+    modulate : ndarray of bool, shape (K,)
+        Hits on objects: their tile (``object_grain``) modulates the face's own colour, relative to the
+        tile's base colour, instead of replacing it.
     """
 
     tile: np.ndarray
@@ -126,6 +129,7 @@ class SurfaceLook:
     replaced: np.ndarray
     albedo: np.ndarray
     reflect: np.ndarray
+    modulate: np.ndarray
 
 
 @dataclass(frozen=True, eq=False)
@@ -195,13 +199,14 @@ class SceneLook:
         tint, shift = _variant(settings.material_variant)
         return replace(self, settings=settings, facades=facades, tint=tint, shift=shift)
 
-    def surface(self, face: np.ndarray, points: np.ndarray, room: np.ndarray) -> SurfaceLook:
+    def surface(
+        self, face: np.ndarray, points: np.ndarray, normal: np.ndarray, room: np.ndarray
+    ) -> SurfaceLook:
         """The tiles, coordinates and overlays at hits on `face` (``(K,)`` world-mesh face indices) at
-        world `points` ``(K, 3)`` (float64) in rooms `room` (``(K,)``, ``-1`` in the open: see
-        :meth:`room_of`)."""
+        world `points` ``(K, 3)`` (float64) on faces of unit `normal` ``(K, 3)`` in rooms `room` (``(K,)``,
+        ``-1`` in the open: see :meth:`room_of`)."""
         kind = self.face_kind.take(face)
         material = self.face_material.take(face).astype(np.int32)
-        normal = self.face_normals.take(face, axis=0)
         flat = np.abs(normal[:, 2]) >= _UPWARD
         horizontal = np.hypot(normal[:, 0], normal[:, 1])
         horizontal[horizontal == 0.0] = 1.0
@@ -240,8 +245,12 @@ class SceneLook:
         if len(roads) and self.markings is not None:
             painted.add(roads[self.markings.painted(points[roads])], "marking")
         reflect[(material == material_index("water")) & (kind == PLAIN)] = MATERIALS["water"].reflect
+        objects = kind == OBJECT
+        material[objects] = material_index("object_grain")
         replaced, albedo = painted.joined()
-        return SurfaceLook(tile=material, u=u, v=v, replaced=replaced, albedo=albedo, reflect=reflect)
+        return SurfaceLook(
+            tile=material, u=u, v=v, replaced=replaced, albedo=albedo, reflect=reflect, modulate=objects
+        )
 
 
 class _Overlays:

@@ -85,16 +85,10 @@ class Lighting:
         self._sun_up = bool(ss.sun_direction[2] > 0.0 and ss.sun_color.max() > 0.0)
         self._sun = ss.sun_direction.astype(np.float32)
 
-    def radiance(
-        self,
-        points: np.ndarray,
-        normals: np.ndarray,
-        albedo: np.ndarray,
-        depth: np.ndarray,
-        reflect: np.ndarray,
-        room: np.ndarray,
+    def irradiance(
+        self, points: np.ndarray, normals: np.ndarray, depth: np.ndarray, room: np.ndarray
     ) -> np.ndarray:
-        """Radiance ``(3, K)`` of `K` hits.
+        """The light ``(3, K)`` falling on `K` hits (linear RGB irradiance).
 
         Parameters
         ----------
@@ -102,22 +96,15 @@ class Lighting:
             Hit points in the local frame.
         normals : ndarray of float32, shape (K, 3)
             Unit normals turned towards the camera.
-        albedo : ndarray of float32, shape (3, K)
-            Linear RGB reflectance.
         depth : ndarray of float32, shape (K,)
-            Distance along the optical axis (for the haze).
-        reflect : ndarray of float32, shape (K,)
-            Share of the sky each hit mirrors (glass, water): it adds that much of the horizon's
-            radiance (the sky a vertical pane mostly sees).
+            Distance along the optical axis (lifts the shadow rays' origins).
         room : ndarray of int32, shape (K,)
-            The room each hit is in (``-1``: in the open), :meth:`RoomLights.room_at` of the hit lifted
-            5 cm off its surface. Indoors only the room's lamp lights a hit: the sun and the sky light
-            the open.
+            The room each hit is in (``-1``: in the open), as ``SceneLook.room_of`` tells. Indoors only
+            the room's lamp lights a hit; the sun and the sky light the open.
         """
         settings, ss = self.settings, self.sun_sky
-        k = len(points)
         indoors = room >= 0
-        light = np.zeros((3, k), dtype=np.float32)
+        light = np.zeros((3, len(points)), dtype=np.float32)
         # Sky and ground light in the open: blend by the normal's height.
         up = 0.5 + 0.5 * normals[:, 2]
         open_air = ~indoors
@@ -135,6 +122,25 @@ class Lighting:
                 light[c, lit] += np.float32(ss.sun_color[c]) * cosine[lit]
         if indoors.any():
             self._add_lamps(light, points, normals, depth, room)
+        return light
+
+    def radiance(
+        self, albedo: np.ndarray, light: np.ndarray, depth: np.ndarray, reflect: np.ndarray
+    ) -> np.ndarray:
+        """Radiance ``(3, K)`` of `K` hits: `albedo` times `light` (:meth:`irradiance`), plus the sky that
+        glass and water mirror, faded with distance into the horizon's haze outdoors.
+
+        Parameters
+        ----------
+        albedo, light : ndarray of float32, shape (3, K)
+            Linear RGB reflectance and irradiance.
+        depth : ndarray of float32, shape (K,)
+            Distance along the optical axis (for the haze).
+        reflect : ndarray of float32, shape (K,)
+            Share of the sky each hit mirrors: it adds that much of the horizon's radiance (the sky a
+            vertical pane mostly sees).
+        """
+        ss = self.sun_sky
         radiance = albedo * light
         mirrors = np.flatnonzero(reflect > 0.0)
         if len(mirrors):

@@ -26,12 +26,13 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 import open3d as o3d
 from numpy.typing import ArrayLike
 
-from navverse.look.materials import srgb_to_linear
+from navverse.look.materials import MATERIALS, srgb_to_linear
 from navverse.look.scene_look import SceneLook, scene_look
 from navverse.look.settings import EVAL_LOOK, LookSettings
 from navverse.scene.colors import default_color
@@ -52,6 +53,8 @@ DEFAULT_INTRINSICS = CameraIntrinsics.from_hfov()
 """640 x 480 pixels, 90 degrees horizontal field of view, square pixels, centred principal point."""
 
 _LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)  # Rec. 709 weights
+Component = Literal["radiance", "albedo", "light"]
+"""What :meth:`SceneRenderer.radiance` returns: the radiance or one of its factors."""
 _CHUNK = 16384  # textured hits sampled per pass: the per-hit buffers stay in the CPU cache
 
 
@@ -283,6 +286,7 @@ class SceneRenderer:
             self._linear = srgb_to_linear(colors).T.copy()  # (3, F + 1) albedo per face
             self._to_linear = srgb_to_linear(np.arange(256))
             self._pixel_angle = 1.0 / intrinsics.fx
+            self._grain_base = srgb_to_linear(MATERIALS["object_grain"].color)
 
     def set_look(self, look: LookSettings | SceneLook) -> None:
         """Render lit images with another look from now on.
@@ -498,19 +502,24 @@ class SceneRenderer:
             rgb[flat_missed] = np.asarray(self._shading.background, dtype=np.uint8)  # the void: no light
         return rgb.reshape(height, width, 3)
 
-    def radiance(self, camera_to_world: ArrayLike) -> np.ndarray:
-        """The linear radiance a lit renderer sees from a pose, before exposure and tone mapping.
+    def radiance(self, camera_to_world: ArrayLike, *, component: Component = "radiance") -> np.ndarray:
+        """The linear radiance a lit renderer sees from a pose, before exposure and tone mapping, or
+        one of its two factors.
 
         Parameters
         ----------
         camera_to_world : array_like, shape (4, 4)
             Pose of the optical frame.
+        component : {"radiance", "albedo", "light"}
+            The radiance, or the albedo of what each pixel sees (materials, textures, colours), or the
+            light falling on it (irradiance: sun, sky, lamps, shadows), whose product it is (before
+            mirrored sky and haze).
 
         Returns
         -------
         ndarray of float32, shape (H, W, 3)
-            Linear RGB radiance (1.0: a white surface in the open sky's light); the sky where a scene
-            has one, 0 where nothing is hit in a scene without.
+            Linear RGB (radiance 1.0: a white surface in the open sky's light); the sky where a scene
+            has one, 0 where nothing is hit in a scene without (0 for the factors).
 
         Raises
         ------
@@ -522,7 +531,8 @@ class SceneRenderer:
         t_hit, face, barycentric = self._cast(check_pose(camera_to_world))
         depth, missed = self._depth(t_hit, face)
         height, width = face.shape
-        return self._lit_radiance(t_hit, face, barycentric, depth, missed).T.reshape(height, width, 3)
+        radiance = self._lit_radiance(t_hit, face, barycentric, depth, missed, component)
+        return radiance.T.reshape(height, width, 3)
 
     def _lit_radiance(
         self,
@@ -531,9 +541,11 @@ class SceneRenderer:
         barycentric: np.ndarray,
         depth: np.ndarray,
         missed: np.ndarray,
+        component: Component = "radiance",
     ) -> np.ndarray:
         """The ``(3, H * W)`` linear radiance of the last cast: albedo (materials, textures, object
-        colours) times the look's light; the sky or 0 where nothing was hit."""
+        colours) times the look's light; the sky or 0 where nothing was hit. With `component`
+        ``"albedo"`` or ``"light"``, only that factor at the hits (0 elsewhere)."""
         lighting = self._lighting
         assert lighting is not None
         height, width = face.shape
@@ -550,7 +562,7 @@ class SceneRenderer:
         hit_depth = depth.reshape(-1).take(hits)
         world = points.astype(np.float64) + self._origin
         room = self._look.room_of(world, normals)
-        surface = self._look.surface(hit_face, world, room)
+        surface = self._look.surface(hit_face, world, normals, room)
         tiled = np.flatnonzero(surface.tile >= 0)
         if len(tiled):
             cosine = np.abs(along.take(tiled)) / np.linalg.norm(directions[tiled, 3:], axis=1)
@@ -561,8 +573,12 @@ class SceneRenderer:
                 tile, surface.u[tiled] + shift[:, 0], surface.v[tiled] + shift[:, 1], footprint
             )
             tint = self._look.tint.take(tile, axis=0)
+            grain = surface.modulate[tiled]  # objects: their colour times the grain's deviation
+            sampled = np.empty((3, len(tiled)), dtype=np.float32)
             for c in range(3):
-                albedo[c, tiled] = self._to_linear.take(np.rint(srgb[c]).astype(np.intp)) * tint[:, c]
+                sampled[c] = self._to_linear.take(np.rint(srgb[c]).astype(np.intp)) * tint[:, c]
+            albedo[:, tiled[~grain]] = sampled[:, ~grain]
+            albedo[:, tiled[grain]] *= sampled[:, grain] / self._grain_base[:, None]
         if len(surface.replaced):
             albedo[:, surface.replaced] = surface.albedo
         if self._sampler is not None:
@@ -572,9 +588,15 @@ class SceneRenderer:
                 for c in range(3):
                     albedo[c, slot] = self._to_linear.take(np.rint(colors[c]).astype(np.intp).clip(0, 255))
         radiance = np.zeros((3, height * width), dtype=np.float32)
-        radiance[:, hits] = lighting.radiance(points, normals, albedo, hit_depth, surface.reflect, room)
+        light = lighting.irradiance(points, normals, hit_depth, room)
+        if component == "light":
+            radiance[:, hits] = light
+        elif component == "albedo":
+            radiance[:, hits] = albedo
+        else:
+            radiance[:, hits] = lighting.radiance(albedo, light, hit_depth, surface.reflect)
         misses = np.flatnonzero(missed.reshape(-1))
-        if self._shading.sky and len(misses):
+        if self._shading.sky and len(misses) and component == "radiance":
             ray = rays.take(misses, axis=0)[:, 3:]
             ray /= np.linalg.norm(ray, axis=1, keepdims=True)
             radiance[:, misses] = lighting.sky(ray)

@@ -32,11 +32,11 @@ def _pixel(pose: np.ndarray, intrinsics: CameraIntrinsics, point: np.ndarray) ->
 
 
 def _seen(renderer: SceneRenderer, point: np.ndarray, normal: np.ndarray) -> np.ndarray:
-    """Radiance at a surface point seen head-on from 4 m in front of it."""
+    """The light falling on a surface point seen head-on from 4 m in front of it."""
     eye = point + 4.0 * normal
     pose = look_at(eye, point)
     row, col = _pixel(pose, renderer.intrinsics, point)
-    return renderer.radiance(pose)[row, col]
+    return renderer.radiance(pose, component="light")[row, col]
 
 
 def test_a_face_turned_from_the_sun_is_darker_by_lamberts_ratio() -> None:
@@ -60,6 +60,9 @@ def test_a_face_turned_from_the_sun_is_darker_by_lamberts_ratio() -> None:
     assert cosines["A"] > 0.6 and cosines["C"] < 0.0
     direct_a, direct_b = seen["A"] - seen["C"], seen["B"] - seen["C"]
     assert (seen["B"] < seen["A"]).all()
+    pose = look_at(np.array([0.0, -4.0, 1.0]), np.array([0.0, 0.0, 1.0]))
+    parts = {c: renderer.radiance(pose, component=c) for c in ("radiance", "albedo", "light")}
+    np.testing.assert_allclose(parts["radiance"], parts["albedo"] * parts["light"], rtol=1e-5, atol=1e-7)
     np.testing.assert_allclose(direct_b / direct_a, cosines["B"] / cosines["A"], rtol=0.02)
 
 
@@ -73,7 +76,7 @@ def test_a_point_behind_an_occluder_is_in_shadow() -> None:
     renderer = SceneRenderer(scene, intrinsics=SMALL, look=NOON)
     sky = sun_sky(NOON)
     pose = look_at(np.array([4.0, 1.5, 9.0]), np.array([0.0, 1.5, 0.0]))
-    image = renderer.radiance(pose)
+    image = renderer.radiance(pose, component="light")  # the ground's grain aside
     shaded = image[_pixel(pose, SMALL, np.array([0.0, 1.0, 0.0]))]
     lit = image[_pixel(pose, SMALL, np.array([0.0, 4.0, 0.0]))]
     south = image[_pixel(pose, SMALL, np.array([0.0, -3.0, 0.0]))]
@@ -83,7 +86,9 @@ def test_a_point_behind_an_occluder_is_in_shadow() -> None:
     np.testing.assert_allclose(shaded / lit, expected, rtol=0.02)
     without = SceneRenderer(scene, intrinsics=SMALL, look=NOON.model_copy(update={"shadows": False}))
     np.testing.assert_allclose(
-        without.radiance(pose)[_pixel(pose, SMALL, np.array([0.0, 1.0, 0.0]))], lit, rtol=1e-4
+        without.radiance(pose, component="light")[_pixel(pose, SMALL, np.array([0.0, 1.0, 0.0]))],
+        lit,
+        rtol=1e-4,
     )
 
 
