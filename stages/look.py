@@ -15,24 +15,25 @@ class LookParams(Params, LookSettings):
 
 @stage(
     name="look",
-    inputs=["scene", "geometry"],
+    inputs=["geometry"],
     outputs=["look"],
     summary={"materials": "materials", "facades": "facades", "marked roads": "marked_roads"},
 )
 def look(ctx: StageContext, params: LookParams) -> None:
     """look/: look.json (settings, map details), look.usdc over a link of scene.usdc, textures/look/*.png."""
     from navverse.city.map import read_city_map
+    from navverse.files import file_sha256
     from navverse.look.files import LOOK_JSON, write_look
     from navverse.look.scene_look import map_details, scene_look
     from navverse.look.usd_look import LOOK_TEXTURES, LOOK_USD, write_look_usd
-    from navverse.scene.directory import SceneFiles, read_scene, scene_hash
+    from navverse.scene.directory import SceneFiles, read_scene
     from stages.city import CITY_MAP_FILE
 
-    source = SceneFiles(ctx.inputs["scene"])
+    source = SceneFiles(ctx.inputs["geometry"])  # the scene before its navmesh: a look needs no navmesh
     out = ctx.outputs["look"]
     ctx.progress(0, 3, "reading")
     scene = read_scene(source.root)
-    city_map = ctx.inputs["geometry"] / CITY_MAP_FILE
+    city_map = source.root / CITY_MAP_FILE
     details = map_details(scene, read_city_map(city_map)) if city_map.is_file() else None
     settings = LookSettings.of(params)
     ctx.progress(1, 3, "compiling")
@@ -44,7 +45,7 @@ def look(ctx: StageContext, params: LookParams) -> None:
             link_or_copy(image, out / source.textures.name / image.name)
     ctx.progress(2, 3, "writing")
     write_look_usd(scene, compiled, out, scene_file=source.usd.name)
-    write_look(out / LOOK_JSON, settings, details, scene_hash=scene_hash(source.root))
+    write_look(out / LOOK_JSON, settings, details, geometry_sha256=file_sha256(source.usd))
     ctx.progress(3, 3, "done")
     ctx.record(
         materials=len(list((out / LOOK_TEXTURES).glob("*.png"))),

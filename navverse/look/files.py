@@ -18,12 +18,11 @@ from pathlib import Path
 from pydantic import ValidationError
 
 from navverse.errors import SceneError
-from navverse.files import atomic_write
+from navverse.files import atomic_write, file_sha256
 from navverse.look.markings import MarkedRoad
 from navverse.look.scene_look import MapDetails, SceneLook, scene_look
 from navverse.look.settings import EVAL_LOOK, LOOK_VERSION, LookSettings
 from navverse.scene.geometry import Scene
-from navverse.scene.locate import cached_scene_hash
 
 __all__ = [
     "LOOK_FORMAT",
@@ -41,11 +40,13 @@ LOOK_FORMAT = "1.0"
 """Format version of ``look.json``."""
 
 
-def write_look(path: Path, settings: LookSettings, details: MapDetails | None, *, scene_hash: str) -> None:
+def write_look(
+    path: Path, settings: LookSettings, details: MapDetails | None, *, geometry_sha256: str
+) -> None:
     """Write ``look.json`` atomically.
 
     Its keys: ``format_version``, ``look_version`` (:data:`~navverse.look.settings.LOOK_VERSION`),
-    ``scene_hash`` (of the scene the look was made for), ``settings`` (every field of
+    ``geometry_sha256`` (of the ``scene.usdc`` the look was made for), ``settings`` (every field of
     :class:`LookSettings`) and ``map`` (null for scenes not made from a map, else ``buildings`` {scene
     building id: [map type or null, levels or null]} and ``roads`` [{centerline, width, lanes, oneway,
     highway}]).
@@ -53,7 +54,7 @@ def write_look(path: Path, settings: LookSettings, details: MapDetails | None, *
     data = {
         "format_version": LOOK_FORMAT,
         "look_version": LOOK_VERSION,
-        "scene_hash": scene_hash,
+        "geometry_sha256": geometry_sha256,
         "settings": settings.model_dump(mode="json"),
         "map": None
         if details is None
@@ -76,7 +77,7 @@ def write_look(path: Path, settings: LookSettings, details: MapDetails | None, *
 
 
 def read_look(path: Path) -> tuple[LookSettings, MapDetails | None]:
-    """The settings and map details of a ``look.json`` (:func:`look_scene_hash` tells its scene).
+    """The settings and map details of a ``look.json`` (:func:`look_geometry` tells its geometry).
 
     Raises
     ------
@@ -111,10 +112,11 @@ def read_look(path: Path) -> tuple[LookSettings, MapDetails | None]:
         raise SceneError(f"{path}: not a readable look ({type(exc).__name__}: {exc}); {rebuild}") from None
 
 
-def look_scene_hash(path: Path) -> str | None:
-    """The hash of the scene a ``look.json`` was made for (None if it does not say or is unreadable)."""
+def look_geometry(path: Path) -> str | None:
+    """The sha256 of the ``scene.usdc`` a ``look.json`` was made for (None if it does not say or is
+    unreadable)."""
     try:
-        value = json.loads(path.read_text(encoding="utf-8")).get("scene_hash")
+        value = json.loads(path.read_text(encoding="utf-8")).get("geometry_sha256")
     except (OSError, ValueError, AttributeError):
         return None
     return value if isinstance(value, str) else None
@@ -180,7 +182,8 @@ def load_scene_look(
         Terrain classes the renderer leaves out.
     """
     found = find_look(scene_dir) if scene_dir is not None else None
-    if found is not None and look_scene_hash(found) not in (None, cached_scene_hash(scene_dir)):
+    made_for = look_geometry(found) if found is not None else None
+    if made_for is not None and made_for != file_sha256(Path(scene_dir) / "scene.usdc"):
         warnings.warn(
             f"{found} was made for another build of scene {scene.scene_id}: using the evaluation look "
             f"without its map details; rebuild the look with `navverse build {scene.scene_id}`",

@@ -217,12 +217,12 @@ class SceneLook:
         painted = _Overlays()
         inside = np.flatnonzero((kind == FLOOR) | (kind == WALL))
         if len(inside):
-            room = room[inside]
+            their_room = room[inside]
             is_floor = kind[inside] == FLOOR
-            floors = is_floor & (room >= 0)
-            material[inside[floors]] = self.room_floor.take(room[floors])
-            material[inside[~is_floor & (room >= 0)]] = material_index("wall_paint")
-            outer = inside[~is_floor & (room < 0)]
+            floors = is_floor & (their_room >= 0)
+            material[inside[floors]] = self.room_floor.take(their_room[floors])
+            material[inside[~is_floor & (their_room >= 0)]] = material_index("wall_paint")
+            outer = inside[~is_floor & (their_room < 0)]
             material[outer] = material_index("render")
             base = float(self.rooms.floors.min()) if not self.rooms.empty else 0.0
             painted.add(outer[points[outer, 2] - base < _PLINTH], "plinth")

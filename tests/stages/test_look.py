@@ -96,7 +96,7 @@ def test_the_renderer_takes_the_built_look_and_a_broken_one_says_what_to_do(
         load_scene_look(scene, broken)
     # A look made for another build of the scene is not used: the evaluation look, with a warning.
     stale = json.loads((find_look(scene_dir)).read_text())
-    stale["settings"]["time_of_day"], stale["scene_hash"] = 17.0, "0" * 64
+    stale["settings"]["time_of_day"], stale["geometry_sha256"] = 17.0, "0" * 64
     for name in ("scene.json", "scene.usdc", "navmesh.bin"):
         (broken / name).write_bytes((scene_dir / name).read_bytes())
     (broken / LOOK_JSON).write_text(json.dumps(stale))
