@@ -16,9 +16,9 @@ from types import MappingProxyType
 from typing import Literal
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from navverse.look.patterns import laid_units, value_noise
+from navverse.scene.colors import linear_to_srgb, srgb_to_linear
 
 __all__ = [
     "CLASS_MATERIALS",
@@ -303,19 +303,6 @@ def bake_tile(material: Material, *, seed: int) -> np.ndarray:
     v, u = np.meshgrid(centers, centers, indexing="ij")
     albedo = material_albedo(material, u.reshape(-1), v.reshape(-1), seed=seed)
     return linear_to_srgb(albedo.T).reshape(n, n, 3)
-
-
-def linear_to_srgb(values: np.ndarray) -> np.ndarray:
-    """sRGB bytes of linear RGB values in [0, 1] (clipped)."""
-    c = np.clip(np.asarray(values, dtype=np.float64), 0.0, 1.0)
-    srgb = np.where(c <= 0.0031308, 12.92 * c, 1.055 * c ** (1.0 / 2.4) - 0.055)
-    return np.rint(srgb * 255.0).astype(np.uint8)
-
-
-def srgb_to_linear(values: ArrayLike) -> np.ndarray:
-    """Linear RGB in [0, 1] (float32) of sRGB values in 0..255 (the standard transfer function)."""
-    c = np.asarray(values, dtype=np.float64) / 255.0
-    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4).astype(np.float32)
 
 
 def _linear(color: tuple[int, int, int]) -> np.ndarray:

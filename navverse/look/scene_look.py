@@ -42,7 +42,7 @@ from navverse.look.patterns import cell_value
 from navverse.look.rooms import RoomLights, room_lights
 from navverse.look.settings import LookSettings
 from navverse.scene.annotations import BuildingAnnotation
-from navverse.scene.geometry import MeshData, Scene
+from navverse.scene.geometry import MeshData, Scene, unit_face_normals
 
 __all__ = [
     "KIND_NAMES",
@@ -354,7 +354,7 @@ def scene_look(
         if surface.terrain_class in hidden:
             continue
         mesh = surface.mesh
-        face_normals = _unit_normals(mesh)
+        face_normals = unit_face_normals(mesh.vertices, mesh.faces)
         kind = np.full(mesh.num_faces, PLAIN, dtype=np.int8)
         material = np.full(
             mesh.num_faces, material_index(CLASS_MATERIALS.get(surface.terrain_class, "concrete"))
@@ -378,7 +378,8 @@ def scene_look(
             if building.facades and len(walls):
                 kind[walls] = FACADE
                 frame[walls] = [
-                    facade_rows[(building.id, f)] for f in _nearest_facades(building, mesh, walls)
+                    facade_rows[(building.id, f)]
+                    for f in _nearest_facades(building, mesh, face_normals, walls)
                 ]
         kinds.append(kind)
         materials.append(material)
@@ -412,13 +413,15 @@ def scene_look(
     )
 
 
-def _nearest_facades(building: BuildingAnnotation, mesh: MeshData, walls: np.ndarray) -> list[int]:
+def _nearest_facades(
+    building: BuildingAnnotation, mesh: MeshData, face_normals: np.ndarray, walls: np.ndarray
+) -> list[int]:
     """The facade (id) of each wall face of a building's solid: the one whose outward normal agrees
     with the face's and whose line runs nearest the face's centre."""
     segments = np.array([f.segment for f in building.facades], dtype=np.float64)
     outward = np.array([f.normal for f in building.facades], dtype=np.float64)
     centers = mesh.vertices[mesh.faces[walls]].mean(axis=1)[:, :2]
-    normals = _unit_normals(mesh)[walls, :2]
+    normals = face_normals[walls, :2]
     offset = np.abs(centers @ outward.T - np.einsum("nk,nk->n", segments[:, 0], outward)[None, :])
     disagreement = 1.0 - normals @ outward.T
     best = np.argmin(offset + 10.0 * disagreement, axis=1)
@@ -451,11 +454,3 @@ def _crosswalk_patches(mesh: MeshData, crossings: list[tuple[float, float, float
         direction = longest / max(float(np.hypot(*longest)), 1e-9)
         crossings.append((float(box[0, 0]), float(box[0, 1]), float(direction[0]), float(direction[1])))
     return first + index.astype(np.int32)
-
-
-def _unit_normals(mesh: MeshData) -> np.ndarray:
-    """Unit face normals; zero for degenerate faces."""
-    tri = mesh.vertices[mesh.faces]
-    normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    length = np.linalg.norm(normals, axis=1, keepdims=True)
-    return np.divide(normals, length, out=np.zeros_like(normals), where=length > 0)

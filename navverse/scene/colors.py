@@ -4,8 +4,11 @@ from __future__ import annotations
 
 import colorsys
 import hashlib
+from collections.abc import Sequence
 
-__all__ = ["RGB", "default_color", "lighten"]
+import numpy as np
+
+__all__ = ["RGB", "default_color", "lighten", "linear_to_srgb", "srgb_to_linear"]
 
 RGB = tuple[int, int, int]
 
@@ -53,3 +56,16 @@ def lighten(color: RGB, amount: float) -> RGB:
         raise ValueError(f"amount must be in [0, 1], got {amount}")
     r, g, b = (round(c + (255 - c) * amount) for c in color)
     return (r, g, b)
+
+
+def srgb_to_linear(values: np.ndarray | Sequence[float]) -> np.ndarray:
+    """Linear RGB in [0, 1] (float32) of sRGB values in 0..255 (the standard transfer function)."""
+    c = np.asarray(values, dtype=np.float64) / 255.0
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4).astype(np.float32)
+
+
+def linear_to_srgb(values: np.ndarray | Sequence[float]) -> np.ndarray:
+    """sRGB bytes of linear RGB values in [0, 1] (clipped)."""
+    c = np.clip(np.asarray(values, dtype=np.float64), 0.0, 1.0)
+    srgb = np.where(c <= 0.0031308, 12.92 * c, 1.055 * c ** (1.0 / 2.4) - 0.055)
+    return np.rint(srgb * 255.0).astype(np.uint8)

@@ -64,6 +64,14 @@ def apply_linear(points: ArrayLike, matrix: ArrayLike) -> np.ndarray:
     return total
 
 
+def unit_face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Unit normals ``(F, 3)`` of triangles (counter-clockwise winding); zero for degenerate ones."""
+    tri = vertices[faces]
+    normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    length = np.linalg.norm(normals, axis=1, keepdims=True)
+    return np.divide(normals, length, out=np.zeros_like(normals), where=length > 0)
+
+
 def yaw_matrix(yaw: float) -> np.ndarray:
     """Return the 3x3 rotation about +z by `yaw` radians."""
     c, s = math.cos(yaw), math.sin(yaw)

@@ -38,7 +38,7 @@ from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdPhysics, UsdSemantics, UsdShade, V
 from navverse.errors import SceneError, rebuild_hint
 from navverse.files import atomic_path
 from navverse.scene.annotations import BuildingAnnotation, SceneAnnotations
-from navverse.scene.colors import default_color
+from navverse.scene.colors import default_color, linear_to_srgb, srgb_to_linear
 from navverse.scene.geometry import MeshData, Scene, SceneObject, Surface, Texture
 from navverse.scene.naming import (
     LOOKS_ROOT,
@@ -97,19 +97,8 @@ _ANGLE_TOL = 1e-6
 # ----------------------------------------------------------------------------------------- colours
 
 
-def _srgb_to_linear(rgb: np.ndarray) -> np.ndarray:
-    c = np.asarray(rgb, dtype=np.float64) / 255.0
-    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
-
-
-def _linear_to_srgb(linear: np.ndarray) -> np.ndarray:
-    c = np.clip(np.asarray(linear, dtype=np.float64), 0.0, 1.0)
-    srgb = np.where(c <= 0.0031308, c * 12.92, 1.055 * c ** (1.0 / 2.4) - 0.055)
-    return np.rint(srgb * 255.0).astype(np.uint8)
-
-
 def _vec3f(rgb: tuple[int, int, int]) -> Gf.Vec3f:
-    return Gf.Vec3f(*(float(v) for v in _srgb_to_linear(np.array(rgb))))
+    return Gf.Vec3f(*(float(v) for v in srgb_to_linear(np.array(rgb))))
 
 
 # ------------------------------------------------------------------------------------------ export
@@ -350,7 +339,7 @@ def _define_mesh(stage: Usd.Stage, path: str, mesh: MeshData, color: tuple[int, 
         lo, hi = points.min(axis=0), points.max(axis=0)
         usd_mesh.CreateExtentAttr(Vt.Vec3fArray([Gf.Vec3f(*map(float, lo)), Gf.Vec3f(*map(float, hi))]))
     if mesh.face_colors is not None:
-        colors = _srgb_to_linear(mesh.face_colors).astype(np.float32)
+        colors = srgb_to_linear(mesh.face_colors).astype(np.float32)
         primvar = usd_mesh.CreateDisplayColorPrimvar(UsdGeom.Tokens.uniform)
         primvar.Set(Vt.Vec3fArray.FromNumpy(colors))
     else:
@@ -524,7 +513,7 @@ def _read_mesh(path: Path, prim: Usd.Prim, *, cache: dict[Path, Texture] | None 
     if primvar and primvar.GetInterpolation() == UsdGeom.Tokens.uniform:
         values = primvar.Get()
         if values is not None and len(values) == counts_np.size:
-            colors = _linear_to_srgb(np.asarray(values, dtype=np.float64).reshape(-1, 3))[polygon]
+            colors = linear_to_srgb(np.asarray(values, dtype=np.float64).reshape(-1, 3))[polygon]
     uvs, face_texture, textures = _read_textures(
         path, prim, corners, counts_np, {} if cache is None else cache
     )

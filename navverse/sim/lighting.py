@@ -19,6 +19,7 @@ import open3d as o3d
 from navverse.look.rooms import RoomLights
 from navverse.look.settings import LookSettings
 from navverse.look.sky import SunSky, sun_sky
+from navverse.scene.colors import linear_to_srgb
 
 __all__ = ["MIDDLE_GREY", "Lighting"]
 
@@ -35,9 +36,7 @@ _ENCODE_STEPS = 4096
 
 def _encode_table() -> np.ndarray:
     """sRGB bytes of tone-mapped values ``k / (_ENCODE_STEPS - 1)``."""
-    c = np.linspace(0.0, 1.0, _ENCODE_STEPS)
-    srgb = np.where(c <= 0.0031308, 12.92 * c, 1.055 * c ** (1.0 / 2.4) - 0.055)
-    return np.rint(np.clip(srgb, 0.0, 1.0) * 255.0).astype(np.uint8)
+    return linear_to_srgb(np.linspace(0.0, 1.0, _ENCODE_STEPS))
 
 
 class Lighting:

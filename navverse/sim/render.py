@@ -36,7 +36,7 @@ from navverse.look.materials import MATERIALS, srgb_to_linear
 from navverse.look.scene_look import SceneLook, scene_look
 from navverse.look.settings import EVAL_LOOK, LookSettings
 from navverse.scene.colors import default_color
-from navverse.scene.geometry import MeshData, Scene, merge_textures
+from navverse.scene.geometry import MeshData, Scene, merge_textures, unit_face_normals
 from navverse.scene_types import scene_profile
 from navverse.sim.camera import CameraIntrinsics, check_pose
 from navverse.sim.lighting import Lighting
@@ -163,14 +163,6 @@ class Shading:
                 raise ValueError(f"{name} must be an sRGB triple in 0..255, got {color!r}")
 
 
-def _unit_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """Unit face normals (counter-clockwise winding); zero for degenerate faces."""
-    tri = vertices[faces]
-    normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    length = np.linalg.norm(normals, axis=1, keepdims=True)
-    return np.divide(normals, length, out=np.zeros_like(normals), where=length > 0)
-
-
 class SceneRenderer:
     """Ray-cast camera images of one scene.
 
@@ -256,7 +248,7 @@ class SceneRenderer:
         self._instance = np.append(labeled.instance_id, np.int32(BACKGROUND_ID)).astype(np.int32)
         self._terrain = np.append(labeled.class_index, np.int16(BACKGROUND_CLASS)).astype(np.int16)
         normals = np.zeros((num_faces + 1, 3), dtype=np.float32)
-        normals[:num_faces] = _unit_normals(mesh.vertices, mesh.faces)
+        normals[:num_faces] = unit_face_normals(mesh.vertices, mesh.faces)
         self._normals = normals
         light = np.asarray(shading.light, dtype=np.float64)
         self._n_dot_light = (normals.astype(np.float64) @ (light / np.linalg.norm(light))).astype(np.float32)
