@@ -13,10 +13,12 @@ at the foot.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from navverse.look.materials import FACADE_STYLES, MATERIALS, material_index, srgb_to_linear
 from navverse.scene.annotations import BuildingAnnotation
@@ -57,6 +59,9 @@ SX, SY, DX, DY, LENGTH, BASE, HEIGHT, STOREY, STYLE = range(9)
 _DOOR0 = 9  # then (at, width) per door; NaN where there is none
 _COLUMNS = _DOOR0 + 2 * DOORS_PER_FACADE
 _OVERLAYS = ("glass", "frame", "door", "plinth")
+_GLASS_OVERLAY, _FRAME_OVERLAY, _DOOR_OVERLAY, _PLINTH_OVERLAY = range(len(_OVERLAYS))
+# Per style: window width, window height, sill, bay, shop front (0/1), wall material.
+_STYLE_TABLE = np.column_stack([_WINDOW_W, _WINDOW_H, _SILL, _BAY, _SHOP, _WALLS]).astype(np.float64)
 
 
 @dataclass(frozen=True)
@@ -95,34 +100,77 @@ class FacadeFrames:
 
     def paint(self, frame: np.ndarray, points: np.ndarray) -> FacadePaint:
         """Paint the hits at world `points` ``(K, 3)`` on facades `frame` ``(K,)`` (row indices)."""
-        row = self.rows.take(frame, axis=0)
-        s = (points[:, 0] - row[:, SX]) * row[:, DX] + (points[:, 1] - row[:, SY]) * row[:, DY]
-        h = points[:, 2] - row[:, BASE]
-        style = row[:, STYLE].astype(np.intp)
-        storey = row[:, STOREY]
-        bays = np.maximum(1.0, np.round(row[:, LENGTH] / _BAY[style]))
-        bay = row[:, LENGTH] / bays
-        centred = s - (np.floor(s / bay) + 0.5) * bay
-        level = np.floor(h / storey)
+        count = len(frame)
+        s, h = np.empty(count), np.empty(count)
+        wall = np.empty(count, dtype=np.int32)
+        overlay = np.empty(count, dtype=np.int8)
+        _paint_hits(
+            self.rows, np.ascontiguousarray(frame, dtype=np.int64), np.ascontiguousarray(points, np.float64),
+            _STYLE_TABLE, s, h, wall, overlay,
+        )  # fmt: skip
+        return FacadePaint(s=s, h=h, wall=wall, overlay=overlay)
+
+
+@njit(cache=True, nogil=True)
+def _paint_hits(
+    rows: np.ndarray,
+    frame: np.ndarray,
+    points: np.ndarray,
+    styles: np.ndarray,
+    s_out: np.ndarray,
+    h_out: np.ndarray,
+    wall: np.ndarray,
+    overlay: np.ndarray,
+) -> None:
+    """Per hit: its place ``(s, h)`` on its facade, the wall material and the overlay painted there
+    (an index into ``_OVERLAYS``, -1 for none; a door over glass over a frame over the plinth)."""
+    for k in range(frame.shape[0]):
+        r = frame[k]
+        s = (points[k, 0] - rows[r, SX]) * rows[r, DX] + (points[k, 1] - rows[r, SY]) * rows[r, DY]
+        h = points[k, 2] - rows[r, BASE]
+        style = int(rows[r, STYLE])
+        window_w, window_h, sill, bay_width, shop = (
+            styles[style, 0],
+            styles[style, 1],
+            styles[style, 2],
+            styles[style, 3],
+            styles[style, 4] > 0.0,
+        )
+        storey = rows[r, STOREY]
+        bays = max(1.0, float(np.round(rows[r, LENGTH] / bay_width)))
+        bay = rows[r, LENGTH] / bays
+        across = abs(s - (math.floor(s / bay) + 0.5) * bay)
+        level = math.floor(h / storey)
         in_storey = h - level * storey
-        width = np.minimum(_WINDOW_W[style], bay - 0.6)
-        sill, top = _SILL[style], _SILL[style] + _WINDOW_H[style]
-        storeyed = ((level >= 1) | ~_SHOP[style]) & (h < row[:, HEIGHT] - _TOP_CLEAR) & (width > 0.3)
-        across = np.abs(centred)
-        glass = storeyed & (across < 0.5 * width) & (in_storey > sill) & (in_storey < top)
-        framed = storeyed & (across < 0.5 * width + _FRAME) & (in_storey > sill - _FRAME)
-        framed &= (in_storey < top + _FRAME) & ~glass
-        shop_top = np.minimum(storey - 0.7, 3.2)
-        glass |= (level < 1) & _SHOP[style] & (across < 0.5 * bay - 0.3) & (h > 0.5) & (h < shop_top)
-        door = np.zeros(len(frame), dtype=bool)
-        for k in range(DOORS_PER_FACADE):
-            at, door_width = row[:, _DOOR0 + 2 * k], row[:, _DOOR0 + 2 * k + 1]
-            with np.errstate(invalid="ignore"):
-                door |= (np.abs(s - at) < 0.5 * door_width) & (h < _DOOR_HEIGHT)
-        overlay = np.full(len(frame), -1, dtype=np.int8)
-        for name, mask in (("plinth", h < _PLINTH), ("frame", framed), ("glass", glass), ("door", door)):
-            overlay[mask] = _OVERLAYS.index(name)  # later ones win
-        return FacadePaint(s=s, h=h, wall=_WALLS.take(style), overlay=overlay)
+        width = min(window_w, bay - 0.6)
+        top = sill + window_h
+        storeyed = (level >= 1 or not shop) and h < rows[r, HEIGHT] - _TOP_CLEAR and width > 0.3
+        glass = storeyed and across < 0.5 * width and sill < in_storey < top
+        framed = (
+            storeyed
+            and not glass
+            and across < 0.5 * width + _FRAME
+            and sill - _FRAME < in_storey < top + _FRAME
+        )
+        if level < 1 and shop and across < 0.5 * bay - 0.3 and 0.5 < h < min(storey - 0.7, 3.2):
+            glass = True
+        door = False
+        for d in range(DOORS_PER_FACADE):
+            at, door_width = rows[r, _DOOR0 + 2 * d], rows[r, _DOOR0 + 2 * d + 1]
+            if abs(s - at) < 0.5 * door_width and h < _DOOR_HEIGHT:  # NaN (no door) compares False
+                door = True
+        painted = -1
+        if door:
+            painted = _DOOR_OVERLAY
+        elif glass:
+            painted = _GLASS_OVERLAY
+        elif framed:
+            painted = _FRAME_OVERLAY
+        elif h < _PLINTH:
+            painted = _PLINTH_OVERLAY
+        s_out[k], h_out[k] = s, h
+        wall[k] = int(styles[style, 5])
+        overlay[k] = painted
 
 
 def facade_frames(

@@ -10,10 +10,12 @@ faces: callers lift a hit off its surface before asking.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 import shapely
+from numba import njit
 from shapely.geometry import Polygon
 
 from navverse.scene.annotations import SceneAnnotations
@@ -59,25 +61,48 @@ class RoomLights:
         """Whether the scene has no room."""
         return len(self.lamps) == 0
 
-    def room_at(self, points: np.ndarray) -> np.ndarray:
+    def room_at(self, points: np.ndarray, *, lift: np.ndarray | None = None) -> np.ndarray:
         """Index of the room holding each of `points` ((N, 3) world), ``-1`` where none does.
 
-        A point above a room's ceiling or below its floor (by more than 10 cm) is in no room.
+        A point above a room's ceiling or below its floor (by more than 10 cm) is in no room. With
+        `lift` ((N, 3)), each point is first moved by it.
         """
-        if self.empty:
-            return np.full(len(points), -1, dtype=np.int32)
-        rows, cols = self.raster.shape
-        col = np.floor((points[:, 0] - self.origin[0]) / ROOM_CELL).astype(np.int64)
-        row = np.floor((points[:, 1] - self.origin[1]) / ROOM_CELL).astype(np.int64)
-        inside = (col >= 0) & (col < cols) & (row >= 0) & (row < rows)
         room = np.full(len(points), -1, dtype=np.int32)
-        room[inside] = self.raster[row[inside], col[inside]]
-        known = room >= 0
-        z = points[known, 2]
-        index = room[known]
-        within = (z >= self.floors[index] - 0.1) & (z <= self.ceilings[index] + 0.1)
-        room[np.flatnonzero(known)[~within]] = -1
+        if not self.empty:
+            offset = np.zeros((1, 3)) if lift is None else np.asarray(lift, dtype=np.float64)
+            _rooms_at(
+                np.ascontiguousarray(points, dtype=np.float64), offset, self.raster, self.origin,
+                self.floors, self.ceilings, room,
+            )  # fmt: skip
         return room
+
+
+@njit(cache=True, nogil=True)
+def _rooms_at(
+    points: np.ndarray,
+    lift: np.ndarray,
+    raster: np.ndarray,
+    origin: np.ndarray,
+    floors: np.ndarray,
+    ceilings: np.ndarray,
+    room: np.ndarray,
+) -> None:
+    """The raster's room under each point moved by its `lift` (one row: the same for all), kept where
+    the point is within 10 cm of that room's floor-to-ceiling span."""
+    rows, cols = raster.shape
+    same = lift.shape[0] == 1
+    for k in range(points.shape[0]):
+        d = 0 if same else k
+        x = points[k, 0] + lift[d, 0]
+        y = points[k, 1] + lift[d, 1]
+        z = points[k, 2] + lift[d, 2]
+        col = math.floor((x - origin[0]) / ROOM_CELL)
+        row = math.floor((y - origin[1]) / ROOM_CELL)
+        if col < 0 or col >= cols or row < 0 or row >= rows:
+            continue
+        r = raster[int(row), int(col)]
+        if r >= 0 and floors[r] - 0.1 <= z <= ceilings[r] + 0.1:
+            room[k] = r
 
 
 def room_lights(annotations: SceneAnnotations) -> RoomLights:

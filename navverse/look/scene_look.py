@@ -17,6 +17,7 @@ per material and variant in a process.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
@@ -24,6 +25,7 @@ from functools import cache, lru_cache
 
 import numpy as np
 import shapely
+from numba import njit
 
 from navverse.city.map import CityMap
 from navverse.look.facades import OVERLAY_ALBEDO, OVERLAY_NAMES, FacadeFrames, facade_frames
@@ -190,7 +192,9 @@ class SceneLook:
         """The room of each hit at world `points` on faces with unit `normals` turned towards the viewer:
         the room holding the point lifted 5 cm off its surface (so a wall's face belongs to the room it
         faces), ``-1`` in the open."""
-        return self.rooms.room_at(points + normals * 0.05)
+        if self.rooms.empty:
+            return np.full(len(points), -1, dtype=np.int32)
+        return self.rooms.room_at(points, lift=normals * np.float32(0.05))
 
     def with_settings(self, settings: LookSettings) -> SceneLook:
         """This look under other settings: the same scene and map, other facade picks and material
@@ -205,14 +209,11 @@ class SceneLook:
         """The tiles, coordinates and overlays at hits on `face` (``(K,)`` world-mesh face indices) at
         world `points` ``(K, 3)`` (float64) on faces of unit `normal` ``(K, 3)`` in rooms `room` (``(K,)``,
         ``-1`` in the open: see :meth:`room_of`)."""
-        kind = self.face_kind.take(face)
-        material = self.face_material.take(face).astype(np.int32)
-        flat = np.abs(normal[:, 2]) >= _UPWARD
-        horizontal = np.hypot(normal[:, 0], normal[:, 1])
-        horizontal[horizontal == 0.0] = 1.0
-        along_wall = (points[:, 1] * normal[:, 0] - points[:, 0] * normal[:, 1]) / horizontal
-        u = np.where(flat, points[:, 0], along_wall)
-        v = np.where(flat, points[:, 1], points[:, 2])
+        count = len(face)
+        kind = np.empty(count, dtype=self.face_kind.dtype)
+        material = np.empty(count, dtype=np.int32)
+        u, v = np.empty(count), np.empty(count)
+        _base_surface(self.face_kind, self.face_material, face, points, normal, kind, material, u, v)
         reflect = np.zeros(len(face), dtype=np.float32)
         painted = _Overlays()
         inside = np.flatnonzero((kind == FLOOR) | (kind == WALL))
@@ -251,6 +252,35 @@ class SceneLook:
         return SurfaceLook(
             tile=material, u=u, v=v, replaced=replaced, albedo=albedo, reflect=reflect, modulate=objects
         )
+
+
+@njit(cache=True, nogil=True)
+def _base_surface(
+    face_kind: np.ndarray,
+    face_material: np.ndarray,
+    face: np.ndarray,
+    points: np.ndarray,
+    normal: np.ndarray,
+    kind: np.ndarray,
+    material: np.ndarray,
+    u: np.ndarray,
+    v: np.ndarray,
+) -> None:
+    """Per hit: its face's kind and material, and its surface coordinates: ``(x, y)`` on floor-like
+    faces, else the distance along the wall's horizontal direction and the height."""
+    for k in range(face.shape[0]):
+        f = face[k]
+        kind[k] = face_kind[f]
+        material[k] = face_material[f]
+        nx, ny, nz = normal[k, 0], normal[k, 1], normal[k, 2]
+        if abs(nz) >= _UPWARD:
+            u[k], v[k] = points[k, 0], points[k, 1]
+        else:
+            horizontal = math.sqrt(nx * nx + ny * ny)
+            if horizontal == 0.0:
+                horizontal = 1.0
+            u[k] = (points[k, 1] * nx - points[k, 0] * ny) / horizontal
+            v[k] = points[k, 2]
 
 
 class _Overlays:

@@ -7,11 +7,13 @@ indoor room its lamp (cosine, inverse square, a shadow ray) and the light the ro
 Pixels that hit nothing show the sky (a gradient with a glow around the sun) in scenes with a sky.
 Outdoors, far surfaces fade towards the horizon's colour (aerial perspective). The frame is then
 exposed automatically (its log-average luminance brought to a middle grey, with the look's
-compensation), tone mapped with a filmic curve and encoded as sRGB. Everything is vectorised numpy,
-deterministic, with no state between frames.
+compensation), tone mapped with a filmic curve and encoded as sRGB. The per-hit loops are compiled
+(:mod:`navverse.sim.shade_kernels`); everything is deterministic, with no state between frames.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 import open3d as o3d
@@ -20,8 +22,9 @@ from navverse.look.rooms import RoomLights
 from navverse.look.settings import LookSettings
 from navverse.look.sky import SunSky, sun_sky
 from navverse.scene.colors import linear_to_srgb
+from navverse.sim import shade_kernels as kernels
 
-__all__ = ["MIDDLE_GREY", "Lighting"]
+__all__ = ["MIDDLE_GREY", "ImageHits", "Lighting"]
 
 MIDDLE_GREY = 0.2
 """Exposed value the log-average luminance of a frame is brought to (before tone mapping)."""
@@ -30,8 +33,18 @@ _LAMP_COLOR = np.array([1.0, 0.92, 0.8], dtype=np.float32)  # warm white
 _BOUNCE = 0.28  # share of a room lamp's light that reaches everything in the room, bounced
 _LAMP_REACH = 2.0  # meters at which a lamp gives its full strength; farther, it falls off as 1/d^2
 _HAZE_DISTANCE = 450.0  # meters of aerial perspective: 1 - exp(-d / distance) towards the horizon
-_LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
 _ENCODE_STEPS = 4096
+_EXPOSURE_STRIDE = 5  # the exposure reads every fifth measured pixel (odd: no alignment with rows)
+
+
+class ImageHits(NamedTuple):
+    """Where a frame's hits are: their flat pixel indices ``(K,)`` in an image `width` x `height`, and
+    the face each hit (``(K,)``)."""
+
+    pixels: np.ndarray
+    face: np.ndarray
+    width: int
+    height: int
 
 
 def _encode_table() -> np.ndarray:
@@ -83,9 +96,19 @@ class Lighting:
         ss = self.sun_sky
         self._sun_up = bool(ss.sun_direction[2] > 0.0 and ss.sun_color.max() > 0.0)
         self._sun = ss.sun_direction.astype(np.float32)
+        self._sun_color = ss.sun_color.astype(np.float32)
+        self._sky_light = ss.sky_light.astype(np.float32)
+        self._ground_light = ss.ground_light.astype(np.float32)
+        self._horizon = ss.sky_horizon.astype(np.float32)
 
     def irradiance(
-        self, points: np.ndarray, normals: np.ndarray, depth: np.ndarray, room: np.ndarray
+        self,
+        points: np.ndarray,
+        normals: np.ndarray,
+        depth: np.ndarray,
+        room: np.ndarray,
+        *,
+        image: ImageHits | None = None,
     ) -> np.ndarray:
         """The light ``(3, K)`` falling on `K` hits (linear RGB irradiance).
 
@@ -100,37 +123,49 @@ class Lighting:
         room : ndarray of int32, shape (K,)
             The room each hit is in (``-1``: in the open), as ``SceneLook.room_of`` tells. Indoors only
             the room's lamp lights a hit; the sun and the sky light the open.
+        image : ImageHits, optional
+            Where the hits are in an image: shadow rays are then cast on a checkerboard, and a hit on
+            an odd square whose four neighbours on the same face agree takes their shadow.
         """
-        settings, ss = self.settings, self.sun_sky
-        indoors = room >= 0
-        light = np.zeros((3, len(points)), dtype=np.float32)
-        # Sky and ground light in the open: blend by the normal's height.
-        up = 0.5 + 0.5 * normals[:, 2]
-        open_air = ~indoors
-        for c in range(3):
-            light[c] = np.float32(ss.ground_light[c]) + up * np.float32(ss.sky_light[c] - ss.ground_light[c])
-            light[c] *= open_air
-        if self._sun_up:
-            cosine = normals @ self._sun
-            lit = np.flatnonzero((cosine > 0.0) & ~indoors)
-            if settings.shadows and len(lit):
-                lit = lit[
-                    ~self._occluded(points[lit], normals[lit], depth[lit], self._sun[None, :], far=np.inf)
-                ]
-            for c in range(3):
-                light[c, lit] += np.float32(ss.sun_color[c]) * cosine[lit]
-        if indoors.any():
-            self._add_lamps(light, points, normals, depth, room)
+        light = np.empty((3, len(points)), dtype=np.float32)
+        sun_cosine = np.empty(len(points), dtype=np.float32)
+        room = np.ascontiguousarray(room, dtype=np.int32)
+        facing = kernels.open_air_light(
+            normals, room, self._sky_light, self._ground_light, self._sun, self._sun_up, light, sun_cosine
+        )
+        if facing:
+            lit = np.flatnonzero(sun_cosine)
+            if self.settings.shadows:
+                key = None if image is None else image.face
+                blocked = self._occluded(
+                    points, normals, depth, lit, self._sun[None, :], far=np.inf, key=key, image=image
+                )
+            else:
+                blocked = np.zeros(len(lit), dtype=bool)
+            kernels.add_sun(light, lit, blocked, sun_cosine, self._sun_color)
+        if (room >= 0).any():
+            self._add_lamps(light, points, normals, depth, room, image=image)
         return light
 
-    def radiance(
-        self, albedo: np.ndarray, light: np.ndarray, depth: np.ndarray, reflect: np.ndarray
-    ) -> np.ndarray:
-        """Radiance ``(3, K)`` of `K` hits: `albedo` times `light` (:meth:`irradiance`), plus the sky that
-        glass and water mirror, faded with distance into the horizon's haze outdoors.
+    def shade(
+        self,
+        radiance: np.ndarray,
+        hits: np.ndarray,
+        albedo: np.ndarray,
+        light: np.ndarray,
+        depth: np.ndarray,
+        reflect: np.ndarray,
+    ) -> None:
+        """Write the radiance of `K` hits into the pixels `hits` of `radiance` ``(3, P)``: `albedo` times
+        `light` (:meth:`irradiance`), plus the sky that glass and water mirror, faded with distance into
+        the horizon's haze outdoors.
 
         Parameters
         ----------
+        radiance : ndarray of float32, shape (3, P)
+            The frame's radiance, written at `hits`.
+        hits : ndarray of int, shape (K,)
+            Pixel indices of the hits.
         albedo, light : ndarray of float32, shape (3, K)
             Linear RGB reflectance and irradiance.
         depth : ndarray of float32, shape (K,)
@@ -139,73 +174,93 @@ class Lighting:
             Share of the sky each hit mirrors: it adds that much of the horizon's radiance (the sky a
             vertical pane mostly sees).
         """
-        ss = self.sun_sky
-        radiance = albedo * light
-        mirrors = np.flatnonzero(reflect > 0.0)
-        if len(mirrors):
-            for c in range(3):
-                radiance[c, mirrors] += reflect[mirrors] * np.float32(ss.sky_horizon[c])
-        if self._sky:
-            haze = 1.0 - np.exp(depth * np.float32(-1.0 / _HAZE_DISTANCE))
-            for c in range(3):
-                radiance[c] += haze * (np.float32(ss.sky_horizon[c]) - radiance[c])
-        return radiance
+        haze = _HAZE_DISTANCE if self._sky else 0.0
+        kernels.shade_hits(radiance, hits, albedo, light, depth, reflect, self._horizon, haze)
 
     def _add_lamps(
-        self, light: np.ndarray, points: np.ndarray, normals: np.ndarray, depth: np.ndarray, room: np.ndarray
+        self,
+        light: np.ndarray,
+        points: np.ndarray,
+        normals: np.ndarray,
+        depth: np.ndarray,
+        room: np.ndarray,
+        *,
+        image: ImageHits | None,
     ) -> None:
         """Add each indoor hit's room lamp (direct, shadowed) and the room's bounced light to `light`."""
-        inside = np.flatnonzero(room >= 0)
-        strength = np.float32(self.settings.room_light)
-        to_lamp = self._lamps[room[inside]] - points[inside]
-        distance2 = np.einsum("ij,ij->i", to_lamp, to_lamp)
-        cosine = np.einsum("ij,ij->i", normals[inside], to_lamp) / np.sqrt(np.maximum(distance2, 1e-6))
-        direct = strength * np.maximum(cosine, 0.0) * np.minimum(1.0, np.float32(_LAMP_REACH**2) / distance2)
-        if self.settings.shadows:
-            facing = np.flatnonzero(direct > 0.0)
-            blocked = self._occluded(
-                points[inside[facing]],
-                normals[inside[facing]],
-                depth[inside[facing]],
-                to_lamp[facing],
-                far=1.0,
-            )
-            direct[facing[blocked]] = 0.0
-        total = direct + strength * np.float32(_BOUNCE)
-        for c in range(3):
-            light[c, inside] += _LAMP_COLOR[c] * total
+        strength = float(self.settings.room_light)
+        direct = np.empty(len(points), dtype=np.float32)
+        to_lamp = np.empty((len(points), 3), dtype=np.float32)
+        kernels.lamp_light(points, normals, room, self._lamps, strength, _LAMP_REACH, direct, to_lamp)
+        shadowed = np.flatnonzero(direct) if self.settings.shadows else np.zeros(0, dtype=np.int64)
+        key = None if image is None else image.face.astype(np.int64) * (len(self._lamps) + 1) + room + 1
+        blocked = self._occluded(points, normals, depth, shadowed, to_lamp, far=1.0, key=key, image=image)
+        kernels.add_lamps(light, room, direct, shadowed, blocked, strength * _BOUNCE, _LAMP_COLOR)
 
     def _occluded(
         self,
         points: np.ndarray,
         normals: np.ndarray,
         depth: np.ndarray,
+        which: np.ndarray,
+        directions: np.ndarray,
+        *,
+        far: float,
+        key: np.ndarray | None = None,
+        image: ImageHits | None = None,
+    ) -> np.ndarray:
+        """Whether a ray from each hit `which` (lifted off its surface) along its direction
+        (``(K, 3)``, one per hit, or ``(1, 3)`` for all) meets geometry before parameter `far` (1.0:
+        the end of an unnormalised direction to a lamp). With an `image` and a `key` per hit, rays are
+        cast on a checkerboard's even squares, then where the odd squares' neighbours of the same key
+        disagree."""
+        if image is None or key is None or len(which) == 0:
+            return self._cast_shadows(points, normals, depth, which, directions, far=far)
+        even = kernels.even_pixels(image.pixels, which, image.width)
+        first = np.flatnonzero(even)
+        blocked = self._cast_shadows(points, normals, depth, which[first], directions, far=far)
+        state, undecided = kernels.checker_fill(
+            image.pixels, which, key, even, blocked, image.width, image.height
+        )
+        state[undecided] = self._cast_shadows(points, normals, depth, which[undecided], directions, far=far)
+        return state.astype(bool)
+
+    def _cast_shadows(
+        self,
+        points: np.ndarray,
+        normals: np.ndarray,
+        depth: np.ndarray,
+        which: np.ndarray,
         directions: np.ndarray,
         *,
         far: float,
     ) -> np.ndarray:
-        """Whether a ray from each point (lifted off its surface) along its direction meets geometry
-        before parameter `far` (1.0: the end of an unnormalised direction to a lamp)."""
-        rays = np.empty((len(points), 6), dtype=np.float32)
-        lift = (np.float32(0.01) + np.float32(4e-4) * depth)[:, None]
-        rays[:, :3] = points + normals * lift
-        rays[:, 3:] = directions
+        """Whether each shadow ray of :meth:`_occluded` meets geometry (one ray per hit)."""
+        if len(which) == 0:
+            return np.zeros(0, dtype=bool)
+        rays = kernels.lifted_rays(
+            points, normals, depth, which, np.ascontiguousarray(directions, np.float32)
+        )
         tfar = np.inf if not np.isfinite(far) else float(far) * (1.0 - 1e-3)
         hit = self._raycaster.test_occlusions(
             o3d.core.Tensor(rays), tnear=0.0, tfar=tfar, nthreads=self._threads
         )
         return hit.numpy().astype(bool)
 
-    def sky(self, directions: np.ndarray) -> np.ndarray:
-        """Radiance ``(3, M)`` of the sky along unit `directions` ``(M, 3)`` (world z up)."""
+    def sky(self, radiance: np.ndarray, pixels: np.ndarray, rays: np.ndarray) -> None:
+        """Write the sky's radiance into the `pixels` of `radiance` ``(3, P)`` by the directions of their
+        rays (``rays`` ``(P, 6)``, world z up): a gradient from the horizon up, a glow round the sun."""
         ss = self.sun_sky
-        height = np.clip(directions[:, 2], 0.0, 1.0) ** np.float32(0.6)
-        out = np.empty((3, len(directions)), dtype=np.float32)
-        glow = np.maximum(directions @ self._sun, 0.0) ** np.float32(48.0) if self._sun_up else 0.0
-        for c in range(3):
-            out[c] = np.float32(ss.sky_horizon[c]) + height * np.float32(ss.sky_zenith[c] - ss.sky_horizon[c])
-            out[c] += np.float32(0.35 * ss.sun_color[c]) * glow
-        return out
+        kernels.sky_pixels(
+            radiance,
+            pixels,
+            rays,
+            self._horizon,
+            ss.sky_zenith.astype(np.float32),
+            self._sun,
+            self._sun_color,
+            self._sun_up,
+        )
 
     def encode(self, radiance: np.ndarray, *, measured: np.ndarray | None = None) -> np.ndarray:
         """sRGB bytes ``(P, 3)`` of radiance ``(3, P)``: exposed, tone mapped, encoded.
@@ -215,15 +270,16 @@ class Lighting:
         radiance : ndarray of float32, shape (3, P)
             The frame's radiance, every pixel.
         measured : ndarray of bool, shape (P,), optional
-            Pixels the automatic exposure measures (default: all).
+            Pixels the automatic exposure measures (default: all; every
+            :data:`_EXPOSURE_STRIDE`-th of them is read).
         """
-        luma = _LUMA @ radiance if measured is None else _LUMA @ radiance[:, measured]
-        average = float(np.exp(np.mean(np.log(np.maximum(luma, 1e-4))))) if luma.size else MIDDLE_GREY
+        if measured is None:
+            measured = np.arange(radiance.shape[1])
+        pixels = np.flatnonzero(measured) if measured.dtype == bool else measured
+        average = kernels.log_average_luma(radiance, pixels, _EXPOSURE_STRIDE)
+        if not np.isfinite(average):
+            average = MIDDLE_GREY
         scale = np.clip(MIDDLE_GREY / average, *_EXPOSURE_RANGE) * 2.0**self.settings.exposure_ev
-        x = radiance * np.float32(scale)
-        # Filmic curve (Narkowicz's fit of the ACES reference tone map).
-        mapped = x * (np.float32(2.51) * x + np.float32(0.03))
-        mapped /= x * (np.float32(2.43) * x + np.float32(0.59)) + np.float32(0.14)
-        np.clip(mapped, 0.0, 1.0, out=mapped)
-        index = (mapped * np.float32(_ENCODE_STEPS - 1) + np.float32(0.5)).astype(np.intp)
-        return np.ascontiguousarray(self._encode.take(index).T)
+        out = np.empty((radiance.shape[1], 3), dtype=np.uint8)
+        kernels.encode_pixels(radiance, float(scale), self._encode, out)
+        return out

@@ -16,9 +16,14 @@ where depth jumps or the label changes (outlines that make furniture stand out a
 similar colour). Pixels that hit nothing show the background colour or, with ``Shading.sky``, a sky
 graded by the ray's elevation (the default for outdoor and ``i2o`` scenes). Every texture of the scene
 is packed once into one flat texel pool (an atlas without resizing), so sampling is index arithmetic;
-scenes without textures skip it entirely. Everything per pixel is vectorised numpy on preallocated
-tables; there is no global state, and rendering is deterministic: the same scene, camera and pose give
-the same bytes.
+scenes without textures skip it entirely. These flat images are vectorised numpy on preallocated
+tables.
+
+By default the images are lit instead, by a look (:mod:`navverse.look`): each hit's material tile
+(:class:`~navverse.sim.tile_sampler.TileSampler`), facade paint, markings or object colour, times the
+light of :class:`~navverse.sim.lighting.Lighting` (sun and shadow rays, sky, room lamps), exposed and
+tone mapped; its per-hit loops are compiled (:mod:`navverse.sim.shade_kernels`). Either way there is no
+global state, and rendering is deterministic: the same scene, camera and pose give the same bytes.
 """
 
 from __future__ import annotations
@@ -38,8 +43,9 @@ from navverse.look.settings import EVAL_LOOK, LookSettings
 from navverse.scene.colors import default_color
 from navverse.scene.geometry import MeshData, Scene, merge_textures, unit_face_normals
 from navverse.scene_types import scene_profile
+from navverse.sim import shade_kernels as kernels
 from navverse.sim.camera import CameraIntrinsics, check_pose
-from navverse.sim.lighting import Lighting
+from navverse.sim.lighting import ImageHits, Lighting
 from navverse.sim.tile_sampler import TileSampler
 
 __all__ = ["BACKGROUND_CLASS", "BACKGROUND_ID", "DEFAULT_INTRINSICS", "Frame", "SceneRenderer", "Shading"]
@@ -275,7 +281,7 @@ class SceneRenderer:
             self._sky_shown = sky
             self.set_look(look)
             self._tiles = TileSampler(look.tiles, look.tile_sizes)
-            self._linear = srgb_to_linear(colors).T.copy()  # (3, F + 1) albedo per face
+            self._linear = np.ascontiguousarray(srgb_to_linear(colors).T, dtype=np.float32)  # (3, F + 1)
             self._to_linear = srgb_to_linear(np.arange(256))
             self._pixel_angle = 1.0 / intrinsics.fx
             self._grain_base = srgb_to_linear(MATERIALS["object_grain"].color)
@@ -412,7 +418,7 @@ class SceneRenderer:
         if self._lighting is None:
             rgb = self._flat_rgb(face, barycentric, depth, missed, semantic, terrain)
         else:
-            rgb = self._lit_rgb(t_hit, face, barycentric, depth, missed)
+            rgb = self._lit_rgb(t_hit, face, barycentric, missed)
         return Frame(rgb=rgb, depth=depth, semantic=semantic, terrain=terrain)
 
     def _flat_rgb(
@@ -479,14 +485,13 @@ class SceneRenderer:
         t_hit: np.ndarray,
         face: np.ndarray,
         barycentric: np.ndarray,
-        depth: np.ndarray,
         missed: np.ndarray,
     ) -> np.ndarray:
         """Lit images (the look's :class:`~navverse.sim.lighting.Lighting`): albedo times light, exposed."""
         lighting = self._lighting
         assert lighting is not None
         height, width = face.shape
-        radiance = self._lit_radiance(t_hit, face, barycentric, depth, missed)
+        radiance = self._lit_radiance(t_hit, face, barycentric, missed)
         flat_missed = missed.reshape(-1)
         sky = self._shading.sky and bool(flat_missed.any())
         rgb = lighting.encode(radiance, measured=None if sky or flat_missed.all() else ~flat_missed)
@@ -521,9 +526,9 @@ class SceneRenderer:
         if self._lighting is None:
             raise ValueError("a renderer made with a shading has no radiance: make it with a look")
         t_hit, face, barycentric = self._cast(check_pose(camera_to_world))
-        depth, missed = self._depth(t_hit, face)
+        _, missed = self._depth(t_hit, face)
         height, width = face.shape
-        radiance = self._lit_radiance(t_hit, face, barycentric, depth, missed, component)
+        radiance = self._lit_radiance(t_hit, face, barycentric, missed, component)
         return radiance.T.reshape(height, width, 3)
 
     def _lit_radiance(
@@ -531,7 +536,6 @@ class SceneRenderer:
         t_hit: np.ndarray,
         face: np.ndarray,
         barycentric: np.ndarray,
-        depth: np.ndarray,
         missed: np.ndarray,
         component: Component = "radiance",
     ) -> np.ndarray:
@@ -543,34 +547,25 @@ class SceneRenderer:
         height, width = face.shape
         flat_face = face.reshape(-1)
         hits = np.flatnonzero(~missed.reshape(-1))
-        hit_face = flat_face.take(hits)
+        count = len(hits)
         rays = self._rays.reshape(-1, 6)
-        directions = rays.take(hits, axis=0)
-        points = directions[:, :3] + t_hit.reshape(-1).take(hits)[:, None] * directions[:, 3:]
-        normals = self._normals.take(hit_face, axis=0)
-        along = np.einsum("ij,ij->i", normals, directions[:, 3:])
-        normals[along > 0.0] *= np.float32(-1.0)
-        albedo = self._linear.take(hit_face, axis=1)
-        hit_depth = depth.reshape(-1).take(hits)
-        world = points.astype(np.float64) + self._origin
+        points = np.empty((count, 3), dtype=np.float32)
+        world = np.empty((count, 3), dtype=np.float64)
+        normals = np.empty((count, 3), dtype=np.float32)
+        hit_depth = np.empty(count, dtype=np.float32)
+        footprint = np.empty(count, dtype=np.float32)
+        hit_face = np.empty(count, dtype=flat_face.dtype)
+        albedo = np.empty((3, count), dtype=np.float32)
+        kernels.gather_hits(
+            rays, t_hit.reshape(-1), hits, flat_face, self._normals, self._linear, self._origin, self._near,
+            self._pixel_angle, points, world, normals, hit_depth, footprint, hit_face, albedo,
+        )  # fmt: skip
         room = self._look.room_of(world, normals)
         surface = self._look.surface(hit_face, world, normals, room)
-        tiled = np.flatnonzero(surface.tile >= 0)
-        if len(tiled):
-            cosine = np.abs(along.take(tiled)) / np.linalg.norm(directions[tiled, 3:], axis=1)
-            footprint = hit_depth.take(tiled) * self._pixel_angle / np.maximum(cosine, 0.2)
-            tile = surface.tile[tiled]
-            shift = self._look.shift.take(tile, axis=0)
-            srgb = self._tiles.sample(
-                tile, surface.u[tiled] + shift[:, 0], surface.v[tiled] + shift[:, 1], footprint
-            )
-            tint = self._look.tint.take(tile, axis=0)
-            grain = surface.modulate[tiled]  # objects: their colour times the grain's deviation
-            sampled = np.empty((3, len(tiled)), dtype=np.float32)
-            for c in range(3):
-                sampled[c] = self._to_linear.take(np.rint(srgb[c]).astype(np.intp)) * tint[:, c]
-            albedo[:, tiled[~grain]] = sampled[:, ~grain]
-            albedo[:, tiled[grain]] *= sampled[:, grain] / self._grain_base[:, None]
+        self._tiles.sample_into(
+            albedo, surface.tile, surface.u, surface.v, footprint, shift=self._look.shift,
+            tint=self._look.tint, modulate=surface.modulate, grain_base=self._grain_base,
+        )  # fmt: skip
         if len(surface.replaced):
             albedo[:, surface.replaced] = surface.albedo
         if self._sampler is not None:
@@ -580,18 +575,17 @@ class SceneRenderer:
                 for c in range(3):
                     albedo[c, slot] = self._to_linear.take(np.rint(colors[c]).astype(np.intp).clip(0, 255))
         radiance = np.zeros((3, height * width), dtype=np.float32)
-        light = lighting.irradiance(points, normals, hit_depth, room)
+        light = lighting.irradiance(
+            points, normals, hit_depth, room, image=ImageHits(hits, hit_face, width, height)
+        )
         if component == "light":
             radiance[:, hits] = light
         elif component == "albedo":
             radiance[:, hits] = albedo
         else:
-            radiance[:, hits] = lighting.radiance(albedo, light, hit_depth, surface.reflect)
-        misses = np.flatnonzero(missed.reshape(-1))
-        if self._shading.sky and len(misses) and component == "radiance":
-            ray = rays.take(misses, axis=0)[:, 3:]
-            ray /= np.linalg.norm(ray, axis=1, keepdims=True)
-            radiance[:, misses] = lighting.sky(ray)
+            lighting.shade(radiance, hits, albedo, light, hit_depth, surface.reflect)
+        if self._shading.sky and component == "radiance" and len(hits) < height * width:
+            lighting.sky(radiance, np.flatnonzero(missed.reshape(-1)), rays)
         return radiance
 
     def _sky(self, missed: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:

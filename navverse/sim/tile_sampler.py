@@ -2,7 +2,7 @@
 
 A look's materials are square tiles that repeat over the surfaces (:mod:`navverse.look.materials`).
 :class:`TileSampler` packs every tile and its mip levels (each half the size of the one before, by
-2 x 2 averages) into one planar texel pool, and samples it at surface coordinates in meters: the level
+2 x 2 averages) into one texel pool, and samples it at surface coordinates in meters: the level
 is the one whose texels are about as wide as the pixel's footprint on the surface (so far asphalt
 does not sparkle), then bilinear between the four nearest texels, wrapping around the tile's edges.
 """
@@ -12,6 +12,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+
+from navverse.scene.colors import srgb_to_linear
+from navverse.sim import shade_kernels as kernels
 
 __all__ = ["TileSampler"]
 
@@ -43,52 +46,52 @@ class TileSampler:
                         image[0::2, 0::2] + image[1::2, 0::2] + image[0::2, 1::2] + image[1::2, 1::2]
                     )
                 wrapped = np.pad(image, ((0, 1), (0, 1), (0, 0)), mode="wrap")
-                parts.append(np.rint(wrapped).astype(np.uint8).reshape(-1, 3).T)
+                parts.append(np.rint(wrapped).astype(np.uint8).reshape(-1, 3))
                 self._offset[t, level] = cursor
                 self._width[t, level] = image.shape[0]
                 cursor += wrapped.shape[0] * wrapped.shape[1]
         self._pool = (
-            np.ascontiguousarray(np.concatenate(parts, axis=1)) if parts else np.zeros((3, 0), np.uint8)
+            np.ascontiguousarray(np.concatenate(parts, axis=0)) if parts else np.zeros((0, 3), np.uint8)
         )
         self._texel = self._sizes / np.array([t.shape[0] for t in tiles], dtype=np.float64)
+        self._to_linear = srgb_to_linear(np.arange(256)).astype(np.float32)
 
-    def sample(self, tile: np.ndarray, u: np.ndarray, v: np.ndarray, footprint: np.ndarray) -> np.ndarray:
-        """sRGB values ``(3, K)`` (float32, 0..255) of `tile` at ``(u, v)`` meters.
+    def sample_into(
+        self,
+        albedo: np.ndarray,
+        tile: np.ndarray,
+        u: np.ndarray,
+        v: np.ndarray,
+        footprint: np.ndarray,
+        *,
+        shift: np.ndarray,
+        tint: np.ndarray,
+        modulate: np.ndarray,
+        grain_base: np.ndarray,
+    ) -> None:
+        """Write the linear albedo of the tiles at `K` hits into `albedo` ``(3, K)``.
 
         Parameters
         ----------
+        albedo : ndarray of float32, shape (3, K)
+            Each hit's own colour (linear RGB); overwritten where the hit has a tile.
         tile : ndarray of int, shape (K,)
-            Tile index per hit (all valid).
+            Tile index per hit; ``-1``: none (its albedo stays).
         u, v : ndarray of float64, shape (K,)
             Surface coordinates in meters.
         footprint : ndarray, shape (K,)
             Width of each pixel on its surface in meters (picks the mip level).
+        shift : ndarray of float32, shape (T, 2)
+            Per tile, a shift of its pattern in meters.
+        tint : ndarray of float32, shape (T, 3)
+            Per tile, a factor on its linear colour.
+        modulate : ndarray of bool, shape (K,)
+            Hits whose own colour is kept, times the sample over `grain_base` (a fine grain on objects).
+        grain_base : ndarray, shape (3,)
+            The linear base colour of the modulating tile.
         """
-        texel = self._texel.take(tile)
-        ratio = np.maximum(np.asarray(footprint, dtype=np.float64) / texel, 1.0)
-        level = np.minimum(np.floor(np.log2(ratio)).astype(np.int64), self._levels.take(tile) - 1)
-        width = self._width[tile, level]
-        offset = self._offset[tile, level]
-        scale = width / self._sizes.take(tile)
-        x = u * scale - 0.5
-        y = v * scale - 0.5
-        col = np.floor(x)
-        row = np.floor(y)
-        fx = (x - col).astype(np.float32)
-        fy = (y - row).astype(np.float32)
-        col = np.mod(col, width).astype(np.int64)
-        row = np.mod(row, width).astype(np.int64)
-        index = offset + row * (width + 1) + col
-        out = np.empty((3, len(tile)), dtype=np.float32)
-        w00 = (1.0 - fx) * (1.0 - fy)
-        w01 = fx * (1.0 - fy)
-        w10 = (1.0 - fx) * fy
-        w11 = fx * fy
-        below = index + width + 1
-        for c in range(3):
-            pool = self._pool[c]
-            out[c] = pool.take(index) * w00
-            out[c] += pool.take(index + 1) * w01
-            out[c] += pool.take(below) * w10
-            out[c] += pool.take(below + 1) * w11
-        return out
+        kernels.tile_albedo(
+            self._pool, self._offset, self._width, self._levels, self._sizes, self._texel,
+            np.ascontiguousarray(tile, dtype=np.int32), u, v, footprint, shift, tint, modulate,
+            self._to_linear, np.asarray(grain_base, dtype=np.float32), albedo,
+        )  # fmt: skip
