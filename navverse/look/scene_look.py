@@ -28,7 +28,7 @@ import shapely
 from numba import njit
 
 from navverse.city.map import CityMap
-from navverse.look.facades import OVERLAY_ALBEDO, OVERLAY_NAMES, FacadeFrames, facade_frames
+from navverse.look.facades import OVERLAY_NAMES, FacadeFrames, facade_frames
 from navverse.look.markings import MarkedRoad, RoadMarkings, road_markings
 from navverse.look.materials import (
     CLASS_MATERIALS,
@@ -38,7 +38,6 @@ from navverse.look.materials import (
     facade_style,
     material_index,
     room_floor,
-    srgb_to_linear,
 )
 from navverse.look.patterns import cell_value
 from navverse.look.rooms import RoomLights, room_lights
@@ -63,6 +62,7 @@ _BUILDING_SURFACE = re.compile(r"^building_(\d+)$")  # a city building's solid, 
 _UPWARD = 0.5  # |normal z| at and above which a face is floor-like (coordinates x, y)
 _PLINTH = 0.4  # meters of plinth at the foot of outer walls
 _STRIPE = 0.5  # zebra stripe and gap width (m)
+_OVERLAY_MATERIALS = np.array([material_index(name) for name in OVERLAY_NAMES], dtype=np.int32)
 TILE_SEED = 1000
 """Seed of the baked material tiles (variants tint and shift them; they are baked once)."""
 VARIANT_BRIGHTNESS = 0.2
@@ -106,18 +106,15 @@ def map_details(scene: Scene, city_map: CityMap) -> MapDetails:
 
 @dataclass(frozen=True)
 class SurfaceLook:
-    """What the renderer shows at `K` hits: tiles to sample, or an albedo that replaces them.
+    """What the renderer shows at `K` hits: the material tile to sample where.
 
     Attributes
     ----------
     tile : ndarray of int32, shape (K,)
-        Index into :attr:`SceneLook.tiles` of each hit's material.
+        Index into :attr:`SceneLook.tiles` of each hit's material: the surface's own, or what is
+        painted over it (windows, frames, doors, plinths, stripes, lane markings).
     u, v : ndarray of float64, shape (K,)
         Surface coordinates in meters.
-    replaced : ndarray of int64, shape (M,)
-        Hits whose albedo an overlay sets (windows, frames, doors, plinths, stripes, markings)...
-    albedo : ndarray of float32, shape (3, M)
-        ... to this linear RGB.
     reflect : ndarray of float32, shape (K,)
         Share of the sky each hit mirrors (glass, water).
     modulate : ndarray of bool, shape (K,)
@@ -128,8 +125,6 @@ class SurfaceLook:
     tile: np.ndarray
     u: np.ndarray
     v: np.ndarray
-    replaced: np.ndarray
-    albedo: np.ndarray
     reflect: np.ndarray
     modulate: np.ndarray
 
@@ -215,7 +210,6 @@ class SceneLook:
         u, v = np.empty(count), np.empty(count)
         _base_surface(self.face_kind, self.face_material, face, points, normal, kind, material, u, v)
         reflect = np.zeros(len(face), dtype=np.float32)
-        painted = _Overlays()
         inside = np.flatnonzero((kind == FLOOR) | (kind == WALL))
         if len(inside):
             their_room = room[inside]
@@ -226,14 +220,14 @@ class SceneLook:
             outer = inside[~is_floor & (their_room < 0)]
             material[outer] = material_index("render")
             base = float(self.rooms.floors.min()) if not self.rooms.empty else 0.0
-            painted.add(outer[points[outer, 2] - base < _PLINTH], "plinth")
+            material[outer[points[outer, 2] - base < _PLINTH]] = material_index("plinth")
         facade = np.flatnonzero(kind == FACADE)
         if len(facade):
             paint = self.facades.paint(self.face_frame.take(face.take(facade)), points[facade])
             u[facade], v[facade] = paint.s, paint.h
             material[facade] = paint.wall
-            for index, name in enumerate(OVERLAY_NAMES):
-                painted.add(facade[paint.overlay == index], name, albedo=OVERLAY_ALBEDO[:, index])
+            painted = paint.overlay >= 0
+            material[facade[painted]] = _OVERLAY_MATERIALS.take(paint.overlay[painted])
             reflect[facade[paint.overlay == OVERLAY_NAMES.index("glass")]] = MATERIALS["glass"].reflect
         stripes = np.flatnonzero(kind == CROSSWALK)
         if len(stripes):
@@ -241,17 +235,14 @@ class SceneLook:
             along = (points[stripes, 0] - patch[:, 0]) * patch[:, 2] + (
                 points[stripes, 1] - patch[:, 1]
             ) * patch[:, 3]
-            painted.add(stripes[np.mod(along, 2.0 * _STRIPE) < _STRIPE], "marking")
+            material[stripes[np.mod(along, 2.0 * _STRIPE) < _STRIPE]] = material_index("marking")
         roads = np.flatnonzero(kind == ROAD)
         if len(roads) and self.markings is not None:
-            painted.add(roads[self.markings.painted(points[roads])], "marking")
+            material[roads[self.markings.painted(points[roads])]] = material_index("marking")
         reflect[(material == material_index("water")) & (kind == PLAIN)] = MATERIALS["water"].reflect
         objects = kind == OBJECT
         material[objects] = material_index("object_grain")
-        replaced, albedo = painted.joined()
-        return SurfaceLook(
-            tile=material, u=u, v=v, replaced=replaced, albedo=albedo, reflect=reflect, modulate=objects
-        )
+        return SurfaceLook(tile=material, u=u, v=v, reflect=reflect, modulate=objects)
 
 
 @njit(cache=True, nogil=True)
@@ -281,30 +272,6 @@ def _base_surface(
                 horizontal = 1.0
             u[k] = (points[k, 1] * nx - points[k, 0] * ny) / horizontal
             v[k] = points[k, 2]
-
-
-class _Overlays:
-    """Hits painted over, with their albedo, gathered in order (a later one wins on the same hit)."""
-
-    def __init__(self) -> None:
-        self._hits: list[np.ndarray] = []
-        self._albedo: list[np.ndarray] = []
-
-    def add(self, hits: np.ndarray, name: str, *, albedo: np.ndarray | None = None) -> None:
-        color = _base_albedo(name) if albedo is None else albedo
-        self._hits.append(hits)
-        self._albedo.append(np.broadcast_to(np.asarray(color, dtype=np.float32)[:, None], (3, len(hits))))
-
-    def joined(self) -> tuple[np.ndarray, np.ndarray]:
-        if not self._hits:
-            return np.zeros(0, dtype=np.int64), np.zeros((3, 0), dtype=np.float32)
-        return np.concatenate(self._hits), np.concatenate(self._albedo, axis=1)
-
-
-@cache
-def _base_albedo(name: str) -> np.ndarray:
-    """Linear base albedo of a material (overlays use it flat)."""
-    return srgb_to_linear(MATERIALS[name].color)
 
 
 @cache

@@ -38,7 +38,7 @@ import open3d as o3d
 from numpy.typing import ArrayLike
 
 from navverse.look.materials import MATERIALS, srgb_to_linear
-from navverse.look.scene_look import SceneLook, scene_look
+from navverse.look.scene_look import SceneLook, SurfaceLook, scene_look
 from navverse.look.settings import EVAL_LOOK, LookSettings
 from navverse.scene.colors import default_color
 from navverse.scene.geometry import MeshData, Scene, merge_textures, unit_face_normals
@@ -48,12 +48,28 @@ from navverse.sim.camera import CameraIntrinsics, check_pose
 from navverse.sim.lighting import ImageHits, Lighting
 from navverse.sim.tile_sampler import TileSampler
 
-__all__ = ["BACKGROUND_CLASS", "BACKGROUND_ID", "DEFAULT_INTRINSICS", "Frame", "SceneRenderer", "Shading"]
+__all__ = [
+    "BACKGROUND_CLASS",
+    "BACKGROUND_ID",
+    "DEFAULT_INTRINSICS",
+    "FLAT_COLOR",
+    "IMAGE_TEXTURE",
+    "NOTHING_HIT",
+    "Frame",
+    "SceneRenderer",
+    "Shading",
+]
 
 BACKGROUND_ID = 0
 """``Frame.semantic`` where no object was hit (terrain or background)."""
 BACKGROUND_CLASS = -1
 """``Frame.terrain`` where no terrain surface was hit (an object or the background)."""
+FLAT_COLOR = -1
+""":meth:`SceneRenderer.materials` where a face shows only its own colour, no material."""
+IMAGE_TEXTURE = -2
+""":meth:`SceneRenderer.materials` where a scene's image texture shows (storefront signs)."""
+NOTHING_HIT = -3
+""":meth:`SceneRenderer.materials` where the ray hit nothing."""
 
 DEFAULT_INTRINSICS = CameraIntrinsics.from_hfov()
 """640 x 480 pixels, 90 degrees horizontal field of view, square pixels, centred principal point."""
@@ -545,29 +561,12 @@ class SceneRenderer:
         lighting = self._lighting
         assert lighting is not None
         height, width = face.shape
-        flat_face = face.reshape(-1)
-        hits = np.flatnonzero(~missed.reshape(-1))
-        count = len(hits)
-        rays = self._rays.reshape(-1, 6)
-        points = np.empty((count, 3), dtype=np.float32)
-        world = np.empty((count, 3), dtype=np.float64)
-        normals = np.empty((count, 3), dtype=np.float32)
-        hit_depth = np.empty(count, dtype=np.float32)
-        footprint = np.empty(count, dtype=np.float32)
-        hit_face = np.empty(count, dtype=flat_face.dtype)
-        albedo = np.empty((3, count), dtype=np.float32)
-        kernels.gather_hits(
-            rays, t_hit.reshape(-1), hits, flat_face, self._normals, self._linear, self._origin, self._near,
-            self._pixel_angle, points, world, normals, hit_depth, footprint, hit_face, albedo,
-        )  # fmt: skip
-        room = self._look.room_of(world, normals)
-        surface = self._look.surface(hit_face, world, normals, room)
+        at = self._hit_surfaces(t_hit, face, missed)
+        hits, albedo, surface = at.hits, at.albedo, at.surface
         self._tiles.sample_into(
-            albedo, surface.tile, surface.u, surface.v, footprint, shift=self._look.shift,
+            albedo, surface.tile, surface.u, surface.v, at.footprint, shift=self._look.shift,
             tint=self._look.tint, modulate=surface.modulate, grain_base=self._grain_base,
         )  # fmt: skip
-        if len(surface.replaced):
-            albedo[:, surface.replaced] = surface.albedo
         if self._sampler is not None:
             pixels, colors = self._sampler.sample(face, barycentric)
             if len(pixels):
@@ -576,17 +575,70 @@ class SceneRenderer:
                     albedo[c, slot] = self._to_linear.take(np.rint(colors[c]).astype(np.intp).clip(0, 255))
         radiance = np.zeros((3, height * width), dtype=np.float32)
         light = lighting.irradiance(
-            points, normals, hit_depth, room, image=ImageHits(hits, hit_face, width, height)
+            at.points, at.normals, at.depth, at.room, image=ImageHits(hits, at.face, width, height)
         )
         if component == "light":
             radiance[:, hits] = light
         elif component == "albedo":
             radiance[:, hits] = albedo
         else:
-            lighting.shade(radiance, hits, albedo, light, hit_depth, surface.reflect)
+            lighting.shade(radiance, hits, albedo, light, at.depth, surface.reflect)
         if self._shading.sky and component == "radiance" and len(hits) < height * width:
-            lighting.sky(radiance, np.flatnonzero(missed.reshape(-1)), rays)
+            lighting.sky(radiance, np.flatnonzero(missed.reshape(-1)), self._rays.reshape(-1, 6))
         return radiance
+
+    def _hit_surfaces(self, t_hit: np.ndarray, face: np.ndarray, missed: np.ndarray) -> _Hits:
+        """The hits of the last cast: where they are, their faces' colours and what their look shows."""
+        flat_face = face.reshape(-1)
+        hits = np.flatnonzero(~missed.reshape(-1))
+        count = len(hits)
+        points = np.empty((count, 3), dtype=np.float32)
+        world = np.empty((count, 3), dtype=np.float64)
+        normals = np.empty((count, 3), dtype=np.float32)
+        depth = np.empty(count, dtype=np.float32)
+        footprint = np.empty(count, dtype=np.float32)
+        hit_face = np.empty(count, dtype=flat_face.dtype)
+        albedo = np.empty((3, count), dtype=np.float32)
+        kernels.gather_hits(
+            self._rays.reshape(-1, 6), t_hit.reshape(-1), hits, flat_face, self._normals, self._linear,
+            self._origin, self._near, self._pixel_angle, points, world, normals, depth, footprint,
+            hit_face, albedo,
+        )  # fmt: skip
+        room = self._look.room_of(world, normals)
+        surface = self._look.surface(hit_face, world, normals, room)
+        return _Hits(hits, points, normals, depth, footprint, hit_face, albedo, room, surface)
+
+    def materials(self, camera_to_world: ArrayLike) -> np.ndarray:
+        """What material each pixel of a lit image shows, from a pose.
+
+        Parameters
+        ----------
+        camera_to_world : array_like, shape (4, 4)
+            Pose of the optical frame.
+
+        Returns
+        -------
+        ndarray of int16, shape (H, W)
+            An index into :data:`navverse.look.materials.MATERIAL_NAMES` (a procedural material, or
+            what is painted on it: windows, doors, markings...), :data:`IMAGE_TEXTURE` where a
+            scene texture shows (storefront signs), :data:`FLAT_COLOR` where a face shows its own
+            colour only, :data:`NOTHING_HIT` where the ray hit nothing.
+
+        Raises
+        ------
+        ValueError
+            If the renderer makes flat images (a `shading` was given) or the pose is not rigid.
+        """
+        if self._lighting is None:
+            raise ValueError("a renderer made with a shading shows no materials: make it with a look")
+        t_hit, face, barycentric = self._cast(check_pose(camera_to_world))
+        _, missed = self._depth(t_hit, face)
+        at = self._hit_surfaces(t_hit, face, missed)
+        image = np.full(face.size, NOTHING_HIT, dtype=np.int16)
+        image[at.hits] = np.where(at.surface.tile >= 0, at.surface.tile, FLAT_COLOR)
+        if self._sampler is not None:
+            image[self._sampler.sample(face, barycentric)[0]] = IMAGE_TEXTURE
+        return image.reshape(face.shape)
 
     def _sky(self, missed: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
         """Flat indices of the missed pixels and their three sky channels, by the elevation of their rays."""
@@ -599,6 +651,23 @@ class SceneRenderer:
         return pixels, [
             np.float32(h) + sine * np.float32(z - h) for h, z in zip(horizon, zenith, strict=True)
         ]
+
+
+@dataclass(frozen=True)
+class _Hits:
+    """Per hit pixel of a cast (`K` of them): its pixel, local point, normal turned to the camera,
+    z-depth, footprint on its surface, face, face colour (linear; the look's albedo is sampled into
+    it), room and what the look shows there."""
+
+    hits: np.ndarray
+    points: np.ndarray
+    normals: np.ndarray
+    depth: np.ndarray
+    footprint: np.ndarray
+    face: np.ndarray
+    albedo: np.ndarray
+    room: np.ndarray
+    surface: SurfaceLook
 
 
 def _outlines(depth: np.ndarray, semantic: np.ndarray, terrain: np.ndarray, *, jump: float) -> np.ndarray:

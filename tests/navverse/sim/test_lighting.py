@@ -10,12 +10,13 @@ import pytest
 
 from navverse.city.geometry.scene import CityGeometry, city_scene
 from navverse.city.osm.reader import read_osm
+from navverse.look.materials import MATERIAL_NAMES
 from navverse.look.scene_look import map_details, scene_look
 from navverse.look.settings import LookSettings
 from navverse.look.sky import sun_sky
 from navverse.scene.geometry import Scene, Surface
 from navverse.sim.camera import CameraIntrinsics, look_at
-from navverse.sim.render import SceneRenderer, Shading
+from navverse.sim.render import FLAT_COLOR, NOTHING_HIT, SceneRenderer, Shading
 from tests.scenes import box_part, quad, scene_of
 
 SMALL = CameraIntrinsics.from_hfov(160, 120, 90.0)
@@ -145,3 +146,21 @@ def test_flat_images_are_a_shading_and_lit_ones_a_look() -> None:
     assert flat.look is None
     with pytest.raises(ValueError, match="radiance"):
         flat.radiance(look_at(np.array([0.0, 0.0, 2.0]), np.zeros(3), up=(0.0, 1.0, 0.0)))
+
+
+def test_the_material_image_names_what_each_lit_pixel_shows(junction: tuple[Scene, object]) -> None:
+    scene, city = junction
+    renderer = SceneRenderer(
+        scene, intrinsics=SMALL, look=scene_look(scene, LookSettings(), details=map_details(scene, city))
+    )
+    pose = look_at(
+        np.array([-20.0, -6.0, 1.6]), np.array([-20.0, 30.0, 1.0])
+    )  # across the crossing, sky above
+    materials, frame = renderer.materials(pose), renderer.render(pose)
+    assert ((materials == NOTHING_HIT) == (frame.depth == 0.0)).all() and (materials == NOTHING_HIT).any()
+    assert not (materials == FLAT_COLOR).any()  # every surface hit shows a material
+    crosswalk = materials[frame.terrain == renderer.class_names.index("crosswalk")]
+    assert MATERIAL_NAMES.index("marking") in crosswalk and len(set(crosswalk.tolist())) >= 2  # stripes, gaps
+    flat = SceneRenderer(scene, intrinsics=SMALL, shading=Shading())
+    with pytest.raises(ValueError, match="materials"):
+        flat.materials(pose)
