@@ -6,8 +6,9 @@ For an indoor scene (``office-s1``), an outdoor one (``curb-street``) and a popu
 
 1. Draw camera poses: random navigable points of the scene's navmesh, the camera 0.6 m above them,
    looking in a random horizontal direction (seeded).
-2. Ours: one ``SceneRenderer`` (Open3D/Embree ray casting, all cores), RGB + depth + instance ids
-   (+ terrain classes) at 640 x 480, 90 degrees horizontal field of view; frames/s over all poses.
+2. Ours: one ``SceneRenderer`` (Open3D/Embree ray casting, all cores) making flat images (``Shading``;
+   ``bench/look.py`` times the lit ones), RGB + depth + instance ids (+ terrain classes) at
+   640 x 480, 90 degrees horizontal field of view; frames/s over all poses.
 3. Peer, in the same run, on the same triangles and poses: PyBullet's ``getCameraImage`` with
    ``ER_TINY_RENDERER`` in a ``DIRECT`` client (one thread), which also returns RGB, depth and a
    segmentation mask. Every terrain surface is one body and every object one body, with one visual
@@ -52,6 +53,7 @@ from navverse.nav.scene_navmesh import load_scene_navmesh
 from navverse.scene.colors import default_color
 from navverse.scene.directory import read_scene
 from navverse.scene.geometry import MeshData, Scene, Surface, Texture
+from navverse.scene_types import scene_profile
 from navverse.sim.bullet import pybullet as pb
 from navverse.sim.camera import CameraIntrinsics, look_at
 from navverse.sim.render import Frame, SceneRenderer, Shading
@@ -103,6 +105,11 @@ def camera_poses(path: Path, count: int, seed: int) -> list[np.ndarray]:
         eye = point + np.array([0.0, 0.0, CAMERA_HEIGHT])
         poses.append(look_at(eye, eye + np.array([math.cos(yaw), math.sin(yaw), 0.0])))
     return poses
+
+
+def flat_shading(scene: Scene) -> Shading:
+    """The flat images the camera made before looks existed (the sky on in outdoor and i2o scenes)."""
+    return Shading(sky=scene_profile(scene.annotations.scene_type).sky)
 
 
 # ---------------------------------------------------------------------- the peer
@@ -252,7 +259,9 @@ def bench_scene(scene_id: str, args: argparse.Namespace, console: Console) -> di
     )
 
     started = time.perf_counter()
-    renderer = SceneRenderer(scene, intrinsics=intrinsics, depth_range=(NEAR, FAR))
+    renderer = SceneRenderer(
+        scene, intrinsics=intrinsics, depth_range=(NEAR, FAR), shading=flat_shading(scene)
+    )
     ours_setup = time.perf_counter() - started
     renderer.render(poses[0])  # warm-up
     ours_times, ours_frames = [], []
@@ -282,7 +291,9 @@ def bench_scene(scene_id: str, args: argparse.Namespace, console: Console) -> di
 
     # Untimed: ours through TinyRenderer's sampling points (pixel corners, see the module docstring).
     shifted = replace(intrinsics, cx=intrinsics.cx + 0.5, cy=intrinsics.cy - 0.5)
-    aligned = SceneRenderer(scene, intrinsics=shifted, depth_range=(NEAR, FAR)).render_batch(poses)
+    aligned = SceneRenderer(
+        scene, intrinsics=shifted, depth_range=(NEAR, FAR), shading=flat_shading(scene)
+    ).render_batch(poses)
     return {
         "scene_type": scene.annotations.scene_type,
         "triangles": faces,
@@ -347,8 +358,11 @@ def bench_textured(scene_id: str, args: argparse.Namespace, console: Console) ->
     scene = read_scene(path)
     poses = camera_poses(path, args.texture_frames, args.seed)
     intrinsics = CameraIntrinsics.from_hfov(args.width, args.height, args.hfov)
-    plain = SceneRenderer(scene, intrinsics=intrinsics, depth_range=(NEAR, FAR))
-    textured = SceneRenderer(textured_scene(scene, args.seed), intrinsics=intrinsics, depth_range=(NEAR, FAR))
+    shading = flat_shading(scene)
+    plain = SceneRenderer(scene, intrinsics=intrinsics, depth_range=(NEAR, FAR), shading=shading)
+    textured = SceneRenderer(
+        textured_scene(scene, args.seed), intrinsics=intrinsics, depth_range=(NEAR, FAR), shading=shading
+    )
     times: dict[str, list[float]] = {"plain": [], "textured": []}
     share = []
     for pose in [poses[0], *poses]:  # the first pose warms both up
