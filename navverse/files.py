@@ -40,6 +40,7 @@ import shutil
 import stat
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from functools import lru_cache
 from pathlib import Path
 from typing import IO, Any, Literal
 
@@ -210,3 +211,30 @@ def file_sha256(path: str | os.PathLike[str], *, progress: Callable[[str, int], 
             if progress is not None and done % (64 * 1024 * 1024) < len(chunk):
                 progress("checksum", done)
     return digest.hexdigest()
+
+
+def cached_file_sha256(path: str | os.PathLike[str]) -> str:
+    """:func:`file_sha256`, computed once per process for each version of a file.
+
+    The result is kept keyed by the resolved path and the file's identity (device, inode, size and
+    modification time), so a file replaced or rewritten since is hashed again.
+
+    Parameters
+    ----------
+    path : path
+        The file.
+
+    Returns
+    -------
+    str
+        64 lowercase hex digits.
+    """
+    resolved = Path(path).resolve()
+    info = resolved.stat()
+    return _sha256_of(str(resolved), (info.st_dev, info.st_ino, info.st_size, info.st_mtime_ns))
+
+
+@lru_cache(maxsize=1024)
+def _sha256_of(path: str, identity: tuple[int, int, int, int]) -> str:
+    del identity  # part of the cache key only
+    return file_sha256(path)

@@ -33,6 +33,7 @@ __all__ = [
     "CityMap",
     "CityMapError",
     "Crossing",
+    "CrossingMarkings",
     "Frame",
     "LandArea",
     "Path2",
@@ -45,9 +46,10 @@ __all__ = [
     "write_city_map",
 ]
 
-CITY_MAP_FORMAT = "1.3"
+CITY_MAP_FORMAT = "1.4"
 """Format of ``city_map.json``: a reader reads its own major version (1.1 added furniture ``shelter``,
-1.2 building ``type`` and ``outline``, 1.3 road ``cycle_track_left`` / ``cycle_track_right``)."""
+1.2 building ``type`` and ``outline``, 1.3 road ``cycle_track_left`` / ``cycle_track_right``, 1.4
+crossing ``markings``)."""
 MAX_COORDINATE = 1e6
 """Largest |x| or |y| in a map (m): a city is far smaller; anything larger is a projection error."""
 
@@ -61,6 +63,9 @@ AreaClass = Literal["green", "water", "ground", "parking", "plaza", "pedestrian"
 """Land classes: parks and lawns, water (not navigable), bare or unclassified open land, parking
 areas, paved squares, pedestrian areas, railway track beds (not navigable). Open land that no area
 covers is ``ground``."""
+CrossingMarkings = Literal["zebra", "lines", "ladder", "dashes", "none"]
+"""The paint on a crossing: zebra bars; two solid lines along its edges; ``ladder``: both; dashed edge
+lines; ``none``: unpainted."""
 
 
 class CityMapError(NavverseError):
@@ -187,13 +192,15 @@ class Walkway(_Model):
 
 
 class Crossing(_Model):
-    """A marked pedestrian crossing where a road is crossed: at ``position``, across road ``road``."""
+    """A pedestrian crossing where a road is crossed: at ``position``, across road ``road``, with the
+    kerb at its ends and its ``markings`` (zebra in maps before format 1.4)."""
 
     id: FeatureId
     osm: OsmRef | None = None
     position: Point2
     road: FeatureId
     kerb: Literal["raised", "lowered", "flush", "rolled"] = "lowered"
+    markings: CrossingMarkings = "zebra"
 
 
 class LandArea(_Model):

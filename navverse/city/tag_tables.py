@@ -13,7 +13,7 @@ from collections.abc import Iterable, Mapping
 
 import numpy as np
 
-from navverse.city.map import AreaClass
+from navverse.city.map import AreaClass, CrossingMarkings
 from navverse.city.tags import ROAD_CLASSES, parse_length
 
 __all__ = [
@@ -31,6 +31,7 @@ __all__ = [
     "WATERWAY_WIDTHS",
     "building_value",
     "count_problems",
+    "crossing_markings",
     "drawn_storeys",
     "furniture_kind",
     "is_area",
@@ -170,6 +171,34 @@ _KERBS = {
     "regular": "raised",
     "normal": "raised",
 }
+_MARKINGS: dict[str, CrossingMarkings] = {
+    "no": "none",
+    "yes": "zebra",
+    "lines:dashed": "dashes",
+    "dashes": "dashes",
+    "dots": "dashes",
+    "surface": "none",
+    "pictograms": "none",
+}
+_MARKING_FAMILIES: tuple[tuple[str, CrossingMarkings], ...] = (
+    ("zebra", "zebra"),
+    ("lines", "lines"),
+    ("ladder", "ladder"),
+)  # crossing:markings=<family>* (zebra:double, lines:paired, ladder:skewed...)
+_CROSSING_REFS: dict[str, CrossingMarkings] = {
+    "zebra": "zebra",
+    "pelican": "dashes",
+    "toucan": "dashes",
+    "puffin": "dashes",
+    "pegasus": "dashes",
+}
+_CROSSING_KINDS: dict[str, CrossingMarkings] = {
+    "zebra": "zebra",
+    "marked": "zebra",
+    "uncontrolled": "zebra",
+    "traffic_signals": "lines",
+    "unmarked": "none",
+}
 RAIL_WIDTHS = {
     "rail": 3.5,
     "light_rail": 3.0,
@@ -241,6 +270,25 @@ def kerb_of(value: str | None, dropped: Counter[str], *, default: str | None) ->
         dropped["unknown kerb value (default used)"] += 1
         return default
     return kerb
+
+
+def crossing_markings(tags: Mapping[str, str], dropped: Counter[str]) -> CrossingMarkings:
+    """The paint on a crossing node: by ``crossing:markings`` where it says (an unknown value is
+    counted and passed over), else by ``crossing_ref`` (``zebra``; the signalled ``pelican``,
+    ``toucan``, ``puffin``, ``pegasus``: dashes), else by ``crossing`` (``traffic_signals``: lines,
+    ``unmarked``: none); zebra when none of them tells."""
+    value = tag_value(tags, "crossing:markings")
+    if value is not None:
+        markings = _MARKINGS.get(value) or next(
+            (paint for family, paint in _MARKING_FAMILIES if value.startswith(family)), None
+        )
+        if markings is not None:
+            return markings
+        dropped["unknown crossing:markings value (other crossing tags used)"] += 1
+    reference = _CROSSING_REFS.get(tag_value(tags, "crossing_ref") or "")
+    if reference is not None:
+        return reference
+    return _CROSSING_KINDS.get(tag_value(tags, "crossing") or "", "zebra")
 
 
 def walkway_kind(tags: Mapping[str, str]) -> str | None:

@@ -3,9 +3,9 @@
 The ``look`` stage writes a look directory per scene (DESIGN.md §3): ``look.json``, ``look.usdc`` over
 the scene's ``scene.usdc`` and ``textures/look/*.png``. ``look.json`` holds what the renderer needs
 beyond the scene: the look's settings (the evaluation look unless the scene's recipe says otherwise)
-and the city map's building types and levels and roads (for facades and markings), so a scene pack
-or a store renders the same without the map. :func:`load_scene_look` compiles a scene's look from it,
-or from the defaults where a scene has no look directory.
+and the city map's building types and levels, roads and crossings (for facades and markings), so a
+scene pack or a store renders the same without the map. :func:`load_scene_look` compiles a scene's
+look from it, or from the defaults where a scene has no look directory.
 """
 
 from __future__ import annotations
@@ -18,9 +18,9 @@ from pathlib import Path
 from pydantic import ValidationError
 
 from navverse.errors import SceneError
-from navverse.files import atomic_write, file_sha256
+from navverse.files import atomic_write, cached_file_sha256
 from navverse.look.markings import MarkedRoad
-from navverse.look.scene_look import MapDetails, SceneLook, scene_look
+from navverse.look.scene_look import CROSSING_MARKINGS, MapDetails, SceneLook, scene_look
 from navverse.look.settings import EVAL_LOOK, LOOK_VERSION, LookSettings
 from navverse.scene.geometry import Scene
 
@@ -36,8 +36,8 @@ __all__ = [
 
 LOOK_JSON = "look.json"
 """The file of a look directory that says what the look is."""
-LOOK_FORMAT = "1.0"
-"""Format version of ``look.json``."""
+LOOK_FORMAT = "1.1"
+"""Format version of ``look.json`` (1.1 added the map's ``crossings``; a 1.0 file reads without them)."""
 
 
 def write_look(
@@ -48,8 +48,8 @@ def write_look(
     Its keys: ``format_version``, ``look_version`` (:data:`~navverse.look.settings.LOOK_VERSION`),
     ``geometry_sha256`` (of the ``scene.usdc`` the look was made for), ``settings`` (every field of
     :class:`LookSettings`) and ``map`` (null for scenes not made from a map, else ``buildings`` {scene
-    building id: [map type or null, levels or null]} and ``roads`` [{centerline, width, lanes, oneway,
-    highway}]).
+    building id: [map type or null, levels or null]}, ``roads`` [{centerline, width, lanes, oneway,
+    highway}] and ``crossings`` [[x, y, markings]]).
     """
     data = {
         "format_version": LOOK_FORMAT,
@@ -70,6 +70,7 @@ def write_look(
                 }
                 for road in details.roads
             ],
+            "crossings": [[x, y, markings] for x, y, markings in details.crossings],
         },
     }
     with atomic_write(path, mode="w") as handle:
@@ -105,11 +106,19 @@ def read_look(path: Path) -> tuple[LookSettings, MapDetails | None]:
             )
             for r in mapped["roads"]
         ]
-        return settings, MapDetails(buildings=buildings, roads=roads)
+        crossings = [(float(x), float(y), _markings(m)) for x, y, m in mapped.get("crossings", [])]
+        return settings, MapDetails(buildings=buildings, roads=roads, crossings=crossings)
     except SceneError:
         raise
     except (OSError, ValueError, KeyError, TypeError, IndexError, ValidationError) as exc:
         raise SceneError(f"{path}: not a readable look ({type(exc).__name__}: {exc}); {rebuild}") from None
+
+
+def _markings(value: object) -> str:
+    """A crossing's markings as ``look.json`` gives them (ValueError: not one of them)."""
+    if value not in CROSSING_MARKINGS:
+        raise ValueError(f"unknown crossing markings {value!r}")
+    return str(value)
 
 
 def look_geometry(path: Path) -> str | None:
@@ -183,7 +192,7 @@ def load_scene_look(
     """
     found = find_look(scene_dir) if scene_dir is not None else None
     made_for = look_geometry(found) if found is not None else None
-    if made_for is not None and made_for != file_sha256(Path(scene_dir) / "scene.usdc"):
+    if made_for is not None and made_for != cached_file_sha256(Path(scene_dir) / "scene.usdc"):
         warnings.warn(
             f"{found} was made for another build of scene {scene.scene_id}: using the evaluation look "
             f"without its map details; rebuild the look with `navverse build {scene.scene_id}`",

@@ -5,9 +5,10 @@ visible surfaces, then objects), what the face is: an object (its own colours), 
 material (by terrain class: asphalt roads, slab sidewalks, curb stones, grass...), a floor (its
 material by the type of the room the hit is in), a wall (paint inside a room, render with a plinth
 outside), a facade (:mod:`navverse.look.facades`), a roof, a road (markings from the map:
-:mod:`navverse.look.markings`) or a crosswalk (zebra stripes along its long side).
-:meth:`SceneLook.surface` then gives, for the hits of a frame, the material tile to sample, the
-surface coordinates to sample it at, and the albedo that overlays replace it with.
+:mod:`navverse.look.markings`) or a crosswalk (the mapped crossing's markings: zebra stripes along its
+long side, lines along its long edges, both, dashed edge lines, or none).
+:meth:`SceneLook.surface` then gives, for the hits of a frame, the material tile to sample (the
+surface's own, or what is painted over it) and the surface coordinates to sample it at.
 
 Surface coordinates are in meters: ``(x, y)`` on faces that look up or down, along-the-wall and
 height on the others (for facades, from the facade's own start and the building's base, so windows
@@ -20,14 +21,15 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import cache, lru_cache
+from typing import get_args
 
 import numpy as np
 import shapely
 from numba import njit
 
-from navverse.city.map import CityMap
+from navverse.city.map import CityMap, CrossingMarkings
 from navverse.look.facades import OVERLAY_NAMES, FacadeFrames, facade_frames
 from navverse.look.markings import MarkedRoad, RoadMarkings, road_markings
 from navverse.look.materials import (
@@ -46,6 +48,8 @@ from navverse.scene.annotations import BuildingAnnotation
 from navverse.scene.geometry import MeshData, Scene, unit_face_normals
 
 __all__ = [
+    "CROSSING_MARKINGS",
+    "EDGE_LINE",
     "KIND_NAMES",
     "MapDetails",
     "SceneLook",
@@ -61,7 +65,15 @@ KIND_NAMES = ("object", "plain", "floor", "wall", "facade", "crosswalk", "road")
 _BUILDING_SURFACE = re.compile(r"^building_(\d+)$")  # a city building's solid, named by its id
 _UPWARD = 0.5  # |normal z| at and above which a face is floor-like (coordinates x, y)
 _PLINTH = 0.4  # meters of plinth at the foot of outer walls
-_STRIPE = 0.5  # zebra stripe and gap width (m)
+_STRIPE = 0.5  # zebra stripe and gap width, and dash and gap length (m)
+_MARKED_WITHIN = 8.0  # a crosswalk patch shows the markings of a mapped crossing this near its centre (m)
+CROSSING_MARKINGS: tuple[CrossingMarkings, ...] = get_args(CrossingMarkings)
+"""Crossing markings by their code in :attr:`SceneLook.crossings` (column 5)."""
+EDGE_LINE = 0.25
+"""Width of the lines along a crossing's edges (m)."""
+_ZEBRA, _LINES, _LADDER, _DASHES = (
+    CROSSING_MARKINGS.index(m) for m in ("zebra", "lines", "ladder", "dashes")
+)
 _OVERLAY_MATERIALS = np.array([material_index(name) for name in OVERLAY_NAMES], dtype=np.int32)
 TILE_SEED = 1000
 """Seed of the baked material tiles (variants tint and shift them; they are baked once)."""
@@ -73,7 +85,8 @@ VARIANT_HUE = 0.08
 
 @dataclass(frozen=True)
 class MapDetails:
-    """What a city map adds to a scene's look: building types and levels, and the roads' markings.
+    """What a city map adds to a scene's look: building types and levels, the roads' and the crossings'
+    markings.
 
     Attributes
     ----------
@@ -81,10 +94,13 @@ class MapDetails:
         By scene building id, its map type (``building=*``, None for ``yes``) and levels (or None).
     roads : list of MarkedRoad
         The mapped roads.
+    crossings : list of tuple
+        The mapped crossings: position x, y and markings (one of :data:`CROSSING_MARKINGS`).
     """
 
     buildings: dict[int, tuple[str | None, float | None]]
     roads: list[MarkedRoad]
+    crossings: list[tuple[float, float, str]] = field(default_factory=list)
 
 
 def map_details(scene: Scene, city_map: CityMap) -> MapDetails:
@@ -101,7 +117,8 @@ def map_details(scene: Scene, city_map: CityMap) -> MapDetails:
         )
         for r in city_map.roads
     ]
-    return MapDetails(buildings=buildings, roads=roads)
+    crossings = [(float(c.position[0]), float(c.position[1]), str(c.markings)) for c in city_map.crossings]
+    return MapDetails(buildings=buildings, roads=roads, crossings=crossings)
 
 
 @dataclass(frozen=True)
@@ -152,8 +169,10 @@ class SceneLook:
         Unit face normals (zero on objects and the miss row).
     facades : FacadeFrames
         The facade frames.
-    crossings : ndarray of float64, shape (C, 4)
-        Per crosswalk patch, a corner and the unit direction of its long side.
+    crossings : ndarray of float64, shape (C, 6)
+        Per crosswalk patch: a corner (x, y), the unit direction of its long side (x, y), its width
+        (the short side, m) and its markings' code in :data:`CROSSING_MARKINGS` (those of the mapped
+        crossing nearest its centre within 8 m, zebra where none is).
     room_floor : ndarray of int32, shape (R,)
         Each room's floor material.
     markings : RoadMarkings or None
@@ -229,13 +248,10 @@ class SceneLook:
             painted = paint.overlay >= 0
             material[facade[painted]] = _OVERLAY_MATERIALS.take(paint.overlay[painted])
             reflect[facade[paint.overlay == OVERLAY_NAMES.index("glass")]] = MATERIALS["glass"].reflect
-        stripes = np.flatnonzero(kind == CROSSWALK)
-        if len(stripes):
-            patch = self.crossings.take(self.face_frame.take(face.take(stripes)), axis=0)
-            along = (points[stripes, 0] - patch[:, 0]) * patch[:, 2] + (
-                points[stripes, 1] - patch[:, 1]
-            ) * patch[:, 3]
-            material[stripes[np.mod(along, 2.0 * _STRIPE) < _STRIPE]] = material_index("marking")
+        crosswalk = np.flatnonzero(kind == CROSSWALK)
+        if len(crosswalk):
+            patch = self.crossings.take(self.face_frame.take(face.take(crosswalk)), axis=0)
+            material[crosswalk[_crossing_paint(patch, points[crosswalk])]] = material_index("marking")
         roads = np.flatnonzero(kind == ROAD)
         if len(roads) and self.markings is not None:
             material[roads[self.markings.painted(points[roads])]] = material_index("marking")
@@ -243,6 +259,23 @@ class SceneLook:
         objects = kind == OBJECT
         material[objects] = material_index("object_grain")
         return SurfaceLook(tile=material, u=u, v=v, reflect=reflect, modulate=objects)
+
+
+def _crossing_paint(patch: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Whether each hit on a crosswalk at world `points` ``(K, 3)`` is painted, by its patch's row
+    ``(K, 6)`` of :attr:`SceneLook.crossings`: zebra bars across the whole width, 0.5 m wide and apart
+    along the long side; lines along both long edges; a ladder both; dashes the lines in 0.5 m pieces."""
+    rx, ry = points[:, 0] - patch[:, 0], points[:, 1] - patch[:, 1]
+    along = rx * patch[:, 2] + ry * patch[:, 3]
+    across = np.abs(patch[:, 2] * ry - patch[:, 3] * rx)  # from the long edge through the corner
+    code = patch[:, 5]
+    bars = np.mod(along, 2.0 * _STRIPE) < _STRIPE
+    edges = (across < EDGE_LINE) | (across > patch[:, 4] - EDGE_LINE)
+    return (
+        (bars & ((code == _ZEBRA) | (code == _LADDER)))
+        | (edges & ((code == _LINES) | (code == _LADDER)))
+        | (edges & bars & (code == _DASHES))
+    )
 
 
 @njit(cache=True, nogil=True)
@@ -334,8 +367,9 @@ def scene_look(
     hidden_classes : sequence of str
         Terrain classes the renderer leaves out (the face order follows it).
     details : MapDetails, optional
-        The city map's building types and levels and its roads (:func:`map_details`); without them,
-        buildings are houses of brick or render with storeys from their height, and roads bare.
+        The city map's building types and levels, its roads and crossings (:func:`map_details`);
+        without them, buildings are houses of brick or render with storeys from their height, roads
+        bare and crosswalks zebras.
 
     Returns
     -------
@@ -345,7 +379,8 @@ def scene_look(
     styles = _facade_styles(scene.annotations.buildings, details, settings)
     facades, facade_rows = facade_frames(scene.annotations.buildings, styles)
     buildings = {b.id: b for b in scene.annotations.buildings}
-    crossings: list[tuple[float, float, float, float]] = []
+    crossings: list[tuple[float, ...]] = []
+    mapped = _mapped_crossings(details)
     kinds, materials, frames, normals = [], [], [], []
     for surface in scene.surfaces:
         if surface.terrain_class in hidden:
@@ -366,7 +401,7 @@ def scene_look(
             kind[:] = ROAD
         elif surface.terrain_class == "crosswalk":
             kind[:] = CROSSWALK
-            frame[:] = _crosswalk_patches(mesh, crossings)
+            frame[:] = _crosswalk_patches(mesh, crossings, mapped)
         elif surface.terrain_class == "building" and match and int(match.group(1)) in buildings:
             building = buildings[int(match.group(1))]
             up = np.abs(face_normals[:, 2]) >= _UPWARD
@@ -400,7 +435,7 @@ def scene_look(
         face_frame=np.concatenate([*frames, [-1]]).astype(np.int32),
         face_normals=np.concatenate([*normals, np.zeros((1, 3))]),
         facades=facades,
-        crossings=np.asarray(crossings, dtype=np.float64).reshape(-1, 4),
+        crossings=np.asarray(crossings, dtype=np.float64).reshape(-1, 6),
         room_floor=np.array([material_index(room_floor(t)) for t in rooms.room_types], dtype=np.int32),
         markings=road_markings(details.roads) if details is not None and details.roads else None,
         tint=tint,
@@ -425,9 +460,31 @@ def _nearest_facades(
     return [building.facades[k].id for k in best]
 
 
-def _crosswalk_patches(mesh: MeshData, crossings: list[tuple[float, float, float, float]]) -> np.ndarray:
-    """The patch (a row appended to `crossings`: a corner and the direction of its long side) of each
-    face of a crosswalk surface; a patch is a piece of faces joined by corners within 2 cm in plan."""
+def _mapped_crossings(details: MapDetails | None) -> tuple[np.ndarray, np.ndarray]:
+    """The mapped crossings' positions ``(M, 2)`` and markings' codes ``(M,)`` (none without a map)."""
+    crossings = details.crossings if details is not None else []
+    positions = np.array([(x, y) for x, y, _ in crossings], dtype=np.float64).reshape(-1, 2)
+    codes = np.array([CROSSING_MARKINGS.index(m) for _, _, m in crossings], dtype=np.float64)
+    return positions, codes
+
+
+def _markings_code(centre: np.ndarray, mapped: tuple[np.ndarray, np.ndarray]) -> float:
+    """The markings' code of a crosswalk patch centred at `centre`: the nearest mapped crossing's within
+    8 m, zebra where none is."""
+    positions, codes = mapped
+    if not len(positions):
+        return float(_ZEBRA)
+    distance = np.hypot(positions[:, 0] - centre[0], positions[:, 1] - centre[1])
+    nearest = int(np.argmin(distance))
+    return float(codes[nearest]) if distance[nearest] <= _MARKED_WITHIN else float(_ZEBRA)
+
+
+def _crosswalk_patches(
+    mesh: MeshData, crossings: list[tuple[float, ...]], mapped: tuple[np.ndarray, np.ndarray]
+) -> np.ndarray:
+    """The patch (a row appended to `crossings`: a corner, the direction of its long side, its width and
+    its markings' code from the `mapped` crossings' positions and codes) of each face of a crosswalk
+    surface; a patch is a piece of faces joined by corners within 2 cm in plan."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree
@@ -447,7 +504,10 @@ def _crosswalk_patches(mesh: MeshData, crossings: list[tuple[float, float, float
         points = corners.reshape(-1, 3, 2)[patch_of_face == patch].reshape(-1, 2)
         box = np.asarray(shapely.MultiPoint(points).minimum_rotated_rectangle.exterior.coords)[:4]
         edges = np.diff(np.vstack([box, box[:1]]), axis=0)
-        longest = edges[np.argmax(np.hypot(edges[:, 0], edges[:, 1]))]
+        lengths = np.hypot(edges[:, 0], edges[:, 1])
+        longest = edges[np.argmax(lengths)]
         direction = longest / max(float(np.hypot(*longest)), 1e-9)
-        crossings.append((float(box[0, 0]), float(box[0, 1]), float(direction[0]), float(direction[1])))
+        code = _markings_code(box.mean(axis=0), mapped)
+        corner = (float(box[0, 0]), float(box[0, 1]))
+        crossings.append((*corner, float(direction[0]), float(direction[1]), float(lengths.min()), code))
     return first + index.astype(np.int32)

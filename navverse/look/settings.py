@@ -12,7 +12,7 @@ from navverse.settings import Settings
 
 __all__ = ["EVAL_LOOK", "LOOK_VERSION", "LookSettings", "draw_look", "look_option"]
 
-LOOK_VERSION = "1.0"
+LOOK_VERSION = "1.1"
 """Version of how looks are computed from a scene and its settings; a dataset's manifest records it."""
 
 

@@ -10,8 +10,9 @@ The layer adds, over the scene's prims:
 - on every terrain mesh, ``primvars:lookSt`` (faceVarying: per face corner, the surface coordinates
   the renderer uses, in tiles) and one ``GeomSubset`` per material (family ``materialBind``) bound to
   it: floors by the room each face is in, walls paint inside and render outside, facades a tile of
-  one bay by one storey of their style with its window, roofs, zebra crossings a stripe tile along the
-  crossing, the other classes their material;
+  one bay by one storey of their style with its window, roofs, crosswalks by their markings (zebras and
+  ladders a stripe tile along the crossing, lines and dashes a tile of lines along both its edges,
+  unpainted ones their material), the other classes their material;
 - on every object mesh, a binding to a palette material: one texel per colour the objects use, each
   face (``lookSt`` uniform) on its colour, so the objects keep their colours through a texture.
 
@@ -28,6 +29,7 @@ import numpy as np
 from PIL import Image
 from pxr import Sdf, Usd, UsdGeom, UsdShade, Vt
 
+from navverse.city.geometry.surfaces import CROSSWALK_WIDTH
 from navverse.files import atomic_path
 from navverse.look.facades import BASE, DX, DY, LENGTH, OVERLAY_ALBEDO, OVERLAY_NAMES, STOREY, STYLE, SX, SY
 from navverse.look.materials import (
@@ -38,7 +40,16 @@ from navverse.look.materials import (
     material_albedo,
     material_index,
 )
-from navverse.look.scene_look import CROSSWALK, FACADE, FLOOR, WALL, SceneLook, material_tiles
+from navverse.look.scene_look import (
+    CROSSING_MARKINGS,
+    CROSSWALK,
+    EDGE_LINE,
+    FACADE,
+    FLOOR,
+    WALL,
+    SceneLook,
+    material_tiles,
+)
 from navverse.scene.colors import default_color
 from navverse.scene.geometry import MeshData, Scene, SceneObject
 from navverse.scene.naming import LOOKS_ROOT, PHYSICS_ROOT, TERRAIN_ROOT
@@ -56,6 +67,13 @@ _LOOKS = f"{LOOKS_ROOT}/Look"
 _FACADE_TEXELS = 256
 _UPWARD = 0.5
 _PNG_LEVEL = 6
+_STRIPE_TEXTURES = {
+    "zebra": "zebra",
+    "ladder": "zebra",
+    "lines": "crossing_lines",
+    "dashes": "crossing_lines",
+}
+"""The texture of a crosswalk by its markings (unpainted ones keep their material)."""
 
 
 def write_look_usd(scene: Scene, look: SceneLook, directory: Path, *, scene_file: str = "scene.usdc") -> Path:
@@ -200,15 +218,28 @@ def _surface_looks(look: SceneLook, faces: np.ndarray, mesh: MeshData) -> tuple[
     if len(facade):
         rows = look.facades.rows[look.face_frame[faces[facade]]]
         names[facade], st[facade] = _facade_st(rows, corners[facade])
-    zebra = np.flatnonzero(kind == CROSSWALK)
-    if len(zebra):
-        patch = look.crossings[look.face_frame[faces[zebra]]]
-        rx, ry = corners[zebra, :, 0] - patch[:, None, 0], corners[zebra, :, 1] - patch[:, None, 1]
-        length = rx * patch[:, None, 2] + ry * patch[:, None, 3]
-        width = patch[:, None, 2] * ry - patch[:, None, 3] * rx
-        names[zebra] = "zebra"
-        st[zebra] = np.stack([length / 1.0, width / 1.0], axis=-1)
+    crosswalk = np.flatnonzero(kind == CROSSWALK)
+    if len(crosswalk):
+        patch = look.crossings[look.face_frame[faces[crosswalk]]]
+        texture, st_crosswalk = _crosswalk_st(patch, corners[crosswalk])
+        painted = texture != ""
+        names[crosswalk[painted]] = texture[painted]
+        st[crosswalk[painted]] = st_crosswalk[painted]
     return names.astype(str), st
+
+
+def _crosswalk_st(patch: np.ndarray, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Crosswalk faces (their patches' rows of :attr:`SceneLook.crossings`, corners ``(F, 3, 3)``): the
+    texture of their markings (``""``: unpainted) and their corners' coordinates in it: along the patch's
+    long side in meters, and across it in meters (zebra tiles) or in widths (edge-line tiles)."""
+    rx, ry = corners[..., 0] - patch[:, None, 0], corners[..., 1] - patch[:, None, 1]
+    length = rx * patch[:, None, 2] + ry * patch[:, None, 3]
+    across = patch[:, None, 2] * ry - patch[:, None, 3] * rx
+    markings = [CROSSING_MARKINGS[int(code)] for code in patch[:, 5]]
+    texture = np.array([_STRIPE_TEXTURES.get(m, "") for m in markings], dtype=object)
+    lines = texture == "crossing_lines"
+    across[lines] = np.abs(across[lines]) / np.maximum(patch[lines, 4:5], 1e-9)
+    return texture, np.stack([length, across], axis=-1)
 
 
 def _facade_st(rows: np.ndarray, corners: np.ndarray) -> tuple[list[str], np.ndarray]:
@@ -226,7 +257,8 @@ def _facade_st(rows: np.ndarray, corners: np.ndarray) -> tuple[list[str], np.nda
 
 
 def _image(name: str) -> np.ndarray:
-    """The image of a look texture: a material's tile, a facade style's bay, the zebra stripes."""
+    """The image of a look texture: a material's tile, a facade style's bay, the zebra stripes, the
+    edge lines of a crossing."""
     if name in MATERIALS:
         return material_tiles()[material_index(name)]
     if name == "zebra":  # 1 m of crossing: a stripe on its first half, asphalt on the other
@@ -234,6 +266,14 @@ def _image(name: str) -> np.ndarray:
         n = asphalt.shape[0] // 4  # the asphalt tile is 4 m: a quarter of it is 1 m
         image = asphalt[:n, :n].copy()
         image[:, : n // 2] = MATERIALS["marking"].color
+        return image
+    if name == "crossing_lines":  # 1 m along a crossing (s), its whole width across (t): lines at both edges
+        asphalt = material_tiles()[material_index("asphalt")]
+        n = asphalt.shape[0] // 4
+        image = asphalt[:n, :n].copy()
+        line = max(1, round(n * EDGE_LINE / CROSSWALK_WIDTH))  # as wide as on a crosswalk of the usual width
+        image[:line] = MATERIALS["marking"].color
+        image[-line:] = MATERIALS["marking"].color
         return image
     if name.startswith("facade_"):
         return _facade_bay(name.removeprefix("facade_"))

@@ -9,7 +9,7 @@ from typing import Literal
 import numpy as np
 import pytest
 
-from navverse.files import atomic_dir, atomic_path, atomic_write
+from navverse.files import atomic_dir, atomic_path, atomic_write, cached_file_sha256, file_sha256
 
 
 def test_a_file_appears_only_when_written_whole(tmp_path: Path) -> None:
@@ -117,3 +117,13 @@ def test_a_directory_appears_whole_or_not_at_all(tmp_path: Path) -> None:
         (staging / "manifest.json").write_text("{}")
         raise KeyboardInterrupt
     assert list(tmp_path.iterdir()) == [target]
+
+
+def test_a_cached_hash_follows_the_file_when_it_is_rewritten(tmp_path: Path) -> None:
+    path = tmp_path / "scene.usdc"
+    path.write_bytes(b"first")
+    first = cached_file_sha256(path)
+    assert first == file_sha256(path) == cached_file_sha256(tmp_path / "." / "scene.usdc")
+    with atomic_write(path) as handle:  # replaced: another inode
+        handle.write(b"second, longer")
+    assert cached_file_sha256(path) == file_sha256(path) != first

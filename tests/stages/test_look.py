@@ -12,7 +12,9 @@ from pxr import Usd, UsdGeom, UsdShade
 
 from navverse.dataset import built_version
 from navverse.errors import SceneError
-from navverse.look.files import LOOK_JSON, find_look, load_scene_look, read_look
+from navverse.look.files import LOOK_JSON, find_look, load_scene_look, read_look, write_look
+from navverse.look.markings import MarkedRoad
+from navverse.look.scene_look import MapDetails
 from navverse.look.settings import EVAL_LOOK
 from navverse.look.usd_look import LOOK_USD
 from navverse.scene.directory import read_scene
@@ -92,7 +94,7 @@ def test_the_renderer_takes_the_built_look_and_a_broken_one_says_what_to_do(
     with pytest.raises(SceneError, match="rebuild the scene's look"):
         load_scene_look(scene, broken)
     (broken / LOOK_JSON).write_text(json.dumps({"format_version": "7.0"}))
-    with pytest.raises(SceneError, match=r"look format 7\.0 is not 1\.0"):
+    with pytest.raises(SceneError, match=r"look format 7\.0 is not 1\.1"):
         load_scene_look(scene, broken)
     # A look made for another build of the scene is not used: the evaluation look, with a warning.
     stale = json.loads((find_look(scene_dir)).read_text())
@@ -102,3 +104,20 @@ def test_the_renderer_takes_the_built_look_and_a_broken_one_says_what_to_do(
     (broken / LOOK_JSON).write_text(json.dumps(stale))
     with pytest.warns(UserWarning, match="another build of scene apartment-s0"):
         assert load_scene_look(scene, broken).settings == EVAL_LOOK
+
+
+def test_look_json_keeps_the_mapped_crossings_and_reads_a_1_0_file_without_them(tmp_path: Path) -> None:
+    road = MarkedRoad(((0.0, 0.0), (50.0, 0.0)), 7.0, 2, False, "residential")
+    details = MapDetails(buildings={3: ("house", 2.0)}, roads=[road], crossings=[(20.0, 0.5, "lines")])
+    path = tmp_path / LOOK_JSON
+    write_look(path, EVAL_LOOK, details, geometry_sha256="0" * 64)
+    assert json.loads(path.read_text())["map"]["crossings"] == [[20.0, 0.5, "lines"]]
+    assert read_look(path) == (EVAL_LOOK, details)
+    older = json.loads(path.read_text())
+    del older["map"]["crossings"]
+    path.write_text(json.dumps({**older, "format_version": "1.0"}))
+    assert read_look(path)[1] == MapDetails(buildings={3: ("house", 2.0)}, roads=[road])
+    older["map"]["crossings"] = [[20.0, 0.5, "stripes"]]
+    path.write_text(json.dumps(older))
+    with pytest.raises(SceneError, match="unknown crossing markings"):
+        read_look(path)

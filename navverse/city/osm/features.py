@@ -52,6 +52,7 @@ from navverse.city.tag_tables import (
     WATERWAY_WIDTHS,
     building_value,
     count_problems,
+    crossing_markings,
     drawn_storeys,
     furniture_kind,
     is_area,
@@ -339,7 +340,8 @@ class _Builder:
         return _numbered(drafts, "walkway", Walkway)
 
     def crossings(self, roads_by_way: dict[int, list[tuple[str, Any]]]) -> list[Crossing]:
-        """Crossing nodes on a road way, each naming the road piece it lies on."""
+        """Crossing nodes on a road way, each naming the road piece it lies on, with its kerb and markings
+        (:func:`~navverse.city.tag_tables.crossing_markings`)."""
         nodes = {n.id: n for n in self.nodes if tag_value(n.tags, "highway") == "crossing"}
         on_ways: dict[int, set[int]] = {}
         for way in self.ways:
@@ -368,6 +370,7 @@ class _Builder:
                 "position": _point(node.xy),
                 "road": min(near)[2],
                 "kerb": kerb,
+                "markings": crossing_markings(node.tags, self.dropped),
             }
             drafts.append(((0, node.id, 0), fields))
         return _numbered(drafts, "crossing", Crossing)

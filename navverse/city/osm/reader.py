@@ -41,7 +41,9 @@ walkways       ways ``highway=footway|path|steps|cycleway|pedestrian`` at ground
                for ``footway=sidewalk``, ``crossing`` for ``footway=crossing``, else the highway value;
                width ``width``, else the class default
 crossings      nodes ``highway=crossing`` (not ``crossing=no``) on a road way in the window; the road is
-               the nearest piece of that way; kerb from the node's ``kerb`` (default ``lowered``)
+               the nearest piece of that way; kerb from the node's ``kerb`` (default ``lowered``);
+               markings from ``crossing:markings``, else ``crossing_ref``, else ``crossing``
+               (:func:`~navverse.city.tag_tables.crossing_markings`; default zebra)
 areas          closed ways and multipolygons, the first matching row winning:
 
                ============  =============================================================================

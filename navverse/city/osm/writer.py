@@ -3,7 +3,8 @@
 Coordinates go from the map's local frame to latitude/longitude through an azimuthal equidistant
 projection centred on the frame's origin (a synthetic map's origin is 0°, 0°). Roads become
 ``highway`` ways with ``lanes``, ``width``, ``oneway`` and ``sidewalk`` tags, crossings
-``highway=crossing`` nodes inserted into the road they cross, buildings ``building=yes`` ways with
+``highway=crossing`` nodes inserted into the road they cross (with ``kerb``, and
+``crossing:markings`` unless zebra: ``no`` for none), buildings ``building=yes`` ways with
 ``height`` and ``building:levels``, land areas closed ways of the tag their class comes from.
 Shared points become one node, ids count up from 1 in a fixed order: the same map gives the same
 bytes.
@@ -19,7 +20,7 @@ from xml.sax.saxutils import quoteattr
 from pyproj import Transformer
 from shapely.geometry import LineString, Point
 
-from navverse.city.map import CityMap, Road
+from navverse.city.map import CityMap, Crossing, Road
 from navverse.files import atomic_write
 
 __all__ = ["AREA_TAGS", "write_osm"]
@@ -70,6 +71,15 @@ def _road_tags(road: Road) -> dict[str, str]:
     return tags
 
 
+def _crossing_tags(crossing: Crossing) -> dict[str, str]:
+    """A crossing node's tags: ``crossing:markings`` only where they are not zebra, which a reader
+    takes for a crossing that does not say."""
+    tags = {"highway": "crossing", "kerb": crossing.kerb}
+    if crossing.markings != "zebra":
+        tags["crossing:markings"] = "no" if crossing.markings == "none" else crossing.markings
+    return tags
+
+
 def _road_points(road: Road, crossings: list[tuple[float, float]]) -> list[tuple[float, float]]:
     """The road's points with its crossings inserted in order along it."""
     line = LineString(road.centerline.points)
@@ -84,7 +94,7 @@ def _xml(city: CityMap) -> Iterator[str]:
     crossings_of: dict[str, list[tuple[float, float]]] = {}
     for crossing in city.crossings:
         crossings_of.setdefault(crossing.road, []).append(crossing.position)
-        nodes.id(crossing.position, {"highway": "crossing", "kerb": crossing.kerb})
+        nodes.id(crossing.position, _crossing_tags(crossing))
     for road in city.roads:
         points = _road_points(road, crossings_of.get(road.id, []))
         ways.append(([nodes.id(p) for p in points], _road_tags(road)))

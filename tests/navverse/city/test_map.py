@@ -126,3 +126,15 @@ def test_a_bad_file_is_a_city_map_error(tmp_path: Path):
 
 def test_path_length():
     assert Path2(points=[(0.0, 0.0), (3.0, 4.0), (3.0, 10.0)]).length == pytest.approx(11.0)
+
+
+def test_a_format_1_3_map_reads_with_zebra_crossings(tmp_path: Path):
+    city = _city(crossings=[Crossing(id="crossing-1", position=(50.0, 0.0), road="road-1", markings="lines")])
+    old = city.model_dump(mode="json", by_alias=True)
+    for crossing in old["crossings"]:
+        del crossing["markings"]
+    (tmp_path / "old.json").write_text(json.dumps({**old, "format_version": "1.3"}))
+    (crossing,) = read_city_map(tmp_path / "old.json").crossings
+    assert crossing.markings == "zebra"
+    with pytest.raises(ValidationError, match="markings"):
+        Crossing(id="crossing-2", position=(1.0, 1.0), road="road-1", markings="stripes")

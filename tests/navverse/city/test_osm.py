@@ -22,6 +22,7 @@ from navverse.city.osm.geometry import clip_polyline
 from navverse.city.osm.reader import OSM_ATTRIBUTION, read_osm
 from navverse.city.osm.window import utm_epsg
 from navverse.city.tag_tables import (
+    crossing_markings,
     drawn_storeys,
     kerb_of,
     land_class,
@@ -138,7 +139,7 @@ def test_junction_crossing_names_its_road(junction: CityMap) -> None:
     (crossing,) = junction.crossings
     assert crossing.osm == "node/4"
     assert crossing.road == junction.roads[0].id
-    assert crossing.kerb == "lowered"
+    assert (crossing.kerb, crossing.markings) == ("lowered", "zebra")  # crossing=marked
     assert crossing.position == pytest.approx((-20.0, 0.0), abs=0.02)
     (walkway,) = junction.walkways
     assert (walkway.kind, walkway.width) == ("crossing", 2.0)
@@ -596,6 +597,61 @@ def test_tag_tables() -> None:
     assert draws == {1, 2}
     assert drawn_storeys(tags, seed=1, osm_type="way", osm_id=-5) in (1, 2)
     assert utm_epsg(48.0, 11.0) == 32632 and utm_epsg(-33.9, 18.4) == 32734 and utm_epsg(0.0, 180.0) == 32660
+
+
+@pytest.mark.parametrize(
+    ("tags", "markings"),
+    [
+        ({}, "zebra"),
+        ({"crossing:markings": "no"}, "none"),
+        ({"crossing:markings": " Yes "}, "zebra"),
+        ({"crossing:markings": "zebra:bicolour"}, "zebra"),
+        ({"crossing:markings": "lines"}, "lines"),
+        ({"crossing:markings": "lines:paired"}, "lines"),
+        ({"crossing:markings": "LINES:dashed"}, "dashes"),
+        ({"crossing:markings": "ladder:skewed"}, "ladder"),
+        ({"crossing:markings": "dots"}, "dashes"),
+        ({"crossing:markings": "surface", "crossing": "zebra"}, "none"),  # markings win
+        ({"crossing:markings": "pictograms"}, "none"),
+        ({"crossing_ref": "pelican", "crossing": "traffic_signals"}, "dashes"),
+        ({"crossing_ref": "Zebra"}, "zebra"),
+        ({"crossing_ref": "tiger", "crossing": "unmarked"}, "none"),  # an unknown ref falls through
+        ({"crossing": "traffic_signals"}, "lines"),
+        ({"crossing": "uncontrolled"}, "zebra"),
+        ({"crossing": "informal"}, "zebra"),
+    ],
+)
+def test_crossing_markings_by_tag(tags: dict[str, str], markings: str) -> None:
+    from collections import Counter
+
+    dropped: Counter[str] = Counter()
+    assert crossing_markings(tags, dropped) == markings
+    assert not dropped
+
+
+def test_unknown_crossing_markings_are_counted_and_the_other_tags_read() -> None:
+    from collections import Counter
+
+    dropped: Counter[str] = Counter()
+    assert (
+        crossing_markings({"crossing:markings": "rainbow", "crossing": "traffic_signals"}, dropped) == "lines"
+    )
+    assert dropped == {"unknown crossing:markings value (other crossing tags used)": 1}
+
+
+def test_crossing_nodes_read_their_markings(tmp_path: Path) -> None:
+    nodes = {
+        1: (-60.0, 0.0, {}),
+        2: (-30.0, 0.0, {"highway": "crossing", "crossing": "traffic_signals"}),
+        3: (0.0, 0.0, {"highway": "crossing", "crossing": "uncontrolled", "crossing:markings": "no"}),
+        4: (30.0, 0.0, {"highway": "crossing", "crossing:markings": "odd"}),
+        5: (60.0, 0.0, {}),
+    }
+    text = _osm_xml(nodes, {10: ([1, 2, 3, 4, 5], {"highway": "residential"})})
+    city = read_osm(_write(tmp_path / "crossings.osm", text), center=(48.0, 11.0), size_m=(200.0, 200.0))
+    by_node = {c.osm: c.markings for c in city.crossings}
+    assert by_node == {"node/2": "lines", "node/3": "none", "node/4": "zebra"}
+    assert city.dropped["unknown crossing:markings value (other crossing tags used)"] == 1
 
 
 def test_clip_polyline_keeps_direction_and_closed_loops() -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -54,3 +55,25 @@ def test_the_file_declares_its_window_and_reads_back_without_a_centre(tmp_path: 
     again = read_osm(path, size_m=(300.0, 250.0))  # the window: the file's declared bounds
     assert len(again.buildings) == len(CITY.buildings)
     assert {r.highway for r in again.roads} == {r.highway for r in CITY.roads}
+
+
+def test_crossing_markings_survive_a_round_trip(tmp_path: Path):
+    kinds = ("zebra", "lines", "ladder", "dashes", "none")
+    crossings = [c.model_copy(update={"markings": kinds[k % 5]}) for k, c in enumerate(CITY.crossings)]
+    city = CITY.model_copy(update={"crossings": crossings})
+    path = write_osm(city, tmp_path / "city.osm")
+    root = ET.fromstring(path.read_bytes())
+    written = [{t.get("k"): t.get("v") for t in node.iter("tag")} for node in root.iter("node")]
+    assert {n.get("crossing:markings") for n in written if n.get("highway") == "crossing"} == {
+        None,
+        "lines",
+        "ladder",
+        "dashes",
+        "no",
+    }
+    again = read_osm(path, size_m=(300.0, 250.0))  # in its own frame: positions within centimetres
+    assert len(again.crossings) == len(city.crossings)
+    for crossing in city.crossings:
+        nearest = min(again.crossings, key=lambda c: math.dist(c.position, crossing.position))
+        assert math.dist(nearest.position, crossing.position) < 0.5
+        assert nearest.markings == crossing.markings

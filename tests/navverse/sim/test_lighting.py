@@ -1,4 +1,4 @@
-"""The lit look on known geometry: Lambert's cosine law, shadows, zebra stripes where the map has them."""
+"""The lit look on known geometry: Lambert's cosine law, shadows, crossing markings where the map has them."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from navverse.city.geometry.scene import CityGeometry, city_scene
+from navverse.city.map import CityMap
 from navverse.city.osm.reader import read_osm
 from navverse.look.materials import MATERIAL_NAMES
 from navverse.look.scene_look import map_details, scene_look
@@ -136,6 +137,47 @@ def test_the_mapped_zebra_crossing_shows_its_stripes_there(junction: tuple[Scene
     road_y = -(road_rows + 0.5 - intrinsics.cy) * metres
     off_lines = (np.abs(road_x + 20.0) > 3.0) & (np.abs(road_y) > 0.3) & (np.abs(road_y) < 3.0)
     assert (luma[road_rows[off_lines], road_cols[off_lines]] < 150.0).all()
+
+
+def _crosswalk_seen(
+    junction: tuple[Scene, CityMap], markings: str
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The T-junction's crossing mapped with other `markings`, seen from 12 m straight above: per crosswalk
+    pixel its world x and y, whether it shows paint, and its luma."""
+    scene, city = junction
+    crossings = [c.model_copy(update={"markings": markings}) for c in city.crossings]
+    marked = CityMap.model_validate(
+        city.model_copy(update={"crossings": crossings}).model_dump(by_alias=True)
+    )
+    look = scene_look(scene, LookSettings(), details=map_details(scene, marked))
+    intrinsics = CameraIntrinsics.from_hfov(320, 240, 90.0)
+    renderer = SceneRenderer(scene, intrinsics=intrinsics, look=look)
+    pose = look_at(np.array([-20.0, 0.0, 12.0]), np.array([-20.0, 0.0, 0.0]), up=(0.0, 1.0, 0.0))
+    frame, materials = renderer.render(pose), renderer.materials(pose)
+    rows, cols = np.nonzero(frame.terrain == renderer.class_names.index("crosswalk"))
+    metres = 12.0 / intrinsics.fx
+    xs = -20.0 + (cols + 0.5 - intrinsics.cx) * metres
+    ys = -(rows + 0.5 - intrinsics.cy) * metres
+    painted = materials[rows, cols] == MATERIAL_NAMES.index("marking")
+    luma = frame.rgb[rows, cols].astype(float) @ np.array([0.2126, 0.7152, 0.0722])
+    return xs, ys, painted, luma
+
+
+def test_a_crossing_mapped_with_lines_shows_them_along_its_edges(junction: tuple[Scene, CityMap]) -> None:
+    # The crosswalk spans x = -22 .. -18 (4 m along the street) and the carriageway in y: 0.25 m lines
+    # along its two long edges, across the whole street, and no bars between them.
+    xs, ys, painted, luma = _crosswalk_seen(junction, "lines")
+    from_edge = np.minimum(xs - xs.min(), xs.max() - xs)
+    assert xs.max() - xs.min() == pytest.approx(4.0, abs=0.3)
+    assert painted[from_edge < 0.12].mean() > 0.95 and np.median(luma[from_edge < 0.12]) > 170.0
+    assert not painted[from_edge > 0.4].any()
+    for side in (xs < -20.0, xs > -20.0):
+        assert np.ptp(ys[painted & side]) > 6.0
+
+
+def test_a_crossing_mapped_unpainted_shows_no_marking(junction: tuple[Scene, CityMap]) -> None:
+    xs, _, painted, luma = _crosswalk_seen(junction, "none")
+    assert len(xs) > 1000 and not painted.any() and (luma < 150.0).mean() > 0.95
 
 
 def test_flat_images_are_a_shading_and_lit_ones_a_look() -> None:
