@@ -6,15 +6,15 @@ Usage::
         [--apartment apartment-s0] [--office office-s1] [--out docs/img]
 
 Each view is rendered by Spot's camera (640 x 480, 90 degrees horizontal field of view, 0.6 m above
-the ground) twice: flat (``Shading``: one colour per face under fixed lights, the camera before looks
-existed) and lit (the scene's built look: sun and shadows, sky, materials, facades, markings, room
-lamps, exposure). The views: a street (on a sidewalk of the road nearest the city's centre, looking
-along it), a crossing (the mapped crossing nearest the centre, from the kerb, looking across the
+the ground) twice: flat (``Shading``: one colour per face under fixed lights, the camera before
+looks existed) and lit (the scene's built look: sun and shadows, sky, materials, facades, markings,
+room lamps, exposure). The views: a street (on a sidewalk of the road nearest the city's centre,
+looking along it), a crossing (the crossing nearest the centre, from the kerb, looking across the
 road), a storefront row (the widest storefront, from the sidewalk, looking along its facade), the
-i2o doorway from inside (2.5 m inside the exit, looking out), an apartment room (the largest
-living room, corner to corner) and an office (the open office, corner to corner). It writes
-``look_<view>.jpg`` for each (flat left, lit right) into ``--out``; every scene must be built with its
-look (``navverse build <id>``).
+i2o doorway from inside (2.5 m inside the exit, looking out), an apartment room (the largest living
+room, corner to corner) and an office (the open office, corner to corner). It writes
+``look_<view>.jpg`` for each (flat left, lit right) into ``--out``; every scene must be built with
+its look (``navverse build <id>``).
 """
 
 from __future__ import annotations
@@ -34,6 +34,8 @@ from render_frames import across_room
 from shapely.geometry import LineString, Point
 from storefront_views import pick
 
+from navverse.city.geometry.crossings import junction_crossings
+from navverse.city.geometry.surfaces import CROSSWALK_WIDTH
 from navverse.city.map import CityMap, read_city_map
 from navverse.errors import NavverseError
 from navverse.look.files import find_look, load_scene_look
@@ -78,13 +80,17 @@ def street(scene: Scene, city: CityMap | None) -> Pose:
 
 
 def crossing(scene: Scene, city: CityMap | None) -> Pose:
-    """At the kerb of the mapped crossing nearest the city's centre, looking across the road on it."""
-    if city is None or not city.crossings:
-        raise NavverseError("the crossing view needs a city map with crossings")
+    """At the kerb of the crossing nearest the city's centre (a mapped one, else one the geometry adds
+    on a junction arm), looking across the road on it."""
+    if city is None:
+        raise NavverseError("the crossing view needs a city built from a map")
+    crossings = city.crossings or junction_crossings(city, crosswalk_width=CROSSWALK_WIDTH)
+    if not crossings:
+        raise NavverseError("the city has no crossing to look across")
     x0, y0, x1, y1 = city.window
     centre = Point((x0 + x1) / 2.0, (y0 + y1) / 2.0)
     roads = {road.id: road for road in city.roads}
-    chosen = min(city.crossings, key=lambda c: (Point(c.position).distance(centre), c.id))
+    chosen = min(crossings, key=lambda c: (Point(c.position).distance(centre), c.id))
     road = roads[chosen.road]
     line = LineString(road.centerline.points)
     at = line.project(Point(chosen.position))

@@ -175,7 +175,10 @@ class Lighting:
             vertical pane mostly sees).
         """
         haze = _HAZE_DISTANCE if self._sky else 0.0
-        kernels.shade_hits(radiance, hits, albedo, light, depth, reflect, self._horizon, haze)
+        kernels.split(
+            kernels.shade_hits, len(hits), radiance, hits, albedo, light, depth, reflect, self._horizon, haze,
+            parts=self._threads,
+        )  # fmt: skip
 
     def _add_lamps(
         self,
@@ -251,16 +254,10 @@ class Lighting:
         """Write the sky's radiance into the `pixels` of `radiance` ``(3, P)`` by the directions of their
         rays (``rays`` ``(P, 6)``, world z up): a gradient from the horizon up, a glow round the sun."""
         ss = self.sun_sky
-        kernels.sky_pixels(
-            radiance,
-            pixels,
-            rays,
-            self._horizon,
-            ss.sky_zenith.astype(np.float32),
-            self._sun,
-            self._sun_color,
-            self._sun_up,
-        )
+        kernels.split(
+            kernels.sky_pixels, len(pixels), radiance, pixels, rays, self._horizon,
+            ss.sky_zenith.astype(np.float32), self._sun, self._sun_color, self._sun_up, parts=self._threads,
+        )  # fmt: skip
 
     def encode(self, radiance: np.ndarray, *, measured: np.ndarray | None = None) -> np.ndarray:
         """sRGB bytes ``(P, 3)`` of radiance ``(3, P)``: exposed, tone mapped, encoded.
@@ -281,5 +278,8 @@ class Lighting:
             average = MIDDLE_GREY
         scale = np.clip(MIDDLE_GREY / average, *_EXPOSURE_RANGE) * 2.0**self.settings.exposure_ev
         out = np.empty((radiance.shape[1], 3), dtype=np.uint8)
-        kernels.encode_pixels(radiance, float(scale), self._encode, out)
+        kernels.split(
+            kernels.encode_pixels, radiance.shape[1], radiance, float(scale), self._encode, out,
+            parts=self._threads,
+        )  # fmt: skip
         return out

@@ -404,16 +404,20 @@ class SceneRenderer:
         and the barycentric ``(u, v)`` of the hit in it (hit = ``(1-u-v) p0 + u p1 + v p2``)."""
         rotation = pose[:3, :3].astype(np.float32)
         eye = (pose[:3, 3] - self._origin).astype(np.float32)
-        # World direction of pixel (row, col) = x[col] * R[:, 0] + y[row] * R[:, 1] + R[:, 2].
-        per_row = self._y[:, None] * rotation[:, 1] + rotation[:, 2]
-        per_col = self._x[:, None] * rotation[:, 0]
-        near = np.float32(self._near)
-        origin_row, origin_col = eye + near * per_row, near * per_col  # rays start on the near plane
-        rays = self._rays
-        for k in range(3):  # one 2-D broadcast per channel: much faster than a (H, W, 3) broadcast
-            np.add(per_row[:, k, None], per_col[None, :, k], out=rays[..., 3 + k])
-            np.add(origin_row[:, k, None], origin_col[None, :, k], out=rays[..., k])
-        result = self._raycaster.cast_rays(o3d.core.Tensor.from_numpy(rays), nthreads=self._threads)
+        # World direction of pixel (row, col) = x[col] * R[:, 0] + y[row] * R[:, 1] + R[:, 2]; rays start
+        # on the near plane.
+        kernels.split(
+            kernels.pixel_rays,
+            len(self._y),
+            self._x,
+            self._y,
+            rotation,
+            eye,
+            self._near,
+            self._rays,
+            parts=self._threads,
+        )
+        result = self._raycaster.cast_rays(o3d.core.Tensor.from_numpy(self._rays), nthreads=self._threads)
         return result["t_hit"].numpy(), result["primitive_ids"].numpy(), result["primitive_uvs"].numpy()
 
     def _depth(self, t_hit: np.ndarray, face: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -566,6 +570,7 @@ class SceneRenderer:
         self._tiles.sample_into(
             albedo, surface.tile, surface.u, surface.v, at.footprint, shift=self._look.shift,
             tint=self._look.tint, modulate=surface.modulate, grain_base=self._grain_base,
+            parts=self._threads,
         )  # fmt: skip
         if self._sampler is not None:
             pixels, colors = self._sampler.sample(face, barycentric)
@@ -599,10 +604,11 @@ class SceneRenderer:
         footprint = np.empty(count, dtype=np.float32)
         hit_face = np.empty(count, dtype=flat_face.dtype)
         albedo = np.empty((3, count), dtype=np.float32)
-        kernels.gather_hits(
+        kernels.split(
+            kernels.gather_hits, count,
             self._rays.reshape(-1, 6), t_hit.reshape(-1), hits, flat_face, self._normals, self._linear,
             self._origin, self._near, self._pixel_angle, points, world, normals, depth, footprint,
-            hit_face, albedo,
+            hit_face, albedo, parts=self._threads,
         )  # fmt: skip
         room = self._look.room_of(world, normals)
         surface = self._look.surface(hit_face, world, normals, room)

@@ -2,14 +2,21 @@
 
 Each loop visits every hit (or pixel) once and keeps its intermediate values in registers, where the
 same arithmetic in numpy would make a pass over memory per operation. They are numba functions,
-compiled on first use and cached beside this module, single-threaded (the ray casts around them use
-every core) and free of the GIL, so renderers in several threads run side by side. Every loop writes
-into arrays its caller allocated and reads nothing global, so results depend only on the inputs.
+compiled on first use and cached beside this module, free of the GIL. The longest take a range
+``[start, stop)`` of their hits or pixels, and :func:`split` runs one over contiguous pieces on
+threads of a small pool (Python threads, not a numba threading layer: safe beside other threads and
+across ``fork``). Every loop writes its elements into arrays its caller allocated, each from its own
+inputs only, so results do not depend on how the work was split.
 """
 
 from __future__ import annotations
 
 import math
+import os
+import threading
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from typing import Any
 
 import numpy as np
 from numba import njit
@@ -25,17 +32,79 @@ __all__ = [
     "lifted_rays",
     "log_average_luma",
     "open_air_light",
+    "pixel_rays",
     "shade_hits",
     "sky_pixels",
+    "split",
     "tile_albedo",
 ]
 
 _JIT = {"cache": True, "nogil": True}
+_SPLIT_BELOW = 64  # fewer elements (hits, pixels or rows) than this run in one piece
+_pool_state: dict[str, Any] = {}
+_pool_lock = threading.Lock()
+
+
+def split(kernel: Callable[..., None], count: int, *args: Any, parts: int) -> None:
+    """Run ``kernel(start, stop, *args)`` over ``[0, count)`` in up to `parts` contiguous pieces at once.
+
+    The calling thread runs the first piece; the others go to a pool of threads shared by this
+    process's renderers (made again after a ``fork``). `parts` of 0 uses one piece per core.
+    """
+    if parts <= 0:
+        parts = os.cpu_count() or 1
+    if parts <= 1 or count < _SPLIT_BELOW:
+        kernel(0, count, *args)
+        return
+    bounds = [count * i // parts for i in range(parts + 1)]
+    pool = _pool(parts - 1)
+    pending = [pool.submit(kernel, bounds[i], bounds[i + 1], *args) for i in range(1, parts)]
+    kernel(0, bounds[1], *args)
+    for future in pending:
+        future.result()
+
+
+def _pool(workers: int) -> ThreadPoolExecutor:
+    """This process's pool of at least `workers` threads."""
+    with _pool_lock:
+        pool = _pool_state.get("pool")
+        if pool is None or _pool_state["pid"] != os.getpid() or _pool_state["workers"] < workers:
+            pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="navverse-shade")
+            _pool_state.update(pool=pool, pid=os.getpid(), workers=workers)
+        return pool
+
+
 _LUMA_R, _LUMA_G, _LUMA_B = 0.2126, 0.7152, 0.0722  # Rec. 709 weights
 
 
 @njit(**_JIT)
+def pixel_rays(
+    start: int,
+    stop: int,
+    x: np.ndarray,
+    y: np.ndarray,
+    rotation: np.ndarray,
+    eye: np.ndarray,
+    near: float,
+    rays: np.ndarray,
+) -> None:
+    """Rows `start` to `stop` of the rays ``(H, W, 6)`` of a pinhole camera: through pixel
+    ``(row, col)`` the direction ``(y[row] R[:, 1] + R[:, 2]) + x[col] R[:, 0]`` (optical z 1), from
+    the near plane along it (in float32, in this order of operations)."""
+    near32 = np.float32(near)
+    for row in range(start, stop):
+        for col in range(x.shape[0]):
+            for c in range(3):
+                per_row = y[row] * rotation[c, 1] + rotation[c, 2]
+                per_col = x[col] * rotation[c, 0]
+                rays[row, col, 3 + c] = per_row + per_col
+                rays[row, col, c] = (eye[c] + near32 * per_row) + near32 * per_col
+
+
+@njit(**_JIT)
 def gather_hits(
+    start: int,
+    stop: int,
     rays: np.ndarray,
     t_hit: np.ndarray,
     hits: np.ndarray,
@@ -62,7 +131,7 @@ def gather_hits(
     `face` ``(P,)``; `face_normals` ``(F + 1, 3)``, `face_albedo` ``(3, F + 1)``; outputs ``(K, 3)``
     (three), ``(K,)`` (three), ``(3, K)``.
     """
-    for k in range(hits.shape[0]):
+    for k in range(start, stop):
         p = hits[k]
         f = face[p]
         t = t_hit[p]
@@ -89,6 +158,8 @@ def gather_hits(
 
 @njit(**_JIT)
 def tile_albedo(
+    start: int,
+    stop: int,
     pool: np.ndarray,
     offset: np.ndarray,
     width: np.ndarray,
@@ -114,7 +185,7 @@ def tile_albedo(
     material's `shift` ``(T, 2)``, to linear (`to_linear`, 256 entries) times its `tint` ``(T, 3)``;
     where `modulate` (objects), the hit's own colour times the sample over `grain_base` instead.
     """
-    for k in range(tile.shape[0]):
+    for k in range(start, stop):
         t = tile[k]
         if t < 0:
             continue
@@ -330,6 +401,8 @@ def add_lamps(
 
 @njit(**_JIT)
 def shade_hits(
+    start: int,
+    stop: int,
     radiance: np.ndarray,
     hits: np.ndarray,
     albedo: np.ndarray,
@@ -340,12 +413,19 @@ def shade_hits(
     haze_distance: float,
 ) -> None:
     """Radiance at pixels `hits` of ``radiance`` ``(3, P)``: albedo times light, plus the horizon's sky
-    that a mirror mirrors (`reflect`), faded into the horizon over `haze_distance` (0: no haze)."""
-    for k in range(hits.shape[0]):
+    that a mirror mirrors (`reflect`), faded into the horizon over `haze_distance` (0: no haze; the
+    fade ``1 - exp(-depth / haze_distance)`` linear in a table of 1/16-distance steps)."""
+    steps = 16
+    top = 8 * steps  # the fade is 1 - exp(-8) = 0.9997 at eight haze distances
+    fade = np.empty(top + 2, dtype=np.float32)
+    for i in range(top + 2):
+        fade[i] = 1.0 - math.exp(-i / steps)
+    scale = np.float32(steps / haze_distance) if haze_distance > 0.0 else np.float32(0.0)
+    for k in range(start, stop):
         p = hits[k]
-        haze = np.float32(0.0)
-        if haze_distance > 0.0:
-            haze = np.float32(1.0) - np.float32(math.exp(-depth[k] / haze_distance))
+        where = min(depth[k] * scale, np.float32(top))
+        i = int(where)
+        haze = fade[i] + (where - np.float32(i)) * (fade[i + 1] - fade[i])
         for c in range(3):
             value = albedo[c, k] * light[c, k] + reflect[k] * horizon[c]
             radiance[c, p] = value + haze * (horizon[c] - value)
@@ -353,6 +433,8 @@ def shade_hits(
 
 @njit(**_JIT)
 def sky_pixels(
+    start: int,
+    stop: int,
     radiance: np.ndarray,
     pixels: np.ndarray,
     rays: np.ndarray,
@@ -369,7 +451,7 @@ def sky_pixels(
     height_of = np.empty(steps + 1, dtype=np.float32)
     for i in range(steps + 1):
         height_of[i] = (i / steps) ** 0.6
-    for m in range(pixels.shape[0]):
+    for m in range(start, stop):
         p = pixels[m]
         dx, dy, dz = rays[p, 3], rays[p, 4], rays[p, 5]
         inverse = np.float32(1.0) / np.float32(math.sqrt(dx * dx + dy * dy + dz * dz))
@@ -406,12 +488,14 @@ def log_average_luma(radiance: np.ndarray, measured: np.ndarray, stride: int) ->
 
 
 @njit(**_JIT)
-def encode_pixels(radiance: np.ndarray, scale: float, table: np.ndarray, out: np.ndarray) -> None:
+def encode_pixels(
+    start: int, stop: int, radiance: np.ndarray, scale: float, table: np.ndarray, out: np.ndarray
+) -> None:
     """sRGB bytes ``out`` ``(P, 3)`` of ``radiance`` ``(3, P)`` times `scale`, through the filmic curve
     (Narkowicz's fit of the ACES reference tone map) and `table` (bytes of ``k / (len(table) - 1)``)."""
     steps = np.float32(table.shape[0] - 1)
     gain = np.float32(scale)
-    for p in range(radiance.shape[1]):
+    for p in range(start, stop):
         for c in range(3):
             x = radiance[c, p] * gain
             mapped = x * (np.float32(2.51) * x + np.float32(0.03))

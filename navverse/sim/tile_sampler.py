@@ -68,6 +68,7 @@ class TileSampler:
         tint: np.ndarray,
         modulate: np.ndarray,
         grain_base: np.ndarray,
+        parts: int = 1,
     ) -> None:
         """Write the linear albedo of the tiles at `K` hits into `albedo` ``(3, K)``.
 
@@ -89,9 +90,12 @@ class TileSampler:
             Hits whose own colour is kept, times the sample over `grain_base` (a fine grain on objects).
         grain_base : ndarray, shape (3,)
             The linear base colour of the modulating tile.
+        parts : int
+            Pieces the hits are sampled in at once, on threads (0: one per core).
         """
-        kernels.tile_albedo(
+        kernels.split(
+            kernels.tile_albedo, len(tile),
             self._pool, self._offset, self._width, self._levels, self._sizes, self._texel,
             np.ascontiguousarray(tile, dtype=np.int32), u, v, footprint, shift, tint, modulate,
-            self._to_linear, np.asarray(grain_base, dtype=np.float32), albedo,
+            self._to_linear, np.asarray(grain_base, dtype=np.float32), albedo, parts=parts,
         )  # fmt: skip
