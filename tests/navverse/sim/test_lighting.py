@@ -206,3 +206,12 @@ def test_the_material_image_names_what_each_lit_pixel_shows(junction: tuple[Scen
     flat = SceneRenderer(scene, intrinsics=SMALL, shading=Shading())
     with pytest.raises(ValueError, match="materials"):
         flat.materials(pose)
+
+
+def test_lit_frames_do_not_depend_on_how_the_work_is_split(junction: tuple[Scene, object]) -> None:
+    scene, city = junction
+    look = scene_look(scene, LookSettings(), details=map_details(scene, city))
+    pose = look_at(np.array([-20.0, -6.0, 1.6]), np.array([-20.0, 30.0, 1.0]))
+    frames = [SceneRenderer(scene, look=look, threads=threads).render(pose) for threads in (1, 2, 3)]
+    for frame in frames[1:]:
+        assert np.array_equal(frame.rgb, frames[0].rgb) and np.array_equal(frame.depth, frames[0].depth)
