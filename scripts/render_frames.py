@@ -30,6 +30,7 @@ from matplotlib import colormaps
 from PIL import Image, ImageDraw, ImageFont
 
 from navverse.errors import NavverseError
+from navverse.look.files import load_scene_look
 from navverse.nav.scene_navmesh import load_scene_navmesh
 from navverse.scene.annotations import RoomAnnotation, SceneAnnotations
 from navverse.scene.directory import read_scene
@@ -240,7 +241,7 @@ def render_viewpoint(viewpoint: Viewpoint, out_dir: Path) -> list[Path]:
     if np.isfinite(snapped).all():  # stand where the robot can stand
         eye = snapped + np.array([0.0, 0.0, CAMERA_HEIGHT])
         target = np.array([target[0], target[1], eye[2]])
-    renderer = SceneRenderer(scene)
+    renderer = SceneRenderer(scene, look=load_scene_look(scene, scene_dir))  # the scene's built look
     frame = renderer.render(look_at(eye, target))
     hit = frame.depth[frame.depth > 0]
     max_depth = _nice_ceiling(float(np.percentile(hit, 98))) if hit.size else 10.0
