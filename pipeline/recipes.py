@@ -148,7 +148,9 @@ class Target:
     recipe : str
         Recipe path relative to the recipes folder (POSIX form).
     recipe_hash : str
-        Hash of the recipe after ``extends`` and expansion.
+        Hash of the recipe after ``extends`` and expansion, without the sections of appearance stages
+        (:attr:`pipeline.stage.StageSpec.appearance`): stages record it in what they write, and a
+        changed look must change nothing else.
     seed : int
         The recipe seed of this target (stage seeds derive from it).
     stages : tuple of StageCall
@@ -463,9 +465,10 @@ class RecipeLoader:
             expansions = [(f"{base_id}-{i:0{width}d}", model.seed + i) for i in range(model.count)]
         else:
             expansions = [(base_id, model.seed)]
+        hashed = _without_appearance(data, calls)
         targets = []
         for target_id, seed in expansions:
-            recipe_hash = hash_value({"recipe": display, "data": data, "target": target_id, "seed": seed})
+            recipe_hash = hash_value({"recipe": display, "data": hashed, "target": target_id, "seed": seed})
             targets.append(
                 Target(
                     id=target_id,
@@ -597,3 +600,12 @@ def _model_in(annotation: Any) -> Any:
         if found is not None:
             return found
     return None
+
+
+def _without_appearance(data: dict[str, Any], calls: Sequence[StageCall]) -> dict[str, Any]:
+    """The recipe data without the sections of its appearance stages (what the recipe hash covers)."""
+    looks = {call.spec.name for call in calls if call.spec.appearance}
+    stages = data.get("stages")
+    if not looks or not isinstance(stages, dict):
+        return data
+    return {**data, "stages": {name: section for name, section in stages.items() if name not in looks}}

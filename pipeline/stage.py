@@ -92,6 +92,10 @@ class StageSpec:
         ``(label, key)`` pairs: the figures of the stats the stage records (``ctx.record``, kept in
         its artifacts' manifests) that the build summary shows for each of its runs, in this order
         (see :mod:`pipeline.summary`); a key may be a dotted path into nested stats.
+    appearance : bool
+        Whether the stage makes only how a target looks: its recipe section is left out of the recipe
+        hash (:attr:`pipeline.recipes.Target.recipe_hash`) that other stages record in what they
+        write, so that changing it changes no other artifact.
     """
 
     name: str
@@ -103,6 +107,7 @@ class StageSpec:
     doc: str
     passthrough: Mapping[str, str] = field(default_factory=dict)
     summary: tuple[tuple[str, str], ...] = ()
+    appearance: bool = False
 
     @property
     def skippable(self) -> bool:
@@ -140,6 +145,7 @@ def stage(
     version: str = "1",
     passthrough: Mapping[str, str] | None = None,
     summary: Mapping[str, str] | Iterable[str] = (),
+    appearance: bool = False,
 ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Register a stage function.
 
@@ -164,6 +170,9 @@ def stage(
         ``ctx.record`` (a dotted path reaches into a nested dict), shown under their own names, or
         ``{label: key}`` to show them under a label. A dict of counts is shown as its total and its
         largest entries (``dropped 3 (not a closed ring 2, degenerate geometry 1)``).
+    appearance : bool
+        The stage makes only how a target looks (see :attr:`StageSpec.appearance`): its recipe
+        section stays out of the recipe hash other stages record.
 
     Returns
     -------
@@ -217,6 +226,7 @@ def stage(
             doc=doc.splitlines()[0],
             passthrough=MappingProxyType(through),
             summary=figures,
+            appearance=bool(appearance),
         )
         existing = _REGISTRY.get(name)
         if existing is not None and (existing.module, existing.fn.__qualname__) != (

@@ -18,6 +18,7 @@ class LookParams(Params, LookSettings):
     inputs=["geometry"],
     outputs=["look"],
     summary={"materials": "materials", "facades": "facades", "marked roads": "marked_roads"},
+    appearance=True,
 )
 def look(ctx: StageContext, params: LookParams) -> None:
     """look/: look.json (settings, map details), look.usdc over a link of scene.usdc, textures/look/*.png."""

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 
 from pipeline.errors import RecipeError, TargetError
@@ -165,3 +167,29 @@ def test_keys_keep_their_text():
 
     data = loads_located("rule: {on: path, yes: 1, 3: x, 'true': y}", file="k.yaml").data
     assert data == {"rule": {"on": "path", "yes": 1, "3": "x", "true": "y"}}
+
+
+def test_the_recipe_hash_leaves_out_appearance_stages(workspace, stages):
+    # ex_sum made an appearance stage: its section no longer moves the hash other stages record.
+    looks = {**stages, "ex_sum": dataclasses.replace(stages["ex_sum"], appearance=True)}
+
+    def hashes(sum_offset: float, count: int) -> tuple[str, str]:
+        write(
+            workspace.recipes_dir / "group" / "beta.yaml",
+            f"""
+            extends: base
+            seed: 7
+            stages:
+              ex_numbers: {{count: {count}}}
+              ex_sum: {{offset: {sum_offset}}}
+            """,
+        )
+        plain = {t.id: t for t in RecipeLoader(workspace, stages=stages).load()}["beta"]
+        look = {t.id: t for t in RecipeLoader(workspace, stages=looks).load()}["beta"]
+        return plain.recipe_hash, look.recipe_hash
+
+    plain_a, look_a = hashes(2.5, 4)
+    plain_b, look_b = hashes(9.0, 4)
+    _, look_c = hashes(2.5, 5)
+    assert plain_a != plain_b and look_a == look_b  # only the appearance stage changed
+    assert look_c != look_a  # another stage's section still counts
