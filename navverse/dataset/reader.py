@@ -69,6 +69,7 @@ class Dataset:
         self.manifest, self.manifest_sha256 = read_manifest(manifest_path)
         self.root = root
         self._files: dict[tuple[str, str], EpisodeFile] = {}
+        self._rollouts: dict[str, dict[str, Any]] = {}  # rollout files read, by name
 
     @property
     def splits(self) -> list[str]:
@@ -174,13 +175,20 @@ class Dataset:
         return found[scene_id]
 
     def rollout(self, episode: Episode) -> list[list[float]] | None:
-        """The verification rollout of an episode (10 Hz ``[t, x, y, z, qx, qy, qz, qw]`` rows), if kept."""
+        """The verification rollout of an episode (10 Hz ``[t, x, y, z, qx, qy, qz, qw]`` rows), if kept.
+
+        Each rollout file is checked and read once per :class:`Dataset`, on the first episode asked
+        of it, and kept.
+        """
         for split in self.splits:
             name = f"{split}/{episode.task}.rollouts.json.gz"
             if name in self.manifest.files and episode.scene_id in self.manifest.splits[split]:
-                rollouts = self._load(name)
-                if not isinstance(rollouts, dict):
-                    raise DatasetError(f"{self.root / name} is malformed: not an object of rollouts")
+                rollouts = self._rollouts.get(name)
+                if rollouts is None:  # read once per file, not once per episode
+                    rollouts = self._load(name)
+                    if not isinstance(rollouts, dict):
+                        raise DatasetError(f"{self.root / name} is malformed: not an object of rollouts")
+                    self._rollouts[name] = rollouts
                 rows = rollouts.get(episode.episode_id)
                 if rows is not None:
                     return rows

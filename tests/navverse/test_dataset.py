@@ -184,3 +184,14 @@ def test_difficulty_tertiles_per_task():
     assert thresholds["vln"] == pytest.approx((100.667, 101.333), abs=1e-3)
     labels = [difficulty_of(e.info.geodesic_distance, thresholds["objnav"]) for e in episodes[:9]]
     assert labels == ["easy"] * 3 + ["medium"] * 3 + ["hard"] * 3
+
+
+def test_each_rollout_file_is_read_once_however_many_rollouts_are_asked(tmp_path: Path, monkeypatch):
+    dataset = Dataset(build(tmp_path / "tiny" / "v1.0"))
+    loads: list[str] = []
+    real_load = Dataset._load
+    monkeypatch.setattr(Dataset, "_load", lambda self, name: loads.append(name) or real_load(self, name))
+    episodes = list(dataset.episodes())
+    assert all(dataset.rollout(e) is not None for e in episodes) and len(episodes) == 4
+    rollout_files = [name for name in loads if name.endswith(".rollouts.json.gz")]
+    assert sorted(rollout_files) == ["eval/objnav.rollouts.json.gz", "train/objnav.rollouts.json.gz"]
