@@ -543,10 +543,7 @@ class SceneRenderer:
         ValueError
             If the renderer makes flat images (a `shading` was given) or the pose is not rigid.
         """
-        if self._lighting is None:
-            raise ValueError("a renderer made with a shading has no radiance: make it with a look")
-        t_hit, face, barycentric = self._cast(check_pose(camera_to_world))
-        _, missed = self._depth(t_hit, face)
+        t_hit, face, barycentric, missed = self._lit_cast(camera_to_world, "radiance")
         height, width = face.shape
         radiance = self._lit_radiance(t_hit, face, barycentric, missed, component)
         return radiance.T.reshape(height, width, 3)
@@ -592,6 +589,16 @@ class SceneRenderer:
             lighting.sky(radiance, np.flatnonzero(missed.reshape(-1)), self._rays.reshape(-1, 6))
         return radiance
 
+    def _lit_cast(
+        self, camera_to_world: ArrayLike, what: str
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Cast a pose for a lit-only image `what`: the hits and the mask of misses."""
+        if self._lighting is None:
+            raise ValueError(f"a renderer made with a shading has no {what}: make it with a look")
+        t_hit, face, barycentric = self._cast(check_pose(camera_to_world))
+        _, missed = self._depth(t_hit, face)
+        return t_hit, face, barycentric, missed
+
     def _hit_surfaces(self, t_hit: np.ndarray, face: np.ndarray, missed: np.ndarray) -> _Hits:
         """The hits of the last cast: where they are, their faces' colours and what their look shows."""
         flat_face = face.reshape(-1)
@@ -635,10 +642,7 @@ class SceneRenderer:
         ValueError
             If the renderer makes flat images (a `shading` was given) or the pose is not rigid.
         """
-        if self._lighting is None:
-            raise ValueError("a renderer made with a shading shows no materials: make it with a look")
-        t_hit, face, barycentric = self._cast(check_pose(camera_to_world))
-        _, missed = self._depth(t_hit, face)
+        t_hit, face, barycentric, missed = self._lit_cast(camera_to_world, "materials")
         at = self._hit_surfaces(t_hit, face, missed)
         image = np.full(face.size, NOTHING_HIT, dtype=np.int16)
         image[at.hits] = np.where(at.surface.tile >= 0, at.surface.tile, FLAT_COLOR)
