@@ -9,8 +9,7 @@ from pipeline import Input, Params, StageContext, stage
 class VerifyEpisodesParams(Params, VerificationSettings):
     """Parameters of :func:`verify_episodes` (Appendix D.2; the robot is the candidates' own): those of
     :class:`navverse.episodes.verification.VerificationSettings`, the acceptance bounds of a rollout
-    (``duration_s``, ``traveled_m``) and the ``keyframes`` (of ``keyframe_size`` pixels) rendered
-    along each accepted one and kept (0: none)."""
+    (``duration_s``, ``traveled_m``) and the objects given collision geometry (``object_margin_m``)."""
 
 
 @stage(
@@ -20,10 +19,8 @@ class VerifyEpisodesParams(Params, VerificationSettings):
     summary={"candidates": "candidates", "accepted": "accepted_by_task", "rejected": "rejected_by_reason"},
 )
 def verify_episodes(ctx: StageContext, params: VerifyEpisodesParams) -> None:
-    """episodes.json.gz (accepted, with their verification), rollouts, rejections with reasons, keyframes."""
+    """episodes.json.gz (accepted, with their verification), rollouts, and rejections with reasons."""
     from collections import Counter
-
-    from PIL import Image
 
     from navverse.dataset import Episode, read_json_gz, write_json_gz
     from navverse.episodes import files
@@ -50,10 +47,6 @@ def verify_episodes(ctx: StageContext, params: VerifyEpisodesParams) -> None:
             info = episode.info.model_copy(update={"verification": result.verification})
             accepted.append(episode.model_copy(update={"info": info}).model_dump(mode="json"))
             rollouts[episode.episode_id] = [[round(float(v), 4) for v in row] for row in result.trajectory]
-            for k, frame in enumerate(result.keyframes):
-                path = ctx.output / files.KEYFRAMES / episode.episode_id / f"{k:02d}.png"
-                path.parent.mkdir(parents=True, exist_ok=True)
-                Image.fromarray(frame).save(path)
         else:
             rejections.append(
                 {

@@ -14,6 +14,10 @@ The first unmet condition is the rejection reason. Scenes are verified in parall
 scene's candidates in order in one world, so results do not depend on the number of processes. A
 scene's world gives collision geometry only to the objects within ``object_margin_m`` of one of its
 candidates' reference paths (:func:`navverse.sim.world.objects_near`).
+
+Verification renders nothing: how a scene looks (its ``look`` layer and the renderer) is outside
+this module's code closure, so changing the look never re-verifies an episode. Pictures along a
+rollout are drawn where they are looked at (``navverse review``, ``navverse eval --report``).
 """
 
 from __future__ import annotations
@@ -32,7 +36,6 @@ from pydantic import Field, model_validator
 from navverse.dataset import Episode, Verification, goal_distance
 from navverse.processes import end_with_parent
 from navverse.settings import Settings
-from navverse.sim.camera import ImageSize
 
 __all__ = ["REASONS", "VerificationResult", "VerificationSettings", "verify_episodes", "verify_scene"]
 
@@ -73,10 +76,6 @@ class VerificationSettings(Settings):
     """Objects whose box is farther than this (m, horizontally) from every reference path of the
     scene's candidates get no collision geometry: the follower keeps the robot within centimetres
     of its path, and one that strays this far has failed already. None (null) loads every object."""
-    keyframes: Annotated[int, Field(ge=0, le=64)] = 0
-    """RGB frames rendered along each accepted rollout and kept (0: none)."""
-    keyframe_size: ImageSize = (320, 240)
-    """Width and height of keyframes (pixels)."""
 
     @model_validator(mode="after")
     def _ordered_bounds(self) -> VerificationSettings:
@@ -95,7 +94,6 @@ class VerificationResult:
     reason: str | None  # None: accepted
     verification: Verification
     trajectory: np.ndarray  # (K, 8) rows [t, x, y, z, qx, qy, qz, qw] at 10 Hz
-    keyframes: tuple[np.ndarray, ...] = ()
 
     @property
     def accepted(self) -> bool:
@@ -151,7 +149,7 @@ def verify_scene(
     embodiment : str
         The robot (``spot``, ``turtlebot``...).
     settings : VerificationSettings, optional
-        Bounds and keyframes (default: the defaults).
+        Acceptance bounds (default: the defaults).
     collision_cache : path, "default" or None
         Where convex decompositions are cached (see :class:`~navverse.sim.world.World`).
     progress : callable, optional
@@ -173,7 +171,6 @@ def verify_scene(
         object_ids = objects_near(scene, paths, margin=settings.object_margin_m)
     with World(scene, collision_cache=collision_cache, object_ids=object_ids) as world:
         sim = Simulator(world, make_embodiment(embodiment))
-        renderer = None
         for episode in episodes:
             sim.spawn(episode.start_position, episode.start_yaw)
             monitor = TerminationMonitor(timeout=settings.duration_s[1], detect_stuck=True)
@@ -183,19 +180,6 @@ def verify_scene(
             reason = _judge(
                 episode, rollout.termination, rollout.duration, rollout.traveled, success_time, settings
             )
-            keyframes: tuple[np.ndarray, ...] = ()
-            if reason is None and settings.keyframes > 0:
-                if renderer is None:
-                    from navverse.sim.camera import CameraIntrinsics
-                    from navverse.sim.render import SceneRenderer
-
-                    renderer = SceneRenderer(
-                        world.scene, intrinsics=CameraIntrinsics.from_hfov(*settings.keyframe_size, 90.0)
-                    )
-                from navverse.sim.keyframes import render_keyframes
-
-                camera = sim.robot.camera_to_base
-                keyframes = tuple(render_keyframes(renderer, trajectory, camera, settings.keyframes))
             results.append(
                 VerificationResult(
                     episode_id=episode.episode_id,
@@ -207,7 +191,6 @@ def verify_scene(
                         oracle_success_time_s=round(success_time, 3) if success_time is not None else -1.0,
                     ),
                     trajectory=trajectory,
-                    keyframes=keyframes,
                 )
             )
             if progress is not None:
@@ -242,7 +225,7 @@ def verify_episodes(
     embodiment : str
         The robot.
     settings : VerificationSettings, optional
-        Bounds and keyframes (default: the defaults).
+        Acceptance bounds (default: the defaults).
     jobs : int, optional
         Processes (default: the number of CPUs; 0 or 1 verifies in this process).
     progress : callable, optional

@@ -87,8 +87,6 @@ stages:
       objnav: {episodes_per_scene: 6}
       vln: {episodes_per_scene: 6}
     categories: [bed, sofa, toilet, fridge, oven, bathtub, bench, desk, wardrobe, sink, armchair]
-  verify_episodes:
-    keyframes: 2
   package_dataset:
     version: "1.0"
     splits: {train: ["*-s0"], eval: ["*-s1"]}

@@ -18,6 +18,7 @@ from navverse.look.scene_look import MapDetails
 from navverse.look.settings import EVAL_LOOK
 from navverse.look.usd_look import LOOK_USD
 from navverse.scene.directory import read_scene
+from pipeline.code_version import module_closure
 from tests.stages.conftest import Built, build_all, copy_built
 
 
@@ -49,6 +50,27 @@ def test_a_changed_look_rebuilds_only_the_look_and_the_episodes_keep_their_bytes
     assert new_look.resolve() != old_look.resolve()
     assert read_look(new_look / LOOK_JSON)[0].material_variant == 7
     assert _files(built_version(built.output("tiny", "dataset"))) == before
+
+
+_EPISODE_STAGES = (
+    "blockout", "indoor_layout", "import_mesh", "decimate", "city", "populate", "storefronts",
+    "assemble_i2o", "navmesh", "sample_episodes", "verify_episodes", "package_dataset", "merge_datasets",
+)  # fmt: skip
+
+
+@pytest.mark.parametrize("stage_module", _EPISODE_STAGES)
+def test_no_geometry_or_episode_stage_hashes_the_look_or_the_renderer(stage_module: str) -> None:
+    # A stage's cache key covers its module's import closure: editing a material, the sky or the
+    # shading must not move the key of a scene's geometry, its navmesh, its candidates or its
+    # verified episodes. Datasets read the look's settings only (the version their manifest records).
+    closure = {name for name, _ in module_closure(f"stages.{stage_module}")}
+    assert closure, stage_module
+    look = {name for name in closure if name.startswith("navverse.look.")}
+    assert look <= {"navverse.look.settings"}, (stage_module, sorted(look))
+    renderer = {"navverse.sim.render", "navverse.sim.lighting", "navverse.sim.shade_kernels"}
+    assert not closure & renderer, (stage_module, sorted(closure & renderer))
+    # The check can fail: the stages that draw pictures do hash them.
+    assert "navverse.look.materials" in {name for name, _ in module_closure("stages.look")}
 
 
 def test_the_look_layer_binds_a_textured_material_on_every_mesh(tiny_build: Built) -> None:
