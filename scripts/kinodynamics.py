@@ -31,7 +31,7 @@ from navverse.errors import NavverseError
 from navverse.eval.runner import run_agent
 from navverse.eval.scoring import score
 from navverse.eval.submission import read_submission
-from navverse.scene.locate import built_scene_dirs
+from navverse.scene.locate import find_scene_dirs
 from navverse.scene_types import SCENE_TYPES
 from pipeline.workspace import Workspace
 
@@ -77,13 +77,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--friction", nargs="+", type=float, default=[0.5, 1.0])
     parser.add_argument("--limit", type=int, default=None, help="episodes per run, spread over the split")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--scenes", action="append", default=[], help="where to look for scenes first")
     parser.add_argument("--out", default="kinodynamics", help="folder for submissions and the table")
     args = parser.parse_args(argv)
     console = Console()
     try:
         dataset = Dataset(args.dataset)
-        scene_dirs = built_scene_dirs(
-            dataset.episodes(split=args.split), built_dir=Workspace.find().built_dir
+        dataset.verify()
+        scene_dirs = find_scene_dirs(
+            dataset.episodes(split=args.split),
+            search=args.scenes,
+            hashes=dataset.manifest.scene_hashes,
+            built_dir=lambda: Workspace.find().built_dir,
         )
         out = Path(args.out)
         runs = out / _runs_folder(dataset, split=args.split, limit=args.limit)
