@@ -11,7 +11,8 @@ For a scene:
    is the navmesh points there, found by snapping rings of points around the instance onto the navmesh.
 3. **Episodes.** A goal category is drawn uniformly among those with a reachable instance, a start
    uniformly on the island that holds the goal regions (inside the indoor region for indoor-to-outdoor
-   scenes, drawn near it, whose goals are then the instances outdoors), and the shortest path from the
+   scenes, drawn near it on the island the region stands on, whose goals are then the instances
+   outdoors), and the shortest path from the
    start to every instance's region is computed; instances whose path is 5-50 m long are kept, and an
    episode needs one. The reference path is the one to the
    closest kept instance; the start faces its next corner, turned by a uniform ±30°.
@@ -218,6 +219,30 @@ def _indoor_start(
     return finder.get_random_navigable_point_near((centre[0], centre[1], floor), radius, rng)
 
 
+def _indoor_island(finder: PathFinder, annotations: SceneAnnotations) -> int | None:
+    """The navmesh island most of the indoor region's floor is on (a lattice of at most ~4,000 points
+    over it, snapped at the floor's height); None if the scene has no indoor region or none of it is
+    on the navmesh."""
+    from shapely.geometry import Polygon
+    from shapely.ops import unary_union
+
+    polygons = annotations.indoor_polygons
+    if not polygons:
+        return None
+    region = unary_union([Polygon(p) for p in polygons])
+    step = max(0.5, math.sqrt(region.area / 4000.0))
+    lo_x, lo_y, hi_x, hi_y = region.bounds
+    xs, ys = np.meshgrid(np.arange(lo_x + step / 2, hi_x, step), np.arange(lo_y + step / 2, hi_y, step))
+    inside = shapely.contains_xy(region, xs.ravel(), ys.ravel())
+    if not inside.any():
+        return None
+    floor = min((b.base_height for b in annotations.buildings if b.indoor), default=0.0)
+    points = np.column_stack([xs.ravel()[inside], ys.ravel()[inside], np.full(int(inside.sum()), floor)])
+    found = np.asarray(finder.island_of(points))
+    found = found[found >= 0]
+    return int(np.bincount(found).argmax()) if len(found) else None
+
+
 def _indoor_reach(annotations: SceneAnnotations, distance: float):
     """Where a path of at most `distance` from inside the indoor region can end (a straight line's
     reach: paths are never shorter)."""
@@ -290,13 +315,18 @@ def sample_scene_episodes(
     sample = SceneSample(episodes=[], categories={c: len(r) for c, r in regions_by_category.items()})
     if not regions_by_category or count <= 0:
         return sample
-    # Starts come from the island that holds the most goal regions (the building's floor).
-    islands = np.bincount([r.island for rs in regions_by_category.values() for r in rs])
-    island = int(islands.argmax())
-    categories = sorted(c for c, rs in regions_by_category.items() if any(r.island == island for r in rs))
     indoor_only = settings.start_region == "indoor" or (
         settings.start_region == "auto" and scene_profile(annotations.scene_type).start_region == "indoor"
     )
+    # Starts come from the island that holds the most goal regions (the building's floor), or, when
+    # they are drawn indoors, from the island the indoor region stands on: in a city cut in two by a
+    # railway the other side may hold more goals than the side of the building.
+    islands = np.bincount([r.island for rs in regions_by_category.values() for r in rs])
+    island = int(islands.argmax())
+    if indoor_only:
+        floor_island = _indoor_island(finder, annotations)
+        island = island if floor_island is None else floor_island
+    categories = sorted(c for c, rs in regions_by_category.items() if any(r.island == island for r in rs))
     if indoor_only and scene_profile(annotations.scene_type).goals_outside:  # the goals are outdoors
         reach = _indoor_reach(annotations, settings.max_length)
         outdoor = {

@@ -114,3 +114,42 @@ def test_impossible_lengths_give_up_and_say_how_often(sample, apartment: Scene):
 def test_path_lengths_are_shortest_then_longest():
     with pytest.raises(ValueError, match=r"path_length must be \[shortest, longest\], got \[9.0, 3.0\]"):
         SamplingSettings(path_length=(9.0, 3.0))
+
+
+class _SplitIslands:
+    """A navmesh whose points north of `cut` (y) count as a second island, as a city cut in two by a
+    railway: the building's floor is mostly on the south island, most goals on the north one."""
+
+    def __init__(self, finder, cut: float) -> None:
+        self._finder, self._cut = finder, cut
+
+    def __getattr__(self, name: str):
+        return getattr(self._finder, name)
+
+    def island_of(self, point, **kwargs):
+        real = np.asarray(self._finder.island_of(point, **kwargs))
+        y = np.asarray(point, dtype=float).reshape(-1, 3)[:, 1]
+        relabelled = np.where(real < 0, -1, (y > self._cut).astype(int))
+        return int(relabelled[0]) if real.ndim == 0 else relabelled
+
+
+def test_indoor_starts_come_from_the_island_the_building_stands_on(sample, apartment: Scene):
+    from shapely.geometry import Polygon
+    from shapely.ops import unary_union
+
+    finder, goals, _ = sample
+    region = unary_union([Polygon(p) for p in apartment.annotations.indoor_polygons])
+    lo_y, hi_y = region.bounds[1], region.bounds[3]
+    cut = lo_y + 0.7 * (hi_y - lo_y)  # the north island: a strip of the floor holding most goals
+    north = [g for gs in goals.values() for g in gs if g.position[1] > cut + 2.0]
+    south = min((g for gs in goals.values() for g in gs if g.position[1] < cut - 2.0), key=lambda g: g.object_id)
+    assert len(north) >= 2, "the apartment's goals"  # more goal regions on the north island than one
+    chosen: dict[str, list] = {}
+    for goal in [south, *north]:
+        chosen.setdefault(goal.category, []).append(goal)
+    split = _SplitIslands(finder, cut)
+    settings = SamplingSettings(start_region="indoor", path_length=(1.0, 50.0))
+    drawn = _draw(split, apartment.annotations, chosen, count=6, seed=2, settings=settings)
+    assert drawn.episodes, "starts on the building's island reach its goals"
+    for episode in drawn.episodes:  # goals of the floor's island, not of the island with most goals
+        assert [goal.object_id for goal in episode.goals] == [south.object_id]
