@@ -3,20 +3,21 @@ in a road-facing facade."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, NamedTuple
 
 from pydantic import AfterValidator
 
 from navverse.city.i2o.assembly import AssemblySettings
-from navverse.city.i2o.densify import DensifySettings
+from navverse.city.i2o.densify import DensifySettings, ExitGoals
 from pipeline import Input, Params, StageContext, stage
 
 if TYPE_CHECKING:
     from navverse.city.city_settings import CitySettings
     from navverse.city.geometry.street_plan import StreetPlan
     from navverse.city.i2o.assembly import I2OAssembly
+    from navverse.city.i2o.densify import Densified
     from navverse.city.map import CityMap
     from navverse.scene.geometry import Scene
 
@@ -79,14 +80,18 @@ def assemble_i2o(ctx: StageContext, params: AssembleI2OParams) -> None:
     settings = AssemblySettings.of(params)
     ctx.progress(1, 3, "assembling")
     joined = _join(
-        ctx, cities, lambda city, plan: assemble(city, plan, building, scene_id=ctx.target, settings=settings)
+        ctx,
+        cities,
+        lambda city, plan: [assemble(city, plan, building, scene_id=ctx.target, settings=settings)],
     )
-    _finish(ctx, params, joined, building=building.scene_id)
+    _finish(ctx, joined, _densify(ctx, params, joined), building=building.scene_id)
 
 
-class GenerateI2OParams(AssembleI2OParams):
-    """Parameters of :func:`generate_i2o`: those of :func:`assemble_i2o` and the ``building_type`` of
-    the procedural building generated to fit the city (``exit`` and ``facade`` are chosen with it)."""
+class GenerateI2OParams(AssembleI2OParams, ExitGoals):
+    """Parameters of :func:`generate_i2o`: those of :func:`assemble_i2o`, the ``building_type`` of
+    the procedural building generated to fit the city (``exit`` and ``facade`` are chosen with it)
+    and what its exit must open onto (:class:`navverse.city.i2o.densify.ExitGoals`: ``exit_goals``
+    objects within ``exit_goals_radius`` once densified, else the next facade is tried)."""
 
     building_type: Annotated[str, AfterValidator(_building_type)]
     """Program of the generated building: a building type of :data:`navverse.indoor.programs.PROGRAMS`
@@ -101,7 +106,10 @@ class GenerateI2OParams(AssembleI2OParams):
 )
 def generate_i2o(ctx: StageContext, params: GenerateI2OParams) -> None:
     """An i2o scene: a procedural building sized to a road-facing city building, set in its place."""
-    from navverse.city.i2o.assembly import generate_i2o as generate
+    import itertools
+
+    from navverse.city.i2o.assembly import generated_fits
+    from navverse.city.i2o.densify import things_near
 
     cities = _in_turn(ctx, "city")
     settings = AssemblySettings.of(params)
@@ -109,11 +117,30 @@ def generate_i2o(ctx: StageContext, params: GenerateI2OParams) -> None:
     joined = _join(
         ctx,
         cities,
-        lambda city, plan: generate(
+        lambda city, plan: generated_fits(
             city, plan, params.building_type, ctx.rng, scene_id=ctx.target, settings=settings
         ),
     )
-    _finish(ctx, params, joined, building=params.building_type)
+    # The first join whose exit opens onto enough things to find once densified, else the richest.
+    best: tuple[int, _Joined, Densified] | None = None
+    passed = 0
+    for result in itertools.chain([joined.result], joined.more):  # lazily: a join draws from ctx.rng
+        candidate = joined._replace(result=result, more=iter(()))
+        nearby = _densify(ctx, params, candidate)
+        anchor = result.scene.annotations.indoor_anchor
+        found = things_near(nearby.scene, anchor[0], anchor[1], params.exit_goals_radius)
+        if best is None or found > best[0]:
+            best = (found, candidate, nearby)
+        if found >= params.exit_goals:
+            break
+        ctx.log.info(
+            "%s: facade %d opens onto %d things within %.0f m, fewer than %d: passed over",
+            ctx.target, result.record["facade"], found, params.exit_goals_radius, params.exit_goals,
+        )  # fmt: skip
+        passed += 1
+    assert best is not None
+    found, chosen, nearby = best
+    _finish(ctx, chosen, nearby, building=params.building_type, exit_goals={"found": found, "passed": passed})
 
 
 class _Joined(NamedTuple):
@@ -127,12 +154,15 @@ class _Joined(NamedTuple):
     carried: CitySettings
     cities_refused: dict[str, str]
     """Linked cities tried before it, with the reason each refused."""
+    more: Iterator[I2OAssembly]
+    """The further joins with the same city, in turn (none for a linked building)."""
 
 
 def _join(
-    ctx: StageContext, cities: list[Path], assemble: Callable[[Scene, StreetPlan], I2OAssembly]
+    ctx: StageContext, cities: list[Path], assemble: Callable[[Scene, StreetPlan], Iterable[I2OAssembly]]
 ) -> _Joined:
-    """Assemble with the first of `cities` (in turn) that takes the building.
+    """Assemble with the first of `cities` (in turn) that takes the building (`assemble` gives the
+    joins with a city in turn; the first is taken, the others are kept in ``more``).
 
     Raises
     ------
@@ -145,12 +175,13 @@ def _join(
     for city_dir in cities:
         city, city_map, plan, carried = _read_city(city_dir)
         try:
-            result = assemble(city, plan)
+            joins = iter(assemble(city, plan))
+            result = next(joins)
         except AssemblyError as exc:
             ctx.log.info("%s: %s refused: %s", ctx.target, city.scene_id, exc)
             refusals[city.scene_id] = str(exc)
             continue
-        return _Joined(result, city, city_map, plan, carried, refusals)
+        return _Joined(result, city, city_map, plan, carried, refusals, joins)
     if len(refusals) == 1:
         raise AssemblyError(next(iter(refusals.values())))
     raise AssemblyError(
@@ -181,24 +212,20 @@ def _read_city(city_dir: Path) -> tuple[Scene, CityMap, StreetPlan, CitySettings
     return read_scene(city_dir), city_map, plan, load_city_settings(city_dir / CITY_SETTINGS_FILE)
 
 
-def _finish(ctx: StageContext, params: AssembleI2OParams, joined: _Joined, *, building: str) -> None:
-    """Densify the neighbourhood of the exit by the city's own settings, write the scene and record
-    how it was made."""
+def _densify(ctx: StageContext, params: AssembleI2OParams, joined: _Joined) -> Densified:
+    """The joined scene with the neighbourhood of its exit densified by the city's own settings."""
     from shapely.geometry import Point
 
     from navverse.city.i2o.densify import densify_neighbourhood
-    from navverse.city.map import write_city_map
-    from navverse.scene.directory import write_scene_dir
-    from stages.city import CITY_MAP_FILE
 
-    result, city_map, plan = joined.result, joined.city_map, joined.plan
+    result = joined.result
     anchor = result.scene.annotations.indoor_anchor
     doorway = Point(anchor[0], anchor[1]).buffer(params.clear_depth + 1.5)
     densify = DensifySettings.of(params)
-    nearby = densify_neighbourhood(
+    return densify_neighbourhood(
         result.scene,
-        city_map,
-        plan,
+        joined.city_map,
+        joined.plan,
         ctx.rng,
         region=densify.region_around(anchor[0], anchor[1]),
         keep_clear=[doorway],
@@ -206,9 +233,18 @@ def _finish(ctx: StageContext, params: AssembleI2OParams, joined: _Joined, *, bu
         populate=joined.carried.effective_populate,
         storefronts=joined.carried.effective_storefronts,
     )
+
+
+def _finish(ctx: StageContext, joined: _Joined, nearby: Densified, *, building: str, **record) -> None:
+    """Write the densified scene and the map of the street around it, and record how it was made."""
+    from navverse.city.map import write_city_map
+    from navverse.scene.directory import write_scene_dir
+    from stages.city import CITY_MAP_FILE
+
+    result = joined.result
     ctx.progress(2, 3, "writing")
     write_scene_dir(nearby.scene, ctx.output)
-    write_city_map(city_map, ctx.output / CITY_MAP_FILE)  # the street around: its look needs the map
+    write_city_map(joined.city_map, ctx.output / CITY_MAP_FILE)  # the street around: its look needs the map
     ctx.progress(3, 3, "done")
     city = joined.city.scene_id
     ctx.record(
@@ -217,6 +253,7 @@ def _finish(ctx: StageContext, params: AssembleI2OParams, joined: _Joined, *, bu
         cities_refused=joined.cities_refused,
         densified=nearby.counts,
         **result.record,
+        **record,
     )
     ctx.log.info(
         "%s: %s joined to %s at facade %d (%d placements fit), step %.3f m",

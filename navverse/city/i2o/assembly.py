@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import math
 from collections import Counter
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Annotated
 
@@ -49,7 +50,14 @@ from navverse.scene.compose import merge_scenes, object_parts, remove_inside, re
 from navverse.scene.geometry import MeshData, Scene, Surface
 from navverse.scene.heights import SurfaceHeights
 
-__all__ = ["AssemblyError", "AssemblySettings", "I2OAssembly", "assemble_i2o", "generate_i2o"]
+__all__ = [
+    "AssemblyError",
+    "AssemblySettings",
+    "I2OAssembly",
+    "assemble_i2o",
+    "generate_i2o",
+    "generated_fits",
+]
 
 _BLOCKING = ("road", "curb", "lowered_curb", "crosswalk", "sidewalk", "rail", "water", "shared")
 """Street plan classes a building's footprint may not cover."""
@@ -399,20 +407,45 @@ def generate_i2o(
     settings: AssemblySettings | None = None,
     tries: int = 16,
 ) -> I2OAssembly:
-    """Generate a procedural building sized to a road-facing city building and join it there.
-
-    The city's road-facing facades are ranked by how much of the building type's footprint ranges
-    (length along its spine, depth across it) the city building behind them can hold: a type whose
-    exit is in its long front wall (``sides: back``) turns that wall to the facade, one whose exits
-    end its spine turns its depth to the facade. For the best `tries` (16: in a city with few sidewalks
-    the roomiest facades often have none in front of the exit), a building of that footprint
-    is generated (from `rng`) and joined with :func:`assemble_i2o` at that facade; the first that fits
-    is kept, and its record names the footprint asked for.
+    """Generate a procedural building sized to a road-facing city building and join it there: the
+    first join of :func:`generated_fits`.
 
     Raises
     ------
     AssemblyError
         If no facade has room for the building type, or none of the tried ones takes it.
+    """
+    return next(
+        generated_fits(city, plan, building_type, rng, scene_id=scene_id, settings=settings, tries=tries)
+    )
+
+
+def generated_fits(
+    city: Scene,
+    plan: StreetPlan,
+    building_type: str,
+    rng: np.random.Generator,
+    *,
+    scene_id: str,
+    settings: AssemblySettings | None = None,
+    tries: int = 16,
+) -> Iterator[I2OAssembly]:
+    """Procedural buildings sized to road-facing city buildings, each joined there, best facade first.
+
+    The city's road-facing facades are ranked by how much of the building type's footprint ranges
+    (length along its spine, depth across it) the city building behind them can hold: a type whose
+    exit is in its long front wall (``sides: back``) turns that wall to the facade, one whose exits
+    end its spine turns its depth to the facade. For the best `tries` (16: in a city with few sidewalks
+    the roomiest facades often have none in front of the exit), in turn, a building of that footprint
+    is generated (a seed drawn from `rng` when its turn comes) and joined with :func:`assemble_i2o` at
+    that facade; each join that fits is yielded (its record names the footprint asked for), so a
+    caller can pass over one whose surroundings do not suit it.
+
+    Raises
+    ------
+    AssemblyError
+        If no facade has room for the building type, or none of the tried ones takes it (raised by
+        the first ``next``).
     """
     from navverse.indoor.building import BuildingOptions, generate_building
     from navverse.indoor.floorplan import depth_range
@@ -443,6 +476,7 @@ def generate_i2o(
             f"as a {building_type} needs: link a building or another city"
         )
     refused = []
+    fitted = False
     for _, _, facade_id, size_along, size_back in sorted(ranked)[:tries]:
         length, depth = (size_along, size_back) if front else (size_back, size_along)
         options = BuildingOptions(length=round(length, 2), depth=round(depth, 2))
@@ -461,7 +495,10 @@ def generate_i2o(
             result.record,
             generated={"building_type": building_type, "length": options.length, "depth": options.depth},
         )
-        return I2OAssembly(scene=result.scene, record=record)
+        yield I2OAssembly(scene=result.scene, record=record)
+        fitted = True
+    if fitted:
+        return
     raise AssemblyError(
         f"none of the {len(refused)} facades of {city.scene_id} with the most room takes a generated "
         f"{building_type}: " + "; ".join(refused[:3])

@@ -47,7 +47,14 @@ from navverse.scene.geometry import Scene
 from navverse.scene.heights import SurfaceHeights
 from navverse.settings import Settings
 
-__all__ = ["Densified", "DensifySettings", "base_footprint", "densify_neighbourhood"]
+__all__ = [
+    "Densified",
+    "DensifySettings",
+    "ExitGoals",
+    "base_footprint",
+    "densify_neighbourhood",
+    "things_near",
+]
 
 _DOOR_APPROACH = 3.0  # length of the corridor kept free straight out of a storefront's door (m)
 
@@ -67,6 +74,30 @@ class DensifySettings(Settings):
     def region_around(self, x: float, y: float) -> BaseGeometry:
         """The disc of ``nearby_radius`` around ``(x, y)``: the region to densify."""
         return Point(x, y).buffer(self.nearby_radius, quad_segs=16)
+
+
+class ExitGoals(Settings):
+    """What a generated building's exit must open onto (``generate_i2o``): things to find outside."""
+
+    exit_goals: Annotated[int, Field(ge=0, le=1000)] = 4
+    """Street objects, parked cars and storefronts (their signs) that must stand within
+    ``exit_goals_radius`` of the exit once its neighbourhood is densified; a generated building
+    whose exit opens onto fewer is moved to the next facade that takes it, and when none of those
+    tried has as many, to the one with the most (0: the first facade that takes it)."""
+    exit_goals_radius: Annotated[float, Field(gt=0.0, le=200.0)] = 30.0
+    """Radius around the exit in which ``exit_goals`` are counted, m."""
+
+
+def things_near(scene: Scene, x: float, y: float, radius: float) -> int:
+    """Objects of `scene` (street objects, parked cars, storefronts' signs) outside its indoor region
+    whose centre is within `radius` of ``(x, y)``: the goals an exit there opens onto."""
+    indoor = shapely.union_all([Polygon(p) for p in scene.annotations.indoor_polygons])
+    centres = [o.center for o in scene.annotations.objects]
+    if not centres:
+        return 0
+    xy = np.asarray(centres, dtype=np.float64)[:, :2]
+    close = np.hypot(xy[:, 0] - x, xy[:, 1] - y) <= radius
+    return int((close & ~shapely.contains_xy(indoor, xy[:, 0], xy[:, 1])).sum())
 
 
 @dataclass(frozen=True)

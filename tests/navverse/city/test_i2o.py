@@ -221,3 +221,36 @@ def test_a_depth_outside_the_program_is_refused() -> None:
 
     with pytest.raises(SceneError, match=r"a cafe footprint is .* m deep; 40.00 m was asked"):
         generate_building("cafe", np.random.default_rng(0), scene_id="x", options=BuildingOptions(depth=40.0))
+
+
+def test_generated_joins_come_lazily_best_facade_first(city) -> None:
+    from navverse.city.i2o.assembly import generate_i2o, generated_fits
+
+    scene, plan = city
+    rng = np.random.default_rng(0)
+    joins = generated_fits(scene, plan, "apartment", rng, scene_id="apt-town")
+    first = next(joins)
+    after_first = rng.bit_generator.state
+    # The first join is generate_i2o's, and the next facade's building is drawn only when asked for.
+    alone = np.random.default_rng(0)
+    assert generate_i2o(scene, plan, "apartment", alone, scene_id="apt-town").record == first.record
+    assert alone.bit_generator.state == after_first
+    second = next(joins)
+    assert second.record["facade"] != first.record["facade"]
+    assert rng.bit_generator.state != after_first
+
+
+def test_things_near_an_exit_are_counted_outside_the_building(assembled) -> None:
+    from navverse.city.i2o.densify import things_near
+
+    annotations = assembled.scene.annotations
+    x, y = annotations.indoor_anchor[0], annotations.indoor_anchor[1]
+    indoor = [Polygon(p) for p in annotations.indoor_polygons]
+    inside = [any(p.contains(Point(o.center[:2])) for p in indoor) for o in annotations.objects]
+    assert any(inside), "the cafe is furnished"
+    outside = [
+        o for o, within in zip(annotations.objects, inside, strict=True)
+        if not within and math.dist(o.center[:2], (x, y)) <= 30.0
+    ]  # fmt: skip
+    assert things_near(assembled.scene, x, y, 30.0) == len(outside)
+    assert things_near(assembled.scene, x, y, 1e-3) == 0
