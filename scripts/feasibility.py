@@ -31,7 +31,6 @@ from navverse.errors import NavverseError
 from navverse.eval.runner import run_agent
 from navverse.eval.scoring import EvalResult, score
 from navverse.eval.submission import read_submission
-from navverse.scene.locate import find_scene_dirs
 from pipeline.workspace import Workspace
 
 AGENTS = ("oracle", "gt_goal", "frontier", "random")
@@ -98,10 +97,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         dataset = Dataset(args.dataset)
         dataset.verify()
-        scene_dirs = find_scene_dirs(
+        scene_dirs = dataset.scene_dirs(
             dataset.episodes(split=args.split),
             search=args.scenes,
-            hashes=dataset.manifest.scene_hashes,
             built_dir=lambda: Workspace.find().built_dir,
         )
         out = Path(args.out)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -162,17 +162,46 @@ class Dataset:
         SceneError
             If it is found nowhere, or only with another scene hash (each place and why, what to do).
         """
-        from navverse.scene.locate import find_scene_dirs
-
         scene_id = (
             episode_or_scene_id if isinstance(episode_or_scene_id, str) else episode_or_scene_id.scene_id
         )
         if not any(scene_id in scenes for scenes in self.manifest.splits.values()):
             raise DatasetError(f"{self.root} has no scene {scene_id!r} in any split")
-        found = find_scene_dirs(
-            [scene_id], search=search, hashes=self.manifest.scene_hashes, built_dir=built_dir
-        )
-        return found[scene_id]
+        return self.scene_dirs([scene_id], search=search, built_dir=built_dir)[scene_id]
+
+    def scene_dirs(
+        self,
+        scenes: Iterable[Episode | str],
+        *,
+        search: Sequence[str | os.PathLike[str]] = (),
+        built_dir: str | os.PathLike[str] | Callable[[], Path] | None = None,
+    ) -> dict[str, Path]:
+        """The directories of the scenes of `scenes` (episodes or scene ids), each with the scene
+        hash this dataset lists, looked for as :meth:`scene_dir` does.
+
+        Parameters
+        ----------
+        scenes : iterable of Episode or str
+            Episodes of this dataset (e.g. ``episodes(split="eval")``) or ids of its scenes.
+        search : sequence of path
+            Scene packs or build stores searched first, in order.
+        built_dir : path or callable, optional
+            A workspace's build store, searched last (a callable is called only when a scene is not
+            found before it).
+
+        Returns
+        -------
+        dict of str to Path
+            The scene directory by scene id, in sorted order.
+
+        Raises
+        ------
+        SceneError
+            If a scene is found nowhere, or only with another scene hash.
+        """
+        from navverse.scene.locate import find_scene_dirs
+
+        return find_scene_dirs(scenes, search=search, hashes=self.manifest.scene_hashes, built_dir=built_dir)
 
     def rollout(self, episode: Episode) -> list[list[float]] | None:
         """The verification rollout of an episode (10 Hz ``[t, x, y, z, qx, qy, qz, qw]`` rows), if kept.

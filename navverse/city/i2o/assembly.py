@@ -55,7 +55,6 @@ __all__ = [
     "AssemblySettings",
     "I2OAssembly",
     "assemble_i2o",
-    "generate_i2o",
     "generated_fits",
 ]
 
@@ -395,29 +394,6 @@ def _building_depth(building: BuildingAnnotation, facade: FacadeAnnotation) -> f
     start = np.asarray(facade.segment[0], dtype=np.float64)
     normal = np.asarray(facade.normal, dtype=np.float64)
     return float(np.max((start - np.asarray(building.footprint)) @ normal))
-
-
-def generate_i2o(
-    city: Scene,
-    plan: StreetPlan,
-    building_type: str,
-    rng: np.random.Generator,
-    *,
-    scene_id: str,
-    settings: AssemblySettings | None = None,
-    tries: int = 16,
-) -> I2OAssembly:
-    """Generate a procedural building sized to a road-facing city building and join it there: the
-    first join of :func:`generated_fits`.
-
-    Raises
-    ------
-    AssemblyError
-        If no facade has room for the building type, or none of the tried ones takes it.
-    """
-    return next(
-        generated_fits(city, plan, building_type, rng, scene_id=scene_id, settings=settings, tries=tries)
-    )
 
 
 def generated_fits(

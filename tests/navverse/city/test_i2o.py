@@ -192,12 +192,12 @@ def _corners(store) -> list[tuple[float, float]]:
 
 
 def test_a_building_generated_to_fit_joins_the_city(city) -> None:
-    from navverse.city.i2o.assembly import generate_i2o
+    from navverse.city.i2o.assembly import generated_fits
     from navverse.indoor.floorplan import depth_range
     from navverse.indoor.programs import PROGRAMS
 
     scene, plan = city
-    result = generate_i2o(scene, plan, "apartment", np.random.default_rng(0), scene_id="apt-town")
+    result = next(generated_fits(scene, plan, "apartment", np.random.default_rng(0), scene_id="apt-town"))
     generated = result.record["generated"]
     program = PROGRAMS["apartment"]
     assert program.length[0] <= generated["length"] <= program.length[1]
@@ -213,7 +213,7 @@ def test_a_building_generated_to_fit_joins_the_city(city) -> None:
     assert sides == pytest.approx(sorted([generated["length"], generated["depth"]]), abs=0.06)
     assert building.rooms and abs(result.record["step"]) < 0.02
     with pytest.raises(AssemblyError, match="unknown building type 'castle'"):
-        generate_i2o(scene, plan, "castle", np.random.default_rng(0), scene_id="x")
+        next(generated_fits(scene, plan, "castle", np.random.default_rng(0), scene_id="x"))
 
 
 def test_a_depth_outside_the_program_is_refused() -> None:
@@ -224,16 +224,17 @@ def test_a_depth_outside_the_program_is_refused() -> None:
 
 
 def test_generated_joins_come_lazily_best_facade_first(city) -> None:
-    from navverse.city.i2o.assembly import generate_i2o, generated_fits
+    from navverse.city.i2o.assembly import generated_fits
 
     scene, plan = city
     rng = np.random.default_rng(0)
     joins = generated_fits(scene, plan, "apartment", rng, scene_id="apt-town")
     first = next(joins)
     after_first = rng.bit_generator.state
-    # The first join is generate_i2o's, and the next facade's building is drawn only when asked for.
+    # The first join is the same whatever follows, and the next facade's building is drawn only when
+    # asked for.
     alone = np.random.default_rng(0)
-    assert generate_i2o(scene, plan, "apartment", alone, scene_id="apt-town").record == first.record
+    assert next(generated_fits(scene, plan, "apartment", alone, scene_id="apt-town")).record == first.record
     assert alone.bit_generator.state == after_first
     second = next(joins)
     assert second.record["facade"] != first.record["facade"]
