@@ -203,6 +203,11 @@ def _round3(values: Sequence[float]) -> tuple[float, float, float]:
     return (round(float(values[0]), 4), round(float(values[1]), 4), round(float(values[2]), 4))
 
 
+def _indoor_floor(annotations: SceneAnnotations) -> float:
+    """Height of the lowest floor of the scene's indoor buildings (0 without one)."""
+    return min((b.base_height for b in annotations.buildings if b.indoor), default=0.0)
+
+
 def _indoor_start(
     finder: PathFinder, annotations: SceneAnnotations, rng: np.random.Generator
 ) -> np.ndarray | None:
@@ -214,7 +219,7 @@ def _indoor_start(
     corners = np.array([p for polygon in polygons for p in polygon], dtype=np.float64)
     lo, hi = corners.min(axis=0), corners.max(axis=0)
     centre = (lo + hi) / 2.0
-    floor = min(b.base_height for b in annotations.buildings if b.indoor)
+    floor = _indoor_floor(annotations)
     radius = float(np.linalg.norm(hi - lo) / 2.0)
     return finder.get_random_navigable_point_near((centre[0], centre[1], floor), radius, rng)
 
@@ -236,7 +241,7 @@ def _indoor_island(finder: PathFinder, annotations: SceneAnnotations) -> int | N
     inside = shapely.contains_xy(region, xs.ravel(), ys.ravel())
     if not inside.any():
         return None
-    floor = min((b.base_height for b in annotations.buildings if b.indoor), default=0.0)
+    floor = _indoor_floor(annotations)
     points = np.column_stack([xs.ravel()[inside], ys.ravel()[inside], np.full(int(inside.sum()), floor)])
     found = np.asarray(finder.island_of(points))
     found = found[found >= 0]
