@@ -25,12 +25,12 @@ class MergeDatasetsParams(ReleaseParams):
 def merge_datasets(ctx: StageContext, params: MergeDatasetsParams) -> None:
     """<name>/v<version>/: the linked datasets' episodes and rollouts packaged as one dataset."""
     from navverse import __version__
-    from navverse.dataset import Dataset, built_version
+    from navverse.dataset import built_version, local_dataset
     from navverse.episodes.merging import merge_parts
     from navverse.episodes.packaging import write_dataset
 
     parts = sorted(
-        (Dataset(built_version(path)) for path in ctx.inputs["parts"]), key=lambda d: d.manifest.name
+        (local_dataset(built_version(path)) for path in ctx.inputs["parts"]), key=lambda d: d.manifest.name
     )
     ctx.progress(0, 2, "merging")
     merged = merge_parts(parts)

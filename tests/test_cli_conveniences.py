@@ -237,6 +237,8 @@ def test_run_agent_prints_progress_lines_when_its_output_is_piped(monkeypatch, c
         manifest=SimpleNamespace(embodiment="spot", scene_hashes={}),
         verify=lambda: None,
         episodes=lambda split=None: iter(episodes),
+        private_splits=frozenset(),
+        has_goals=lambda split: True,
     )
 
     def fake_run(dataset, *, progress, out, **kwargs):
@@ -245,7 +247,7 @@ def test_run_agent_prints_progress_lines_when_its_output_is_piped(monkeypatch, c
         return SimpleNamespace(timeouts=[], log=None, terminations={"stop": 4}, resumed=0, episodes=4,
                                seconds=1.0, out=out)  # fmt: skip
 
-    monkeypatch.setattr(navverse.dataset, "Dataset", lambda root: fake_dataset)
+    monkeypatch.setattr(navverse.dataset, "local_dataset", lambda root, private=None: fake_dataset)
     monkeypatch.setattr(navverse.eval.runner, "run_agent", fake_run)
     monkeypatch.setattr(evaluate, "dataset_scene_dirs", lambda *args: {"corridor": Path("corridor")})
     monkeypatch.setattr("navverse.commands.progress.PLAIN_PROGRESS_SECONDS", 0.0)

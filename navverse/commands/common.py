@@ -220,15 +220,15 @@ def scene_options() -> argparse.ArgumentParser:
 def version_text() -> str:
     """What ``navverse --version`` prints: the toolkit's version and the file formats it reads and writes."""
     from navverse import __version__
-    from navverse.dataset import FORMAT_VERSION
+    from navverse.dataset import FORMAT_VERSION, PUBLIC_FORMAT_VERSION
     from navverse.scene.annotations import SCENE_FORMAT_VERSION
 
     dataset_major = FORMAT_VERSION.split(".")[0]
     scene_major = SCENE_FORMAT_VERSION.split(".")[0]
     return (
         f"navverse {__version__}\n"
-        f"dataset format {FORMAT_VERSION} (writes {FORMAT_VERSION}; reads {dataset_major}.0 up to "
-        f"{FORMAT_VERSION})\n"
+        f"dataset format {FORMAT_VERSION} (writes {PUBLIC_FORMAT_VERSION}, {FORMAT_VERSION} with a private "
+        f"split; reads {dataset_major}.0 up to {FORMAT_VERSION})\n"
         f"scene format {SCENE_FORMAT_VERSION} (writes {SCENE_FORMAT_VERSION}; reads 1.x, upgraded, and "
         f"{scene_major}.x)"
     )

@@ -31,7 +31,29 @@ from navverse.eval.selection import PICTURES
 if TYPE_CHECKING:
     from navverse.scene.fields import SceneFields
 
-__all__ = ["cmd_eval", "cmd_run_agent", "register"]
+__all__ = ["PRIVATE_HELP", "cmd_eval", "cmd_run_agent", "open_dataset", "register"]
+
+PRIVATE_HELP = (
+    "the directory of the dataset version's private files (episodes/<name>/private/v<version>): the "
+    "goals of a private split such as test (default: that directory beside the version, when it is there)"
+)
+
+
+def open_dataset(args: argparse.Namespace):
+    """The ``--dataset`` version, verified, with its private files: ``--private`` when given, else those
+    beside it when they are there (a NavverseError when ``--private`` is given for a dataset without a
+    private split)."""
+    from navverse.dataset import local_dataset
+    from navverse.errors import NavverseError
+
+    dataset = local_dataset(args.dataset, private=args.private)
+    if args.private is not None and not dataset.private_splits:
+        raise NavverseError(
+            f"--private {args.private}: {dataset.manifest.name} v{dataset.manifest.version} has no private "
+            "split (its goals are all in the version); leave --private out"
+        )
+    dataset.verify()
+    return dataset
 
 
 def register(sub: Subparsers, shared: Shared) -> None:
@@ -57,6 +79,9 @@ def _eval_parser(sub: Subparsers, shared: Shared) -> None:
         "other output (metrics.json, tables, report) is the first submission's",
     )  # fmt: skip
     evaluate.add_argument("--split", default="eval", help="split scored (default: eval)")
+    evaluate.add_argument(
+        "--private", metavar="DIR", default=None, help=PRIVATE_HELP + " (needed to score one)"
+    )
     evaluate.add_argument("--embodiment", default=None, help="robot scored (default: the dataset's)")
     evaluate.add_argument("--out", default="eval-out", help="output folder (default: eval-out)")
     evaluate.add_argument(
@@ -217,7 +242,6 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
     submissions (one per PlaceNav instruction type) add rows to the instruction-type table; the other
     outputs are the first one's."""
     from navverse import __version__
-    from navverse.dataset import Dataset
     from navverse.eval.protocol import describe
     from navverse.eval.report import PictureBackdrops, write_report
     from navverse.eval.tables import (
@@ -231,9 +255,9 @@ def cmd_eval(args: argparse.Namespace, console: Console, *, built_dir: Callable[
     pictures = _pictures(args.pictures)
     _check_out_dir(args.out)
     with _long_lived() as settle:
-        dataset = Dataset(args.dataset)
-        dataset.verify()
+        dataset = open_dataset(args)
         split_of(dataset, args.split)
+        dataset.require_goals(args.split, what="scoring")
         scene_dirs = dataset_scene_dirs(args, dataset, dataset.episodes(split=args.split), built_dir)
         submissions = _read_for_eval(args, dataset, scene_dirs)
         settle()  # the episodes and the records, kept to the end
@@ -316,6 +340,11 @@ def _run_parser(sub: Subparsers, shared: Shared) -> None:
     run.add_argument("--dataset", required=True, help=DATASET_VERSION_HELP)
     run.add_argument("--split", default="eval", help="split run (default: eval)")
     run.add_argument(
+        "--private", metavar="DIR", default=None,
+        help=PRIVATE_HELP + " (without it, a private split's public episodes are run: no goals, so no "
+        "privileged agent)",
+    )  # fmt: skip
+    run.add_argument(
         "--agent",
         required=True,
         help="oracle, gt_goal, random, frontier (navverse list agents), or your own 'module:Class' / "
@@ -353,11 +382,9 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
     """Run an agent online over a split and write its submission."""
     from rich.progress import BarColumn, MofNCompleteColumn, TextColumn, TimeRemainingColumn
 
-    from navverse.dataset import Dataset
     from navverse.eval.runner import EPISODE_TIMEOUT, STEP_TIMEOUT, run_agent
 
-    dataset = Dataset(args.dataset)
-    dataset.verify()
+    dataset = open_dataset(args)
     split_ids = split_of(dataset, args.split)
     embodiment = args.embodiment or dataset.manifest.embodiment
     scene_dirs = dataset_scene_dirs(args, dataset, dataset.episodes(split=args.split), built_dir)
@@ -407,13 +434,15 @@ def cmd_run_agent(args: argparse.Namespace, console: Console, *, built_dir: Call
         markup=False,
         soft_wrap=True,
     )
-    hint = eval_hint(args, summary.out, partial=summary.episodes < len(split_ids))
-    console.print(
-        f"wrote {summary.out}; score it with: {hint}",
-        highlight=False,
-        markup=False,
-        soft_wrap=True,
-    )
+    if dataset.has_goals(args.split):
+        hint = eval_hint(args, summary.out, partial=summary.episodes < len(split_ids))
+        then = f"score it with: {hint}"
+    else:
+        then = (
+            f"the goals of split {args.split!r} are private: submit it to the benchmark's evaluation server "
+            f"(POST /api/submissions?split={args.split}; README: An evaluation server)"
+        )
+    console.print(f"wrote {summary.out}; {then}", highlight=False, markup=False, soft_wrap=True)
     return 0
 
 
@@ -425,6 +454,8 @@ def eval_hint(args: argparse.Namespace, submission: str | os.PathLike[str], *, p
 
     words = ["navverse", "eval", "--dataset", str(args.dataset), "--submission", os.fspath(submission)]
     words += ["--split", args.split]
+    if getattr(args, "private", None) is not None:
+        words += ["--private", os.fspath(args.private)]
     if args.embodiment is not None:
         words += ["--embodiment", args.embodiment]
     for folder in getattr(args, "scenes", None) or ():

@@ -136,10 +136,10 @@ def _dataset_parser(ssub: Subparsers) -> None:
 
 def cmd_show_dataset(args: argparse.Namespace, console: Console) -> int:
     """Print a dataset's episode counts and goal categories (and with `--stats` its statistics)."""
-    from navverse.dataset import Dataset
+    from navverse.dataset import local_dataset
     from navverse.episodes.inspect import category_table, counts_table, scenes_table
 
-    dataset = Dataset(args.dataset)
+    dataset = local_dataset(args.dataset)
     manifest = dataset.manifest
     console.print(counts_table(dataset))
     console.print(scenes_table(dataset))
@@ -177,10 +177,10 @@ def _episode_parser(ssub: Subparsers, shared: Shared) -> None:
 
 def cmd_show_episode(args: argparse.Namespace, console: Console, *, built_dir: Callable[[], Path]) -> int:
     """Draw one episode on its scene's bird's-eye view."""
-    from navverse.dataset import Dataset
+    from navverse.dataset import local_dataset
     from navverse.episodes.inspect import draw_episode
 
-    dataset = Dataset(args.dataset)
+    dataset = local_dataset(args.dataset)
     dataset.verify()
     episode = dataset.episode(args.episode_id)
     scene_dir = dataset_scene_dirs(args, dataset, [episode.scene_id], built_dir)[episode.scene_id]
@@ -188,6 +188,7 @@ def cmd_show_episode(args: argparse.Namespace, console: Console, *, built_dir: C
         scene_dir, episode, dataset.rollout(episode), Path(args.output or f"{args.episode_id}.png")
     )
     text = episode.instruction.instruction_text if episode.instruction else episode.goal_category
-    console.print(f"{episode.episode_id} ({episode.task}, {episode.info.geodesic_distance:.1f} m): {text}")
+    length = "goals private" if episode.info is None else f"{episode.info.geodesic_distance:.1f} m"
+    console.print(f"{episode.episode_id} ({episode.task}, {length}): {text}")
     console.print(f"wrote {out}")
     return 0

@@ -56,13 +56,16 @@ def cmd_validate_dataset(args: argparse.Namespace, console: Console, *, built_di
     """Check a dataset: format, files and checksums against the manifest, counts, bounds, with --scenes
     that every scene is found with the manifest's scene hash, and (with --replay) its oracle rollouts
     under physics."""
-    from navverse.dataset import Dataset
+    from navverse.dataset import local_dataset
     from navverse.episodes.inspect import check_bounds
 
-    dataset = Dataset(args.dataset)
+    dataset = local_dataset(args.dataset)
     dataset.verify()
-    episodes = list(dataset.episodes())
+    episodes = [e for e in dataset.episodes() if not e.withheld]
     violations = [(e.episode_id, r) for e in episodes if (r := check_bounds(e)) is not None]
+    for split in sorted(dataset.private_splits):
+        checked = "checked against its private file" if dataset.has_goals(split) else "not here, not checked"
+        console.print(f"split {split}: goals private ({checked})", highlight=False)
     console.print(
         f"{dataset.root}: format {dataset.manifest.format_version}, {len(episodes)} episodes; "
         f"{len(dataset.manifest.files)} files, checksums and counts match the manifest "

@@ -24,6 +24,8 @@ import Episode, Dataset, ...``):
   regular files only, checksums, the episode counts); an episode or rollouts file is decompressed
   only once its checksum matched, and never beyond :data:`MAX_FILE_BYTES`;
 - :mod:`.files`: the bounded, checked reading of dataset files that verification uses;
+- :mod:`.private`: private splits (``test``): their public episodes withheld, the full ones in a
+  private file apart whose SHA-256 the manifest records;
 - :mod:`.publish`: :func:`publish` copies a built dataset into ``episodes/`` and refuses to change a
   published version;
 - :mod:`.counts`: the manifest's counts table;
@@ -37,11 +39,14 @@ from navverse.dataset.errors import DatasetError
 from navverse.dataset.files import MAX_FILE_BYTES
 from navverse.dataset.jsongz import read_json_gz, write_json_gz
 from navverse.dataset.manifest import MAX_MANIFEST_BYTES, DatasetManifest
-from navverse.dataset.publish import built_version, publish
+from navverse.dataset.private import PRIVATE_SPLITS
+from navverse.dataset.publish import built_version, local_dataset, publish
 from navverse.dataset.reader import Dataset
 from navverse.dataset.schema import (
     FORMAT_VERSION,
     INSTRUCTION_TYPES,
+    PRIVATE_FORMAT_VERSION,
+    PUBLIC_FORMAT_VERSION,
     TASKS,
     Episode,
     EpisodeFile,
@@ -61,6 +66,9 @@ __all__ = [
     "INSTRUCTION_TYPES",
     "MAX_FILE_BYTES",
     "MAX_MANIFEST_BYTES",
+    "PRIVATE_FORMAT_VERSION",
+    "PRIVATE_SPLITS",
+    "PUBLIC_FORMAT_VERSION",
     "TASKS",
     "Dataset",
     "DatasetError",
@@ -77,6 +85,7 @@ __all__ = [
     "counts_table",
     "file_sha256",
     "goal_distance",
+    "local_dataset",
     "publish",
     "read_json_gz",
     "success_distance",

@@ -74,6 +74,14 @@ class DatasetManifest(BaseModel):
     look_version: str | None = None
     """Version of how the scenes' looks are made (:data:`navverse.look.settings.LOOK_VERSION`) when the
     version was packaged: the RGB an agent sees; None in versions made before looks (format < 1.2)."""
+    private: dict[SplitName, Sha256] = {}
+    """The private splits (format 1.3; :mod:`navverse.dataset.private`): the SHA-256 of each one's
+    private file, which holds its goals and is not part of the version."""
+
+    def to_json(self) -> bytes:
+        """The manifest's bytes as written: indented JSON, ``private`` only when there is one."""
+        exclude = None if self.private else {"private"}
+        return (self.model_dump_json(indent=2, exclude=exclude) + "\n").encode("utf-8")
 
     @field_validator("files")
     @classmethod
@@ -97,6 +105,16 @@ class DatasetManifest(BaseModel):
         shared = sorted({scene for scene in scenes if scenes.count(scene) > 1})
         if shared:
             raise ValueError(f"splits must be scene-disjoint; in several splits: {', '.join(shared)}")
+        unknown = sorted(set(self.private) - set(self.splits))
+        if unknown:
+            raise ValueError(f"private names splits that splits does not list: {', '.join(unknown)}")
+        revealed = sorted(
+            n for n in self.files if n.endswith(".rollouts.json.gz") and n.split("/")[0] in self.private
+        )
+        if revealed:
+            raise ValueError(
+                f"a private split's rollouts are in its private file, not the version: {', '.join(revealed)}"
+            )
         return self
 
 

@@ -21,6 +21,7 @@ from navverse.dataset.errors import REMEDY, DatasetError, first_error
 from navverse.dataset.files import MAX_ENTRIES, describe, listing, member_state, read_checked
 from navverse.dataset.jsongz import parse_json
 from navverse.dataset.manifest import read_manifest
+from navverse.dataset.private import PrivateSplit, private_file_name, read_private, withheld_problem, withhold
 from navverse.dataset.schema import TASKS, Episode, EpisodeFile
 
 __all__ = ["Dataset"]
@@ -37,6 +38,10 @@ class Dataset:
     ----------
     root : path
         ``episodes/<name>/v<version>`` (or ``episodes/<name>``: its newest version).
+    private : path, optional
+        The directory of the version's private files (``episodes/<name>/private/v<version>``), for
+        the goals of its private splits (:mod:`navverse.dataset.private`). Without it, the episodes of
+        a private split are their public records (no goals, reference path or ``info``).
 
     Attributes
     ----------
@@ -54,7 +59,9 @@ class Dataset:
         If there is no manifest, it is malformed, or its format version is not readable here.
     """
 
-    def __init__(self, root: str | os.PathLike[str]) -> None:
+    def __init__(
+        self, root: str | os.PathLike[str], *, private: str | os.PathLike[str] | None = None
+    ) -> None:
         root = Path(root)
         if not (root / "manifest.json").is_file() and root.is_dir():
             versions = sorted(
@@ -70,6 +77,29 @@ class Dataset:
         self.root = root
         self._files: dict[tuple[str, str], EpisodeFile] = {}
         self._rollouts: dict[str, dict[str, Any]] = {}  # rollout files read, by name
+        self.private_dir = None if private is None else Path(private)
+        self._private: dict[str, PrivateSplit] = {}  # private files read, by split
+
+    @property
+    def private_splits(self) -> frozenset[str]:
+        """The splits whose goals are kept in a private file (empty for most datasets)."""
+        return frozenset(self.manifest.private)
+
+    def has_goals(self, split: str) -> bool:
+        """Whether the episodes of `split` come with their goals: a public split, or a private one whose
+        private directory was given."""
+        return split not in self.manifest.private or self.private_dir is not None
+
+    def require_goals(self, split: str, *, what: str) -> None:
+        """Raise a DatasetError saying how to give the private file when `what` needs the goals of a
+        private split that came without them."""
+        if not self.has_goals(split):
+            raise DatasetError(
+                f"split {split!r} of {self.manifest.name} v{self.manifest.version} keeps its goals private, "
+                f"and {what} needs them: pass --private DIR, the directory holding its "
+                f"{private_file_name(split)} (built beside the version as "
+                f"episodes/{self.manifest.name}/private/v{self.manifest.version}/), or use another split"
+            )
 
     @property
     def splits(self) -> list[str]:
@@ -81,13 +111,21 @@ class Dataset:
         return sorted(t for t in TASKS if f"{split}/{t}.json.gz" in self.manifest.files)
 
     def file(self, split: str, task: str) -> EpisodeFile:
-        """The episode file of a split and task (read once, after its checksum matched).
+        """The episode file of a split and task (read once, after its checksum matched); of a private
+        split whose private directory was given, the private file's (with the goals).
 
         Raises
         ------
         DatasetError
             If the manifest lists no such file, or the file is not the one it lists.
         """
+        if split in self.manifest.private and self.private_dir is not None:
+            self._version_file(split, task)  # the task must be one of the split's
+            return self._private_split(split).files[task]
+        return self._version_file(split, task)
+
+    def _version_file(self, split: str, task: str) -> EpisodeFile:
+        """The episode file of a split and task as the version directory holds it."""
         key = (split, task)
         if key not in self._files:
             name = f"{split}/{task}.json.gz"
@@ -210,6 +248,12 @@ class Dataset:
         of it, and kept.
         """
         for split in self.splits:
+            if split in self.manifest.private:
+                if self.private_dir is not None and episode.scene_id in self.manifest.splits[split]:
+                    rows = self._private_split(split).rollouts.get(episode.task, {}).get(episode.episode_id)
+                    if rows is not None:
+                        return rows
+                continue
             name = f"{split}/{episode.task}.rollouts.json.gz"
             if name in self.manifest.files and episode.scene_id in self.manifest.splits[split]:
                 rollouts = self._rollouts.get(name)
@@ -242,6 +286,9 @@ class Dataset:
         if problems:
             raise DatasetError(f"{self.root}: {describe(problems)}. {REMEDY}")
         self._check_contents()
+        if self.private_dir is not None:
+            for split in sorted(self.manifest.private):
+                self._check_private(split)
 
     def verify_checksums(self) -> list[str]:
         """Files that are missing, unlisted, not regular files, too large or not as listed (sorted).
@@ -262,6 +309,47 @@ class Dataset:
         if problem is not None:
             raise DatasetError(f"{self.root}: {describe({problem: [name]})}. {REMEDY}")
         return parse_json(data, path)
+
+    def _private_split(self, split: str) -> PrivateSplit:
+        """A private split's file, read once (after its checksum matched the manifest's)."""
+        if split not in self._private:
+            assert self.private_dir is not None
+            self._private[split] = read_private(
+                self.private_dir,
+                split=split,
+                sha256=self.manifest.private[split],
+                name=self.manifest.name,
+                version=self.manifest.version,
+            )
+        return self._private[split]
+
+    def _check_private(self, split: str) -> None:
+        """A private split's file against its public episode files: the same tasks and episodes, each
+        public record its full episode withheld, and a rollout for every episode."""
+        content = self._private_split(split)
+        problems = []
+        if sorted(content.files) != self.tasks(split):
+            problems.append(f"it has the tasks {sorted(content.files)}, the version {self.tasks(split)}")
+        for task in sorted(set(content.files) & set(self.tasks(split))):
+            public = self._version_file(split, task).episodes
+            full = content.files[task].episodes
+            if [e.episode_id for e in full] != [e.episode_id for e in public]:
+                problems.append(f"its {task} episodes are not those of {split}/{task}.json.gz")
+                continue
+            changed = [f.episode_id for f, p in zip(full, public, strict=True) if withhold(f) != p]
+            if changed:
+                problems.append(
+                    f"{len(changed)} {task} episodes differ from their public record ({changed[0]}...)"
+                )
+            missing = [e.episode_id for e in full if e.episode_id not in content.rollouts.get(task, {})]
+            if missing:
+                problems.append(f"{len(missing)} {task} episodes have no rollout ({missing[0]}...)")
+        if problems:
+            raise DatasetError(
+                f"{self.private_dir}: the private file of split {split!r} does not match {self.root}: "
+                + "; ".join(problems)
+                + f". Use the private files built with {self.manifest.name} v{self.manifest.version}"
+            )
 
     def _file_problems(self) -> dict[str, list[str]]:
         """Problem kind -> files, over the listing and every listed file (empty: all sound)."""
@@ -287,9 +375,15 @@ class Dataset:
         seen: set[str] = set()
         for split in self.splits:
             scenes = set(self.manifest.splits[split])
+            private = split in self.manifest.private
             for task in self.tasks(split):
-                for episode in self.file(split, task).episodes:
+                for episode in self._version_file(split, task).episodes:
                     where = f"{split}/{task}.json.gz: {episode.episode_id}"
+                    revealed = withheld_problem(episode) if private else None
+                    if revealed is not None:
+                        problems.append(f"{where}, of the private split {split}, {revealed}")
+                    elif not private and episode.info is None:
+                        problems.append(f"{where} has no info (only a private split's episodes go without)")
                     if episode.task != task:
                         problems.append(f"{where} is an episode of task {episode.task}")
                     if episode.scene_id not in scenes:

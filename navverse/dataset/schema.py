@@ -19,6 +19,8 @@ from navverse.scene_types import SceneType, scene_profile
 __all__ = [
     "FORMAT_VERSION",
     "INSTRUCTION_TYPES",
+    "PRIVATE_FORMAT_VERSION",
+    "PUBLIC_FORMAT_VERSION",
     "RECORD_CONFIG",
     "TASKS",
     "Episode",
@@ -35,10 +37,17 @@ __all__ = [
     "success_distance",
 ]
 
-FORMAT_VERSION = "1.2"
+FORMAT_VERSION = "1.3"
 """Format of the dataset files (``major.minor``); a reader takes its own major, minors up to its own.
 1.1 added the PlaceNav episodes' ``instructions`` by instruction type; 1.2 the manifest's
-``look_version``."""
+``look_version``; 1.3 private splits (the manifest's ``private``; their public episodes without
+goals, reference path or ``info``). A version is written with the lowest format that holds it
+(:data:`PRIVATE_FORMAT_VERSION` only when it has a private split), so a dataset without one keeps its
+bytes."""
+PUBLIC_FORMAT_VERSION = "1.2"
+"""The format of a version without a private split."""
+PRIVATE_FORMAT_VERSION = FORMAT_VERSION
+"""The format of a version with a private split (1.3)."""
 TASKS = ("objnav", "placenav", "vln")
 
 Vec3 = tuple[float, float, float]
@@ -118,7 +127,11 @@ class EpisodeInfo(BaseModel):
 
 
 class Episode(BaseModel):
-    """One navigation episode (DESIGN.md §3)."""
+    """One navigation episode (DESIGN.md §3).
+
+    In the public file of a private split (:mod:`navverse.dataset.private`) an episode holds only what
+    an agent may know: ``goals`` and ``reference_path`` are empty, ``info`` is None and its
+    instructions name no landmark and no directive time (:attr:`withheld`)."""
 
     model_config = RECORD_CONFIG
 
@@ -135,7 +148,13 @@ class Episode(BaseModel):
     instructions: dict[InstructionType, Instruction] = {}
     """PlaceNav: the episode's instruction of each type (:data:`INSTRUCTION_TYPES`), all three."""
     reference_path: list[Vec3]
-    info: EpisodeInfo
+    info: EpisodeInfo | None
+    """Derived facts; None only in the public file of a private split."""
+
+    @property
+    def withheld(self) -> bool:
+        """Whether this is the public record of an episode whose goals are kept private (no ``info``)."""
+        return self.info is None
 
     @property
     def start_yaw(self) -> float:

@@ -111,17 +111,24 @@ def draw_episode(
     from navverse.scene.directory import read_scene
 
     overlays = []
-    goals = [
-        _circle(g.position[0], g.position[1], g.radius + episode.info.success_distance) for g in episode.goals
-    ]
-    rims = np.concatenate([_polyline(np.vstack([c, c[:1]])) for c in goals])
-    overlays.append(
-        BevOverlay(
-            "goal: success distance", rims, color="tab:green", linewidth=1.2, polygons=goals, fill_alpha=0.2
+    if episode.info is not None:  # else a private split's public record: no goals, no reference path
+        goals = [
+            _circle(g.position[0], g.position[1], g.radius + episode.info.success_distance)
+            for g in episode.goals
+        ]
+        rims = np.concatenate([_polyline(np.vstack([c, c[:1]])) for c in goals])
+        overlays.append(
+            BevOverlay(
+                "goal: success distance",
+                rims,
+                color="tab:green",
+                linewidth=1.2,
+                polygons=goals,
+                fill_alpha=0.2,
+            )
         )
-    )
-    reference = np.asarray(episode.reference_path)[:, :2]
-    overlays.append(BevOverlay("reference path", _polyline(reference), color="tab:blue", linewidth=1.6))
+        reference = np.asarray(episode.reference_path)[:, :2]
+        overlays.append(BevOverlay("reference path", _polyline(reference), color="tab:blue", linewidth=1.6))
     if rollout:
         poses = np.asarray(rollout)[:, 1:3]
         overlays.append(

@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 
 from navverse.dataset import (
-    FORMAT_VERSION,
+    PRIVATE_FORMAT_VERSION,
+    PUBLIC_FORMAT_VERSION,
     DatasetError,
     DatasetManifest,
     Episode,
@@ -18,8 +19,9 @@ from navverse.dataset import (
     counts_table,
     write_json_gz,
 )
-from navverse.look.settings import LOOK_VERSION
+from navverse.dataset.private import PRIVATE_SPLITS, PrivateSplit, private_dir, private_file_name, withhold
 from navverse.files import atomic_write, file_sha256
+from navverse.look.settings import LOOK_VERSION
 
 __all__ = ["apply_quota", "assign_splits", "difficulty_of", "difficulty_thresholds", "write_dataset"]
 
@@ -156,7 +158,10 @@ def write_dataset(
     """Write ``<split>/<task>.json.gz``, ``<split>/<task>.rollouts.json.gz`` and ``manifest.json``.
 
     Episodes get their difficulty label; files list episodes by id; the manifest holds the counts per
-    split, task and scene type, the difficulty thresholds and the SHA-256 of every file.
+    split, task and scene type, the difficulty thresholds and the SHA-256 of every file. A split of
+    :data:`~navverse.dataset.private.PRIVATE_SPLITS` gets its public episode files (withheld, no
+    rollouts) in `out` and its private file beside the version
+    (:func:`~navverse.dataset.private.private_dir`), whose SHA-256 the manifest records.
     """
     if not episodes:
         raise DatasetError(f"dataset {name!r} has no episode to package: see the verification's rejections")
@@ -170,26 +175,31 @@ def write_dataset(
     groups: dict[tuple[str, str], list[Episode]] = {}
     for episode in sorted(labelled, key=lambda e: e.episode_id):
         groups.setdefault((split_of[episode.scene_id], episode.task), []).append(episode)
+    private: dict[str, dict[str, dict]] = {}
     for (split, task), group in sorted(groups.items()):
-        goals: dict[str, dict[int, Goal]] = {}
-        for episode in group:
-            for goal in episode.goals:
-                goals.setdefault(f"{episode.scene_id}_{goal.category}", {})[goal.object_id] = goal
-        categories = sorted({e.goal_category for e in group})
-        content = EpisodeFile(
-            episodes=group,
-            goals_by_category={
-                key: [by_id[k] for k in sorted(by_id)] for key, by_id in sorted(goals.items())
-            },
-            category_to_task_category_id={c: i for i, c in enumerate(categories)},
-        )
+        content = _episode_file(group)
+        group_rollouts = {e.episode_id: rollouts[e.episode_id] for e in group}
+        if split in PRIVATE_SPLITS:
+            private.setdefault(split, {"files": {}, "rollouts": {}})
+            private[split]["files"][task] = content
+            private[split]["rollouts"][task] = group_rollouts
+            public = _episode_file([withhold(e) for e in group])
+            files[f"{split}/{task}.json.gz"] = file_sha256(
+                write_json_gz(public.model_dump(mode="json"), out / f"{split}/{task}.json.gz")
+            )
+            continue
         for relative, data in (
             (f"{split}/{task}.json.gz", content.model_dump(mode="json")),
-            (f"{split}/{task}.rollouts.json.gz", {e.episode_id: rollouts[e.episode_id] for e in group}),
+            (f"{split}/{task}.rollouts.json.gz", group_rollouts),
         ):
             files[relative] = file_sha256(write_json_gz(data, out / relative))
+    private_sha256 = {}
+    for split, parts in sorted(private.items()):
+        record = PrivateSplit(name=name, version=version, split=split, **parts)
+        target = private_dir(out) / private_file_name(split)
+        private_sha256[split] = file_sha256(write_json_gz(record.model_dump(mode="json"), target))
     manifest = DatasetManifest(
-        format_version=FORMAT_VERSION,
+        format_version=PRIVATE_FORMAT_VERSION if private_sha256 else PUBLIC_FORMAT_VERSION,
         name=name,
         version=version,
         toolkit_version=toolkit_version,
@@ -202,7 +212,23 @@ def write_dataset(
         difficulty_thresholds=thresholds,
         files=files,
         look_version=LOOK_VERSION,
+        private=private_sha256,
     )
     with atomic_write(out / "manifest.json") as handle:
-        handle.write((manifest.model_dump_json(indent=2) + "\n").encode("utf-8"))
+        handle.write(manifest.to_json())
     return manifest
+
+
+def _episode_file(group: Sequence[Episode]) -> EpisodeFile:
+    """The episode file of one split and task: its episodes, their goals by scene and category, and
+    the task's category ids."""
+    goals: dict[str, dict[int, Goal]] = {}
+    for episode in group:
+        for goal in episode.goals:
+            goals.setdefault(f"{episode.scene_id}_{goal.category}", {})[goal.object_id] = goal
+    categories = sorted({e.goal_category for e in group})
+    return EpisodeFile(
+        episodes=list(group),
+        goals_by_category={key: [by_id[k] for k in sorted(by_id)] for key, by_id in sorted(goals.items())},
+        category_to_task_category_id={c: i for i, c in enumerate(categories)},
+    )

@@ -42,9 +42,12 @@ class DatasetStatistics:
 
 
 def dataset_statistics(dataset: Dataset, *, split: str | None = None) -> DatasetStatistics:
-    """Collect the statistics of ``dataset`` (of ``split``, or of every split)."""
+    """Collect the statistics of ``dataset`` (of ``split``, or of every split; a private split's
+    episodes only when its private files were given)."""
     cells: dict[tuple[str, str], Cell] = {}
     for episode in dataset.episodes(split=split):
+        if episode.info is None:
+            continue  # a private split's public record: its lengths are not known here
         cell = cells.setdefault((episode.task, episode.scene_type), Cell())
         cell.lengths.append(float(episode.info.geodesic_distance))
         if episode.info.verification is not None:

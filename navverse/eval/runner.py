@@ -276,7 +276,12 @@ def run_agent(
         if not (math.isfinite(value) and value > 0):
             raise RunError(f"{flag} must be a positive number of seconds, got {value}")
     loaded = load_agent(agent)  # fail here, clearly, rather than in a worker
-    track = track_of(agent_sensors(loaded), privileged=bool(getattr(loaded, "privileged", False)))
+    privileged = bool(getattr(loaded, "privileged", False))
+    track = track_of(agent_sensors(loaded), privileged=privileged)
+    if privileged:
+        dataset.require_goals(
+            split, what=f"the privileged agent {agent!r} (it is given the goals and the reference path)"
+        )
     if jobs < 0:
         raise RunError(f"--jobs must be 0 or more, got {jobs}")
     out = Path(out)

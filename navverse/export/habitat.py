@@ -334,6 +334,11 @@ def _scene_dirs(scene_ids: Iterable[str], resolve: Callable[[str], Path]) -> dic
 # ---------------------------------------------------------------------------------------------- export
 
 
+def _exported(dataset: Dataset) -> list[str]:
+    """The splits exported: all but the private ones (whose goals the version does not hold)."""
+    return [s for s in dataset.splits if s not in dataset.private_splits]
+
+
 def _goal_instances(dataset: Dataset, split: str, scene_id: str) -> dict[tuple[str, str], dict[int, Goal]]:
     """``(task, category) -> {goal id: goal}`` of a scene's ObjNav and PlaceNav episodes in a split."""
     found: dict[tuple[str, str], dict[int, Goal]] = {}
@@ -388,7 +393,7 @@ def _content_file(
 def _category_maps(dataset: Dataset, scene_dirs: Mapping[str, Path]) -> tuple[dict[str, Any], list[str]]:
     """The ObjectNav-v1 category maps (dataset-wide) and the semantic category list."""
     goal_categories = sorted(
-        {e.goal_category for s in dataset.splits for t in _GOAL_TASKS if t in dataset.tasks(s)
+        {e.goal_category for s in _exported(dataset) for t in _GOAL_TASKS if t in dataset.tasks(s)
          for e in dataset.file(s, t).episodes}
     )  # fmt: skip
     semantic = sorted(
@@ -406,7 +411,7 @@ def _write_objectnav(
     dataset: Dataset, root: Path, scene_dirs: Mapping[str, Path], maps: Mapping[str, Any], progress: Progress
 ) -> dict[str, int]:
     counts = {}
-    for split in dataset.splits:
+    for split in _exported(dataset):
         if not any(t in dataset.tasks(split) for t in _GOAL_TASKS):
             continue
         counts[split] = 0
@@ -423,7 +428,7 @@ def _write_objectnav(
 
 
 def _write_vln(dataset: Dataset, root: Path) -> tuple[dict[str, int], int]:
-    splits = [s for s in dataset.splits if "vln" in dataset.tasks(s)]
+    splits = [s for s in _exported(dataset) if "vln" in dataset.tasks(s)]
     episodes = {s: list(dataset.episodes(split=s, task="vln")) for s in splits}
     vocabulary = build_vocabulary(
         e.instruction.instruction_text for es in episodes.values() for e in es if e.instruction is not None
@@ -494,7 +499,9 @@ def export_habitat(
     dataset = Dataset(dataset_dir)
     dataset.verify()
     resolve = scenes if scenes is not None else _default_scenes(Path("data") / "built")
-    scene_dirs = _scene_dirs((e.scene_id for e in dataset.episodes()), resolve)
+    scene_dirs = _scene_dirs(
+        (e.scene_id for s in _exported(dataset) for e in dataset.episodes(split=s)), resolve
+    )
     maps, semantic = _category_maps(dataset, scene_dirs)
     out.parent.mkdir(parents=True, exist_ok=True)
     with atomic_dir(out) as tmp:
@@ -514,6 +521,7 @@ def export_habitat(
             "scenes": stats,
             "semantic_categories": semantic,
             "navmesh": "Detour MSET version 1 (habitat-sim PathFinder.load_nav_mesh)",
+            "left_out": {split: "its goals are private" for split in sorted(dataset.private_splits)},
         }
         (tmp / "export.json").write_text(
             json.dumps(summary, indent=2, sort_keys=True) + "\n", encoding="utf-8"

@@ -82,12 +82,12 @@ def open_review(
         If the dataset is malformed, its recipe or scenes are not found, or the decisions file is
         malformed.
     """
-    from navverse.dataset import Dataset
+    from navverse.dataset import local_dataset
     from navverse.review.decisions import review_path
     from navverse.review.server import ReviewState, make_server
     from navverse.scene.locate import find_scene_dirs
 
-    dataset = Dataset(dataset_path)
+    dataset = local_dataset(dataset_path)
     dataset.verify()
     manifest = dataset.manifest
     recipe_file = Path(recipe) if recipe is not None else _workspace_root(built_dir) / manifest.recipe

@@ -248,8 +248,8 @@ def _summary(split: str, episode: Episode, decision: dict[str, str] | None) -> d
         "scene": episode.scene_id,
         "scene_type": episode.scene_type,
         "category": episode.goal_category,
-        "geodesic": round(episode.info.geodesic_distance, 2),
-        "difficulty": episode.info.difficulty,
+        "geodesic": None if episode.info is None else round(episode.info.geodesic_distance, 2),
+        "difficulty": None if episode.info is None else episode.info.difficulty,
         "instructions": instructions,
         "decision": decision,
     }

@@ -123,7 +123,7 @@ def test_other_format_versions_are_refused_with_what_to_do(tmp_path: Path, versi
     (root / "manifest.json").write_text(json.dumps(manifest))
     with pytest.raises(DatasetError, match=message):
         Dataset(root)
-    assert FORMAT_VERSION == "1.2"
+    assert FORMAT_VERSION == "1.3"
 
 
 def test_an_older_minor_format_is_read(tmp_path: Path):
