@@ -2,9 +2,9 @@
 
 Run it with::
 
-    navverse run-agent --dataset episodes/navverse-mini/v2.1 --split eval \\
+    navverse run-agent --dataset episodes/navverse-mini/v2.2 --split eval \\
         --agent examples/my_agent.py:GoalSeekingAgent --out my_agent.jsonl
-    navverse eval --dataset episodes/navverse-mini/v2.1 --submission my_agent.jsonl --out my_agent-eval
+    navverse eval --dataset episodes/navverse-mini/v2.2 --submission my_agent.jsonl --out my_agent-eval
 
 The agent follows the interface of :mod:`navverse.eval.agents.base`. It uses the discrete
 interface, which is how the paper runs discrete-action models: each action index becomes one

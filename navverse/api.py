@@ -8,7 +8,7 @@ Everything the command line does with recipes and datasets, from Python::
     built = nv.build({"extends": "indoor-building",             # or a recipe written as a dict
                       "stages": {"indoor_layout": {"building_type": "cafe"}}}, name="my-cafe")
     scene = nv.load_scene("my-cafe")                            # geometry, annotations, navmesh
-    env = nv.make_env("episodes/navverse-mini/v2.1", "office-s1-objnav-0003")
+    env = nv.make_env("episodes/navverse-mini/v2.2", "office-s1-objnav-0003")
     obs, info = env.reset()
 
     house = nv.generate_building("apartment", seed=3)           # no engine, no files: a Scene

@@ -15,7 +15,7 @@ the case fails.
 Cases that score submissions or tamper with a dataset use ``--dataset`` (default: the newest
 navverse-mini version) and its scenes, looked for in ``--scenes`` (default: ``$NAVVERSE_SCENES``, else
 the build store of the workspace the dataset is in, e.g. ``../other/data/built`` for
-``--dataset ../other/episodes/navverse-mini/v2.1``); without a dataset they are reported as not run.
+``--dataset ../other/episodes/navverse-mini/v2.2``); without a dataset they are reported as not run.
 Exit status: 0 when every case that ran passed.
 """
 

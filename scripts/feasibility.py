@@ -6,7 +6,7 @@ Each agent (``oracle``: the reference path; ``gt_goal``: a navmesh plan to the c
 over a split of a dataset with ``navverse run-agent``'s runner, its submission is scored, and the table
 gives SR (and N) per task × scene type and agent::
 
-    python scripts/feasibility.py --dataset episodes/navverse-mini/v2.1 --split eval --out feasibility
+    python scripts/feasibility.py --dataset episodes/navverse-mini/v2.2 --split eval --out feasibility
     python scripts/feasibility.py --dataset ... --agents oracle random --limit 30   # a quicker look
 
 With ``--limit`` each agent runs that many episodes spread over the split and is scored over them

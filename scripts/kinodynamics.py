@@ -4,7 +4,7 @@ The ``oracle`` agent follows every reference path of a split with each robot, wi
 class's friction set to each μ, and the table gives SR and mean speed (path length / duration) per
 scene type and over all:
 
-    python scripts/kinodynamics.py --dataset episodes/navverse-mini/v2.1 --split eval --out kinodynamics
+    python scripts/kinodynamics.py --dataset episodes/navverse-mini/v2.2 --split eval --out kinodynamics
 
 SR is given twice: with the robot's own success distance (1.0 + r_robot) and with the episode's (the
 one its goal regions were built for, the dataset's embodiment): a path that ends at the edge of a

@@ -170,7 +170,7 @@ def test_the_examples_parse_and_name_datasets_the_recipes_publish(tmp_path, monk
 def test_examples_keep_their_lines_while_descriptions_are_filled():
     parser = next(p for path, p in _commands(cli.build_parser()) if path == ("export", "scenes"))
     shown = parser.format_help()
-    assert "\n  navverse export scenes episodes/navverse-mini/v2.1 mini-scenes\n" in shown
+    assert "\n  navverse export scenes episodes/navverse-mini/v2.2 mini-scenes\n" in shown
     description = shown.split("\n\n")[1]
     assert description.startswith("Copy the scenes") and max(map(len, description.splitlines())) <= 80
 

@@ -71,7 +71,7 @@ def console_table(console, **options: Any):
 
 """The sub-parsers action of a parser (``parser.add_subparsers()``), to which commands are added."""
 
-MINI = "episodes/navverse-mini/v2.1"
+MINI = "episodes/navverse-mini/v2.2"
 """The default dataset (``make episodes``), in the examples of ``--help``."""
 
 OUTDOOR = "episodes/navverse-outdoor/v1.0"
