@@ -43,8 +43,8 @@ def index_scenes(ctx: StageContext, params: IndexScenesParams) -> None:
     """scenes.json: every linked scene's type and hash, checked against the dataset's manifest if given."""
     from collections import Counter
 
-    from navverse.dataset.errors import DatasetError
     from navverse.dataset.manifest import read_manifest
+    from navverse.records.errors import DatasetError
     from navverse.scene.directory import read_annotations, scene_hash
 
     index: dict[str, dict[str, str | None]] = {}

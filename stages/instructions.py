@@ -46,9 +46,10 @@ def instructions(ctx: StageContext, params: InstructionsParams) -> None:
 
     import numpy as np
 
-    from navverse.dataset import Episode, read_json_gz, write_json_gz
     from navverse.episodes import files
     from navverse.episodes.instructions.writer import load_refiner
+    from navverse.records.jsongz import read_json_gz, write_json_gz
+    from navverse.records.schema import Episode
     from navverse.scene.directory import read_annotations
 
     if params.refiner:
@@ -114,7 +115,6 @@ def _write_scene(job: tuple) -> tuple[dict[str, dict], dict[str, str]]:
 
     import numpy as np
 
-    from navverse.dataset import Instruction
     from navverse.episodes.instructions import (
         PLACE_NAMES,
         RoadFollowing,
@@ -122,6 +122,7 @@ def _write_scene(job: tuple) -> tuple[dict[str, dict], dict[str, str]]:
         intention_instruction,
     )
     from navverse.episodes.instructions.writer import InstructionWriter, load_refiner
+    from navverse.records.schema import Instruction
     from navverse.scene.directory import read_scene
     from navverse.sim.embodiments import make_embodiment
 

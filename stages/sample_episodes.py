@@ -74,8 +74,8 @@ class SampleEpisodesParams(Params, SamplingSettings):
 )
 def sample_episodes(ctx: StageContext, params: SampleEpisodesParams) -> None:
     """candidates.json.gz: episode candidates of every task in every linked scene, with their statistics."""
-    from navverse.dataset import write_json_gz
     from navverse.episodes import files
+    from navverse.records.jsongz import write_json_gz
     from navverse.scene.directory import read_annotations
     from navverse.sim.embodiments import make_embodiment
 

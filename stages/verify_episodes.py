@@ -22,9 +22,10 @@ def verify_episodes(ctx: StageContext, params: VerifyEpisodesParams) -> None:
     """episodes.json.gz (accepted, with their verification), rollouts, and rejections with reasons."""
     from collections import Counter
 
-    from navverse.dataset import Episode, read_json_gz, write_json_gz
     from navverse.episodes import files
     from navverse.episodes.verification import verify_episodes as run
+    from navverse.records.jsongz import read_json_gz, write_json_gz
+    from navverse.records.schema import Episode
     from navverse.scene.directory import read_annotations
 
     candidates = read_json_gz(ctx.input("candidates") / files.CANDIDATES)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
-from navverse.dataset.schema import Episode
+from navverse.records.schema import Episode
 
 __all__ = ["counts_table"]
 

@@ -6,7 +6,7 @@ directory, with its SHA-256; a ``files`` entry is a plain ``<split>/<task>[.roll
 inside the version directory, checksums are SHA-256 hex, names are single path components, splits
 are scene-disjoint. :func:`read_manifest` reads the file with a size cap
 (:data:`MAX_MANIFEST_BYTES`) as strict JSON (no duplicate keys, no NaN), checks its format version
-against :data:`~navverse.dataset.schema.FORMAT_VERSION` and validates it.
+against :data:`~navverse.records.schema.FORMAT_VERSION` and validates it.
 """
 
 from __future__ import annotations
@@ -27,9 +27,9 @@ from pydantic import (
     model_validator,
 )
 
-from navverse.dataset.errors import REMEDY, DatasetError, first_error
-from navverse.dataset.files import mib, open_regular
-from navverse.dataset.schema import FORMAT_VERSION, RECORD_CONFIG, Task
+from navverse.records.errors import REMEDY, DatasetError, first_error
+from navverse.records.files import mib, open_regular
+from navverse.records.schema import FORMAT_VERSION, RECORD_CONFIG, Task
 from navverse.scene_types import SceneType
 
 __all__ = ["MAX_MANIFEST_BYTES", "DatasetManifest", "Name", "Sha256", "SplitName", "read_manifest"]

@@ -22,10 +22,10 @@ from pathlib import Path
 
 from pydantic import BaseModel, ValidationError
 
-from navverse.dataset.errors import DatasetError, first_error
-from navverse.dataset.files import describe, read_checked
-from navverse.dataset.jsongz import parse_json
-from navverse.dataset.schema import RECORD_CONFIG, Episode, EpisodeFile, Instruction, Task
+from navverse.records.errors import DatasetError, first_error
+from navverse.records.files import describe, read_checked
+from navverse.records.jsongz import parse_json
+from navverse.records.schema import RECORD_CONFIG, Episode, EpisodeFile, Instruction, Task
 
 __all__ = [
     "PRIVATE_SPLITS",

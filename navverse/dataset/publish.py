@@ -14,11 +14,11 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from navverse.dataset.errors import DatasetError
 from navverse.dataset.manifest import DatasetManifest
 from navverse.dataset.private import private_dir, private_file_name
 from navverse.dataset.reader import Dataset
 from navverse.files import atomic_dir, file_sha256
+from navverse.records.errors import DatasetError
 
 __all__ = ["built_version", "local_dataset", "publish"]
 

@@ -4,7 +4,7 @@ verification against the manifest.
 Opening a version reads its manifest (:func:`~navverse.dataset.manifest.read_manifest`).
 :meth:`Dataset.verify` checks the version against it before it is used (the listing, regular files
 only, checksums, the episode counts); an episode or rollouts file is decompressed only once its
-checksum matched, and never beyond :data:`~navverse.dataset.files.MAX_FILE_BYTES`.
+checksum matched, and never beyond :data:`~navverse.records.files.MAX_FILE_BYTES`.
 """
 
 from __future__ import annotations
@@ -17,12 +17,12 @@ from typing import Any
 
 from pydantic import ValidationError
 
-from navverse.dataset.errors import REMEDY, DatasetError, first_error
-from navverse.dataset.files import MAX_ENTRIES, describe, listing, member_state, read_checked
-from navverse.dataset.jsongz import parse_json
 from navverse.dataset.manifest import read_manifest
 from navverse.dataset.private import PrivateSplit, private_file_name, read_private, withheld_problem, withhold
-from navverse.dataset.schema import TASKS, Episode, EpisodeFile
+from navverse.records.errors import REMEDY, DatasetError, first_error
+from navverse.records.files import MAX_ENTRIES, describe, listing, member_state, read_checked
+from navverse.records.jsongz import parse_json
+from navverse.records.schema import TASKS, Episode, EpisodeFile
 
 __all__ = ["Dataset"]
 
@@ -272,7 +272,7 @@ class Dataset:
 
         The manifest must list every file of the version directory and nothing else; each listed
         path is a regular file inside the directory (no symbolic link), at most
-        :data:`~navverse.dataset.files.MAX_FILE_BYTES` compressed and decompressed, with the listed
+        :data:`~navverse.records.files.MAX_FILE_BYTES` compressed and decompressed, with the listed
         SHA-256; the episode files, read only once their checksum matched, hold the episodes
         ``counts`` says, of their split's scenes and their file's task, each id once. Nothing is
         cached across processes: it hashes the whole version (a few MB) each time.

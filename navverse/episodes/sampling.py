@@ -29,8 +29,8 @@ import numpy as np
 import shapely
 from pydantic import Field, model_validator
 
-from navverse.dataset import Episode, EpisodeInfo, Goal, success_distance
 from navverse.nav.pathfinder import PathFinder
+from navverse.records.schema import Episode, EpisodeInfo, Goal, success_distance
 from navverse.scene.annotations import SceneAnnotations
 from navverse.scene.categories import CategoryRule, assign_category
 from navverse.scene_types import scene_profile

@@ -33,8 +33,8 @@ from typing import Annotated
 import numpy as np
 from pydantic import Field, model_validator
 
-from navverse.dataset import Episode, Verification, goal_distance
 from navverse.processes import end_with_parent
+from navverse.records.schema import Episode, Verification, goal_distance
 from navverse.settings import Settings
 
 __all__ = ["REASONS", "VerificationResult", "VerificationSettings", "verify_episodes", "verify_scene"]

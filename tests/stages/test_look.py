@@ -73,6 +73,18 @@ def test_no_geometry_or_episode_stage_hashes_the_look_or_the_renderer(stage_modu
     assert "navverse.look.materials" in {name for name, _ in module_closure("stages.look")}
 
 
+@pytest.mark.parametrize("stage_module", ["sample_episodes", "verify_episodes", "instructions"])
+def test_the_stages_making_episodes_do_not_hash_the_dataset_reader(stage_module: str) -> None:
+    # They read and write episode records (navverse.records); a change to the reader, the manifest,
+    # publishing or private splits must not sample or verify a dataset again.
+    closure = {name for name, _ in module_closure(f"stages.{stage_module}")}
+    assert "navverse.records.schema" in closure, stage_module
+    reader = sorted(name for name in closure if name.split(".")[:2] == ["navverse", "dataset"])
+    assert not reader, (stage_module, reader)
+    # The check can fail: packaging does hash the reader's package.
+    assert "navverse.dataset" in {name for name, _ in module_closure("stages.package_dataset")}
+
+
 def test_the_look_layer_binds_a_textured_material_on_every_mesh(tiny_build: Built) -> None:
     look_dir = tiny_build.output("apartment-s0", "look")
     stage = Usd.Stage.Open(str(look_dir / LOOK_USD))

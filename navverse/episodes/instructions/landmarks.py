@@ -19,11 +19,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
-from navverse.dataset import Episode
 from navverse.episodes.instructions.directives import Directive, wrap_angle
 from navverse.episodes.instructions.places import PLACE_NAMES
 from navverse.episodes.instructions.settings import InstructionSettings
 from navverse.episodes.instructions.wording import category_words
+from navverse.records.schema import Episode
 from navverse.scene.colors import default_color
 from navverse.scene.geometry import Scene, SceneObject
 from navverse.sim.camera import CameraIntrinsics, check_pose

@@ -15,13 +15,13 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from navverse.dataset import Episode, Instruction, Landmark
 from navverse.episodes.instructions.directives import align_directives, plan_directives
 from navverse.episodes.instructions.landmarks import LandmarkFinder
 from navverse.episodes.instructions.roads import RoadFollowing
 from navverse.episodes.instructions.settings import InstructionSettings
 from navverse.episodes.instructions.wording import landmark_text, template_text
 from navverse.errors import NavverseError
+from navverse.records.schema import Episode, Instruction, Landmark
 from navverse.scene.geometry import Scene
 from navverse.sim.camera import CameraIntrinsics, check_pose
 from navverse.sim.keyframes import camera_poses

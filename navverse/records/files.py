@@ -6,7 +6,7 @@ version directory (never following a symbolic link, at most :data:`MAX_ENTRIES`)
 as regular files only: a symbolic link, a FIFO or a device is a problem, never followed or waited on.
 
 Problems are reported as kinds (:data:`PROBLEMS`), which :func:`describe` turns into the sentence a
-:class:`~navverse.dataset.errors.DatasetError` carries.
+:class:`~navverse.records.errors.DatasetError` carries.
 """
 
 from __future__ import annotations

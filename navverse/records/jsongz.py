@@ -10,9 +10,9 @@ import zlib
 from pathlib import Path
 from typing import Any
 
-from navverse.dataset.errors import DatasetError
-from navverse.dataset.files import MAX_FILE_BYTES, TooLargeError, gunzip, mib
 from navverse.files import atomic_write
+from navverse.records.errors import DatasetError
+from navverse.records.files import MAX_FILE_BYTES, TooLargeError, gunzip, mib
 
 __all__ = ["parse_json", "read_json_gz", "write_json_gz"]
 
