@@ -27,7 +27,7 @@ from pathlib import Path
 
 from rich.console import Console
 
-from navverse.commands import city, evaluate, export, listing, show, validate, workspace
+from navverse.commands import city, evaluate, export, listing, serve, show, validate, workspace
 from navverse.commands.common import (
     MINI,
     HelpFormatter,
@@ -503,6 +503,7 @@ COMMANDS: tuple[Callable[[Subparsers, Shared], None], ...] = (
     register,
     validate.register,
     evaluate.register,
+    serve.register,
     show.register,
     export.register,
     review.register,

@@ -85,6 +85,12 @@ def test_the_tree_keeps_its_layers() -> None:
             "from navverse.city.street_life.zones import street_zones",
             "navverse.city.geometry.scene -> navverse.city.street_life.zones",
         ),
+        # The evaluation server is handed its dataset and scenes by its command.
+        (
+            "navverse/serve/benchmark.py",
+            "from navverse.commands.datasets import split_of",
+            "navverse.serve.benchmark -> navverse.commands.datasets",
+        ),
     ],
     ids=[
         "pipeline-navverse",
@@ -96,6 +102,7 @@ def test_the_tree_keeps_its_layers() -> None:
         "protocol-robot",
         "osm-street-life",
         "geometry-street-life",
+        "serve-commands",
     ],
 )
 def test_an_import_across_the_layers_breaks_a_contract(

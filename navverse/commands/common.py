@@ -74,7 +74,7 @@ def console_table(console, **options: Any):
 MINI = "episodes/navverse-mini/v2.2"
 """The default dataset (``make episodes``), in the examples of ``--help``."""
 
-OUTDOOR = "episodes/navverse-outdoor/v1.0"
+OUTDOOR = "episodes/navverse-outdoor/v1.1"
 """The outdoor dataset (``navverse build navverse-outdoor``), in the examples of ``--help``."""
 
 DATASET_HELP = "a dataset version, episodes/<name>/v<version> (or episodes/<name>: the newest)"

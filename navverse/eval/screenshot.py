@@ -1,8 +1,11 @@
-"""Screenshots of a page (an evaluation report) in headless Chromium, with the page's console errors.
+"""Screenshots of a page (an evaluation report) in headless Chromium, with the page's console errors,
+and the DOM of a page once its scripts ran.
 
 :func:`screenshot_report` runs Chromium with a throw-away profile and no network services, writes the
 PNG and returns the console errors Chromium logged; ``scripts/report_screenshot.py`` is its command
-line, and the report tests use it to check that ``report.html`` opens cleanly.
+line, and the report tests use it to check that ``report.html`` opens cleanly. :func:`page_dom` loads a
+page (a file or a URL, e.g. the evaluation server's leaderboard) the same way and returns its DOM as
+serialised after load (``--dump-dom``) with the console errors.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ from pathlib import Path
 
 from navverse.errors import NavverseError
 
-__all__ = ["BROWSERS", "ScreenshotError", "find_browser", "screenshot_report"]
+__all__ = ["BROWSERS", "ScreenshotError", "find_browser", "page_dom", "screenshot_report"]
 
 BROWSERS = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
 """Browser executables looked for on ``PATH``, in this order."""
@@ -43,6 +46,81 @@ def find_browser() -> str | None:
         if found is not None:
             return found
     return None
+
+
+def _run_browser(
+    target: str, flags: list[str], *, timeout: float, browser: str | None
+) -> tuple[str, subprocess.Popen, str, str]:
+    """Run the headless browser on `target` (a URI) with `flags`, in a throw-away profile: the
+    executable, the ended process, its stdout and stderr; a ScreenshotError if there is no browser or
+    it does not end within `timeout` s (it and its helpers are killed)."""
+    executable = browser or find_browser()
+    if executable is None:
+        raise ScreenshotError(
+            f"no headless browser found on PATH (looked for {', '.join(BROWSERS)}); on Debian install "
+            "it with 'apt-get install chromium' (scripts/system-deps.sh does)"
+        )
+    with tempfile.TemporaryDirectory(prefix="navverse-chromium-", ignore_cleanup_errors=True) as profile:
+        command = [executable, *_FLAGS, f"--user-data-dir={profile}", *flags, target]
+        try:
+            process = subprocess.Popen(
+                command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
+                start_new_session=True,
+            )  # fmt: skip
+        except OSError as exc:
+            raise ScreenshotError(f"cannot run the browser {executable}: {exc.strerror or exc}") from None
+        try:
+            stdout, stderr = process.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            os.killpg(process.pid, signal.SIGKILL)  # the browser's own process group: it and its helpers
+            process.communicate()
+            raise ScreenshotError(
+                f"{executable} did not finish rendering {target} within {timeout:g} s"
+            ) from None
+        finally:
+            if process.poll() is None:
+                os.killpg(process.pid, signal.SIGKILL)
+                process.wait()
+    return executable, process, stdout, stderr
+
+
+def page_dom(
+    page: str | os.PathLike[str], *, timeout: float = 120.0, browser: str | None = None
+) -> tuple[str, list[str]]:
+    """Load a page in headless Chromium and return its DOM once loaded (its scripts ran) and its console
+    errors.
+
+    Parameters
+    ----------
+    page : str or path
+        A URL (``http://...``, ``file://...``) or an HTML file.
+    timeout : float
+        Seconds before the browser is stopped.
+    browser : str, optional
+        The browser executable; by default :func:`find_browser`.
+
+    Returns
+    -------
+    tuple of (str, list of str)
+        The serialised DOM (``--dump-dom``), and Chromium's stderr lines reporting console errors.
+
+    Raises
+    ------
+    ScreenshotError
+        If no browser is found, it times out, or it prints no DOM (with its last stderr lines).
+    """
+    text = os.fspath(page)
+    target = text if "://" in text else Path(text).resolve().as_uri()
+    executable, process, stdout, stderr = _run_browser(
+        target, ["--dump-dom"], timeout=timeout, browser=browser
+    )
+    if "<html" not in stdout.lower():
+        tail = "\n  ".join(stderr.splitlines()[-8:])
+        raise ScreenshotError(
+            f"{executable} printed no DOM of {target} (exit status {process.returncode}); its last output:\n"
+            f"  {tail}"
+        )
+    return stdout, [line for line in stderr.splitlines() if _CONSOLE_ERROR.search(line)]
 
 
 def screenshot_report(
@@ -83,38 +161,10 @@ def screenshot_report(
     png = Path(png_path).resolve()
     if not page.is_file():
         raise ScreenshotError(f"{page} does not exist")
-    executable = browser or find_browser()
-    if executable is None:
-        raise ScreenshotError(
-            f"no headless browser found on PATH (looked for {', '.join(BROWSERS)}); on Debian install "
-            "it with 'apt-get install chromium' (scripts/system-deps.sh does)"
-        )
     png.parent.mkdir(parents=True, exist_ok=True)
     png.unlink(missing_ok=True)
-    with tempfile.TemporaryDirectory(prefix="navverse-chromium-", ignore_cleanup_errors=True) as profile:
-        command = [
-            executable, *_FLAGS, f"--user-data-dir={profile}", f"--screenshot={png}",
-            f"--window-size={int(width)},{int(height)}", page.as_uri(),
-        ]  # fmt: skip
-        try:
-            process = subprocess.Popen(
-                command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
-                start_new_session=True,
-            )  # fmt: skip
-        except OSError as exc:
-            raise ScreenshotError(f"cannot run the browser {executable}: {exc.strerror or exc}") from None
-        try:
-            stdout, stderr = process.communicate(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            os.killpg(process.pid, signal.SIGKILL)  # the browser's own process group: it and its helpers
-            process.communicate()
-            raise ScreenshotError(
-                f"{executable} did not finish rendering {page} within {timeout:g} s"
-            ) from None
-        finally:
-            if process.poll() is None:
-                os.killpg(process.pid, signal.SIGKILL)
-                process.wait()
+    flags = [f"--screenshot={png}", f"--window-size={int(width)},{int(height)}"]
+    executable, process, stdout, stderr = _run_browser(page.as_uri(), flags, timeout=timeout, browser=browser)
     lines = (stdout + stderr).splitlines()
     if not png.is_file() or png.stat().st_size == 0:
         tail = "\n  ".join(lines[-8:])
