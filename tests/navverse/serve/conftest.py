@@ -162,8 +162,8 @@ def write_benchmark(root: Path, *, private_test: bool = False) -> Bench:
 
 @pytest.fixture(scope="session")
 def bench(tmp_path_factory: pytest.TempPathFactory) -> Bench:
-    """The tiny benchmark, ``test`` public (written once per test process)."""
-    return write_benchmark(tmp_path_factory.mktemp("serve-bench"))
+    """The tiny benchmark, its ``test`` split private (written once per test process)."""
+    return write_benchmark(tmp_path_factory.mktemp("serve-bench"), private_test=True)
 
 
 # ------------------------------------------------------------------------------------------ the server

@@ -55,7 +55,7 @@ def test_a_server_killed_while_scoring_has_its_claims_taken_up_after_a_restart(
 ):
     db = tmp_path / "serve.db"
     tokens = {team: add_token(db, team) for team in ("team0", "team1", "team2")}
-    first = launch(bench, db, tmp_path / "first.log")
+    first = launch(bench, db, tmp_path / "first.log", private=True)
     client = Client(first.url)
     ids = _submit_all(client, tokens, splits=("eval",))
 
@@ -72,7 +72,7 @@ def test_a_server_killed_while_scoring_has_its_claims_taken_up_after_a_restart(
     assert interrupted, "the kill came after the scoring ended: nothing was interrupted"
     assert {(claimed, attempts) for _, claimed, attempts in interrupted} == {(_instance(first), 1)}
 
-    second = launch(bench, db, tmp_path / "second.log")
+    second = launch(bench, db, tmp_path / "second.log", private=True)
     client.url = second.url
     for submission_id, token in zip(ids, tokens.values(), strict=True):
         assert client.wait_done(token, submission_id)["metrics"]["overall"]["all"]["success"] == 1.0
@@ -93,7 +93,7 @@ def test_two_servers_on_one_database_score_each_submission_once(
 ):
     db = tmp_path / "serve.db"
     tokens = {team: add_token(db, team) for team in ("team0", "team1", "team2")}
-    servers = [launch(bench, db, tmp_path / f"server{k}.log") for k in range(2)]
+    servers = [launch(bench, db, tmp_path / f"server{k}.log", private=True) for k in range(2)]
     clients = [Client(server.url) for server in servers]
     ids = []
     for split in ("eval", "test"):  # each team posts to both servers, in turn
