@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from navverse.dataset import FORMAT_VERSION, Dataset, DatasetError, built_version, read_json_gz
+from navverse.dataset import PUBLIC_FORMAT_VERSION, Dataset, DatasetError, built_version, read_json_gz
 from navverse.episodes import files
 from navverse.episodes.inspect import check_bounds, replay
 from navverse.episodes.verification import REASONS
@@ -40,7 +40,11 @@ def _digests(root: Path) -> dict[str, str]:
 
 def test_the_dataset_has_scene_disjoint_splits_counts_and_checksums(built: Built, dataset: Dataset):
     manifest = dataset.manifest
-    assert manifest.format_version == FORMAT_VERSION and manifest.version == "1.0" and manifest.name == "tiny"
+    assert (
+        manifest.format_version == PUBLIC_FORMAT_VERSION
+        and manifest.version == "1.0"
+        and manifest.name == "tiny"
+    )
     assert dataset.root.parts[-2:] == ("tiny", "v1.0")
     assert manifest.splits == {"train": ["apartment-s0"], "eval": ["apartment-s1"]}
     assert set(manifest.scene_hashes) == {"apartment-s0", "apartment-s1"}
@@ -141,7 +145,9 @@ def test_a_wrong_format_version_is_refused(dataset: Dataset, tmp_path: Path):
     shutil.copytree(dataset.root, copy)
     manifest = copy / "manifest.json"
     manifest.write_text(
-        manifest.read_text().replace(f'"format_version": "{FORMAT_VERSION}"', '"format_version": "9.0"')
+        manifest.read_text().replace(
+            f'"format_version": "{PUBLIC_FORMAT_VERSION}"', '"format_version": "9.0"'
+        )
     )
     with pytest.raises(DatasetError, match=r"format 9\.0"):
         Dataset(copy)
@@ -240,7 +246,9 @@ def test_dataset_commands_refuse_bad_datasets_cleanly(dataset: Dataset, tmp_path
     elif problem == "format":
         manifest = copy / "manifest.json"
         manifest.write_text(
-            manifest.read_text().replace(f'"format_version": "{FORMAT_VERSION}"', '"format_version": "2.0"')
+            manifest.read_text().replace(
+                f'"format_version": "{PUBLIC_FORMAT_VERSION}"', '"format_version": "2.0"'
+            )
         )
         message = "has dataset format 2.0"
     elif problem == "tampered":
