@@ -12,10 +12,15 @@
    done), polling each submission's status with its owner's token, sampling the resident memory of the
    server and of its worker processes every half second.
 5. Printed: accepted and refused uploads, the p50 / p95 / max upload latency, submissions scored per
-   minute (from the first acceptance), the peak RSS of the server and of its largest worker and of all
-   together; then the checks: every accepted submission has its row and its file in the store
-   (``lost``), and no submission was scored more than once (``scored twice``: rows of the database's
-   ``scorings`` table per submission, and claims of it by a scoring worker, ``attempts``).
+   minute (from the first upload, and between the first and the last scoring: the pace once the
+   scenes' fields are cached, which a fresh cache spends its first scorings on), the peak RSS of
+   the server, of its largest worker and of all together; then the checks: every accepted
+   submission has its row and its file in the store (``lost``), and no submission was scored more
+   than once (``scored twice``: rows of the database's ``scorings`` table per submission, and claims
+   of it by a scoring worker, ``attempts``).
+6. The peer, in the same run on the same submission: ``navverse eval`` scoring it once from the
+   command line (``--pictures 0``, the fields cached by the server's scorings), in submissions per
+   minute; printed beside the server's pace, and their ratio.
 
 Run ``python bench/serve_load.py --dataset episodes/navverse-full/v1.0 --scenes DIR`` (``--scenes``
 where its scenes are built, or ``$NAVVERSE_SCENES``). Timings are measurements, never assertions;
@@ -156,6 +161,7 @@ def check_store(db: Path, store: Path, accepted: Sequence[str]) -> dict[str, Any
     """Lost and scored-twice counts, read from the database (read-only) and the store."""
     con = sqlite3.connect(f"file:{db}?mode=ro", uri=True)
     rows = {r[0]: r for r in con.execute("SELECT id, file, status, attempts FROM submissions")}
+    times = sorted(t for (t,) in con.execute("SELECT scored_at FROM scorings"))
     scorings: dict[str, int] = {}
     for (submission_id,) in con.execute("SELECT submission_id FROM scorings"):
         scorings[submission_id] = scorings.get(submission_id, 0) + 1
@@ -167,7 +173,22 @@ def check_store(db: Path, store: Path, accepted: Sequence[str]) -> dict[str, Any
         "claimed_more_than_once": sum(1 for r in rows.values() if (r[3] or 0) > 1),
         "done": sum(1 for r in rows.values() if r[2] == "done"),
         "failed": sum(1 for r in rows.values() if r[2] == "failed"),
+        # Between the first and the last scoring: the pace once the scenes' fields are cached.
+        "steady_per_minute": 60.0 * (len(times) - 1) / (times[-1] - times[0]) if len(times) > 2 else None,
     }
+
+
+def time_eval(args: argparse.Namespace, submission: Path, out: Path) -> float:
+    """Seconds ``navverse eval`` takes to score `submission` once (no pictures)."""
+    command = [
+        str(Path(sys.executable).with_name("navverse")), "eval", "--dataset", args.dataset, "--split",
+        args.split, "--submission", str(submission), "--out", str(out), "--pictures", "0",
+    ]  # fmt: skip
+    for folder in args.scenes:
+        command += ["--scenes", folder]
+    started = time.perf_counter()
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return time.perf_counter() - started
 
 
 def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
@@ -244,6 +265,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             server.wait(timeout=60)
             log.close()
         checks = check_store(db, store, list(accepted.values()))
+        peer_seconds = time_eval(args, body_path, work / "eval-out")
     scored = checks["done"] + checks["failed"]
     result = {
         "machine": {"cpus": os.cpu_count(), "load": os.getloadavg(), "python": platform.python_version()},
@@ -259,6 +281,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         "scored": scored,
         "watched_seconds": watched,
         "scored_per_minute": 60.0 * scored / watched if watched else None,
+        "peer_eval_seconds": peer_seconds,
+        "peer_per_minute": 60.0 / peer_seconds,
         "peak_rss_mb": {
             "server": memory.server / 2**20,
             "worker": memory.worker / 2**20,
@@ -275,7 +299,12 @@ def main(argv: Sequence[str] | None = None) -> int:
          f"{result['latency_p50_s']:.2f} / {result['latency_p95_s']:.2f} / {result['latency_max_s']:.2f} s"),
         ("all uploads answered in", f"{uploaded:.1f} s"),
         ("scored (done or failed)", f"{scored} of {len(accepted)} in {watched:.0f} s"),
-        ("scored per minute", f"{result['scored_per_minute']:.2f}"),
+        ("scored per minute (from the first upload)", f"{result['scored_per_minute']:.2f}"),
+        ("scored per minute (first to last scoring)", "-" if checks["steady_per_minute"] is None
+         else f"{checks['steady_per_minute']:.2f}"),
+        ("peer: navverse eval, one at a time, per minute", f"{60.0 / peer_seconds:.2f}"),
+        ("server (first to last scoring) / peer", "-" if checks["steady_per_minute"] is None
+         else f"{checks['steady_per_minute'] * peer_seconds / 60.0:.2f}x"),
         ("peak RSS server / largest worker / all", "{server:.0f} / {worker:.0f} / {all:.0f} MB".format(
             **result["peak_rss_mb"])),
         ("lost", str(checks["lost"])),
