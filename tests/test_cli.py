@@ -34,6 +34,10 @@ def copy_recipes(root: Path, *, only: str | None = None) -> Path:
     joined by ``|``), only the scene recipes it matches, and no dataset (its scenes are gone)."""
     shutil.copytree(REPO / "recipes", root / "recipes")
     shutil.copytree(REPO / "data" / "raw", root / "data" / "raw")  # the files recipes read
+    for manifest in (REPO / "episodes").glob("*/v*/manifest.json"):  # a published release recipes check
+        target = root / manifest.relative_to(REPO)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(manifest, target)
     if only is not None:
         for path in (root / "recipes" / "scenes").rglob("*.yaml"):
             if not any(path.match(pattern) for pattern in only.split("|")):
