@@ -44,14 +44,8 @@ def open_dataset(args: argparse.Namespace):
     beside it when they are there (a NavverseError when ``--private`` is given for a dataset without a
     private split)."""
     from navverse.dataset import local_dataset
-    from navverse.errors import NavverseError
 
     dataset = local_dataset(args.dataset, private=args.private)
-    if args.private is not None and not dataset.private_splits:
-        raise NavverseError(
-            f"--private {args.private}: {dataset.manifest.name} v{dataset.manifest.version} has no private "
-            "split (its goals are all in the version); leave --private out"
-        )
     dataset.verify()
     return dataset
 

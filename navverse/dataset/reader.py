@@ -56,7 +56,8 @@ class Dataset:
     Raises
     ------
     DatasetError
-        If there is no manifest, it is malformed, or its format version is not readable here.
+        If there is no manifest, it is malformed, its format version is not readable here, or
+        `private` is given for a version without a private split.
     """
 
     def __init__(
@@ -74,6 +75,11 @@ class Dataset:
         if not manifest_path.is_file():
             raise DatasetError(_not_a_version(root))
         self.manifest, self.manifest_sha256 = read_manifest(manifest_path)
+        if private is not None and not self.manifest.private:
+            raise DatasetError(
+                f"--private {private}: {self.manifest.name} v{self.manifest.version} has no private split "
+                "(its goals are all in the version); leave --private out"
+            )
         self.root = root
         self._files: dict[tuple[str, str], EpisodeFile] = {}
         self._rollouts: dict[str, dict[str, Any]] = {}  # rollout files read, by name

@@ -130,19 +130,13 @@ def open_dataset(root: str | os.PathLike[str], *, private: str | os.PathLike[str
 
     Raises
     ------
-    ServeError
-        If `private` is given but the dataset has no private split.
     DatasetError
-        If the version (or its private files) does not match its manifest.
+        If `private` is given but the dataset has no private split, or the version (or its private
+        files) does not match its manifest.
     """
     from navverse.dataset import Dataset
 
     dataset = Dataset(root, private=private)
-    if private is not None and not dataset.private_splits:
-        raise ServeError(
-            f"--private {private}: {dataset.manifest.name} v{dataset.manifest.version} has no private "
-            "split (its goals are all in the version); leave --private out"
-        )
     dataset.verify()
     return dataset
 

@@ -158,6 +158,8 @@ def test_a_dataset_without_a_private_split_keeps_its_format_and_bytes(tmp_path: 
     text = (root / "manifest.json").read_text()
     assert json.loads(text)["format_version"] == PUBLIC_FORMAT_VERSION == "1.2"
     assert "private" not in text and not private_dir(root).exists()
+    with pytest.raises(DatasetError, match=r"--private .* has no private split.*leave --private out"):
+        Dataset(root, private=tmp_path)
 
 
 def test_publishing_puts_the_private_files_beside_the_version_and_merging_keeps_them_private(tmp_path: Path):
