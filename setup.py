@@ -1,9 +1,11 @@
-"""Build hook: compiles navverse.nav's RecastNavigation extension (``navverse.nav._recast``) and the
-Spot model's leg forces (``navverse.sim._legs``).
+"""Build hook: compiles navverse.nav's RecastNavigation extension (``navverse.nav._recast``), the
+Spot model's leg forces (``navverse.sim._legs``) and the camera's packet ray caster
+(``navverse.sim._raycast``).
 
-The extension links against the system RecastNavigation (Debian/Ubuntu package ``librecast-dev``,
-which ``make setup`` installs). Set ``RECAST_INCLUDE_DIR`` / ``RECAST_LIBRARY_DIR`` to use a copy
-installed elsewhere.
+The extensions link against the system RecastNavigation and Embree 3 (Debian/Ubuntu packages
+``librecast-dev`` and ``libembree-dev``, which ``make setup`` installs). Set ``RECAST_INCLUDE_DIR`` /
+``RECAST_LIBRARY_DIR`` (``EMBREE_INCLUDE_DIR`` / ``EMBREE_LIBRARY_DIR``) to use a copy installed
+elsewhere.
 """
 
 import os
@@ -21,18 +23,26 @@ INCLUDE_CANDIDATES = [
 ]
 RECAST_INCLUDE = next((d for d in INCLUDE_CANDIDATES if d and Path(d, "Recast.h").is_file()), None)
 LIBRARY_DIRS = [os.environ["RECAST_LIBRARY_DIR"]] if os.environ.get("RECAST_LIBRARY_DIR") else []
+EMBREE_CANDIDATES = [os.environ.get("EMBREE_INCLUDE_DIR", ""), "/usr/include", "/usr/local/include"]
+EMBREE_INCLUDE = next((d for d in EMBREE_CANDIDATES if d and Path(d, "embree3", "rtcore.h").is_file()), None)
+EMBREE_LIBRARY_DIRS = [os.environ["EMBREE_LIBRARY_DIR"]] if os.environ.get("EMBREE_LIBRARY_DIR") else []
 
 
 class build_ext(_build_ext):  # noqa: N801 - setuptools command name
-    """Fail early, with the fix, when the RecastNavigation headers are missing."""
+    """Fail early, with the fix, when the RecastNavigation or Embree headers are missing."""
 
     def run(self) -> None:
+        missing = []
         if RECAST_INCLUDE is None:
+            missing.append(("RecastNavigation", "Recast.h", INCLUDE_CANDIDATES, "librecast-dev", "RECAST"))
+        if EMBREE_INCLUDE is None:
+            missing.append(("Embree 3", "embree3/rtcore.h", EMBREE_CANDIDATES, "libembree-dev", "EMBREE"))
+        for name, header, candidates, package, variable in missing:
             raise SystemExit(
-                "error: RecastNavigation headers not found (looked for Recast.h in "
-                + ", ".join(d for d in INCLUDE_CANDIDATES if d)
-                + "). Install the system package `librecast-dev` (`make setup` does: "
-                "sudo apt-get install librecast-dev), or set RECAST_INCLUDE_DIR/RECAST_LIBRARY_DIR."
+                f"error: {name} headers not found (looked for {header} in "
+                + ", ".join(d for d in candidates if d)
+                + f"). Install the system package `{package}` (`make setup` does: "
+                f"sudo apt-get install {package}), or set {variable}_INCLUDE_DIR/{variable}_LIBRARY_DIR."
             )
         super().run()
 
@@ -62,4 +72,15 @@ legs = Pybind11Extension(
     extra_compile_args=["-O2", "-ffp-contract=off"],
 )
 
-setup(ext_modules=[ext, legs], cmdclass={"build_ext": build_ext})
+# The camera's ray caster (navverse/sim/raycast.py): Embree picks its SIMD code at run time.
+raycast = Pybind11Extension(
+    "navverse.sim._raycast",
+    sources=[str(Path("navverse") / "sim" / "csrc" / "raycast.cpp")],
+    include_dirs=[EMBREE_INCLUDE or "/usr/include"],
+    library_dirs=EMBREE_LIBRARY_DIRS,
+    libraries=["embree3"],
+    cxx_std=17,
+    extra_compile_args=["-O2"],
+)
+
+setup(ext_modules=[ext, legs, raycast], cmdclass={"build_ext": build_ext})

@@ -17,7 +17,12 @@
    it shows a procedural material (or what is painted on it: windows, doors, markings) or an image
    texture (storefront signs), flat when its face shows only its own colour. Printed per scene: the
    textured share of all hit pixels, and its mean and minimum over views (target: at least 95 %).
-3. ``--figure PATH``: a picture of the first views of each scene, flat beside lit.
+3. The primary ray cast alone, on the city's poses: the camera's packet caster
+   (:class:`~navverse.sim.raycast.TriangleCaster`, Embree, eight rays per traversal) against Open3D's
+   ``RaycastingScene.cast_rays`` (Embree, one ray per traversal; the camera's caster before it) on the
+   same rays and threads; printed: the median milliseconds of each, their ratio and the share of rays
+   that hit the same face.
+4. ``--figure PATH``: a picture of the first views of each scene, flat beside lit.
 
 Run ``python bench/look.py``. Timings are measurements, never assertions; the printed load average
 shows whether other work shared the machine.
@@ -36,6 +41,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import open3d as o3d
 from PIL import Image
 from render import CAMERA_HEIGHT, camera_poses, flat_shading, scene_dir
 from rich.console import Console
@@ -45,6 +51,7 @@ from navverse.errors import NavverseError
 from navverse.look.files import find_look, load_scene_look
 from navverse.scene.directory import read_scene
 from navverse.sim.camera import CameraIntrinsics
+from navverse.sim.raycast import TriangleCaster
 from navverse.sim.render import FLAT_COLOR, NOTHING_HIT, SceneRenderer
 
 FPS_TARGET = 20.0
@@ -108,6 +115,47 @@ def bench_speed(scene_id: str, args: argparse.Namespace, console: Console) -> di
         f"[bold]{scene_id}[/bold]: {len(poses)} poses x {args.repeats} rounds, lit / flat "
         f"{result['ratio']:.2f} (target <= {RATIO_TARGET}), lit {result['lit']['fps']:.1f} frames/s "
         f"(target >= {FPS_TARGET:.0f})",
+        highlight=False,
+    )
+    return result
+
+
+def bench_cast(scene_id: str, args: argparse.Namespace, console: Console) -> dict[str, Any]:
+    """Time the primary ray cast of the city's poses: packets (ours) against Open3D's per-ray cast."""
+    path = scene_dir(scene_id)
+    poses = camera_poses(path, args.frames, args.seed)
+    intrinsics = CameraIntrinsics.from_hfov(args.width, args.height, args.hfov)
+    mesh = read_scene(path).world_mesh(include_objects=True).mesh
+    lo, hi = mesh.bounds()
+    origin = np.round(0.5 * (lo + hi), 3)
+    vertices = (mesh.vertices - origin).astype(np.float32)
+    ours = TriangleCaster(vertices, mesh.faces)
+    peer = o3d.t.geometry.RaycastingScene()
+    peer.add_triangles(o3d.core.Tensor(vertices), o3d.core.Tensor(mesh.faces.astype(np.uint32)))
+    directions = intrinsics.ray_directions().astype(np.float64)
+    times: dict[str, list[float]] = {"packets": [], "open3d": []}
+    same = total = 0
+    for _ in range(args.repeats):
+        for pose in poses:
+            world = directions @ pose[:3, :3].T
+            rays = np.concatenate([np.broadcast_to(pose[:3, 3] - origin, world.shape), world], axis=-1)
+            rays = np.ascontiguousarray(rays, dtype=np.float32)
+            t0 = time.perf_counter()
+            face = ours.cast(rays).face
+            t1 = time.perf_counter()
+            theirs = peer.cast_rays(o3d.core.Tensor.from_numpy(rays))["primitive_ids"].numpy()
+            t2 = time.perf_counter()
+            times["packets"].append(t1 - t0)
+            times["open3d"].append(t2 - t1)
+            same += int((face == theirs).sum())
+            total += face.size
+    result = {name: 1000.0 * float(np.median(values)) for name, values in times.items()}
+    result["ratio"] = result["open3d"] / result["packets"]
+    result["same_face"] = same / max(total, 1)
+    console.print(
+        f"[bold]{scene_id}[/bold] primary cast: packets {result['packets']:.1f} ms, Open3D "
+        f"{result['open3d']:.1f} ms per frame (median): {result['ratio']:.2f}x; "
+        f"{100 * result['same_face']:.4f} % of rays hit the same face",
         highlight=False,
     )
     return result
@@ -222,6 +270,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         scene_dir(scene_id)
     try:
         speed = {args.city: bench_speed(args.city, args, console)}
+        cast = {args.city: bench_cast(args.city, args, console)}
         materials = {s: bench_materials(s, args, console) for s in material_scenes}
         if args.figure is not None:
             write_figure(material_scenes, args, args.figure)
@@ -243,6 +292,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             "benchmark": "look",
             "args": {k: str(v) for k, v in vars(args).items()},
             "speed": speed,
+            "primary_cast": cast,
             "materials": materials,
         }
         args.json.write_text(json.dumps(report, indent=1))

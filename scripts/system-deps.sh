@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Install (or print the command to install) the Debian/Ubuntu packages NavVerse needs.
 #   librecast-dev          RecastNavigation headers and libraries for the navmesh extension
+#   libembree-dev          Embree 3 headers and library for the camera's ray caster
 #   libusb-1.0-0 libudev1  loaded by open3d's wheel
 #   libgl1 libegl1 libx11-6 libgomp1  loaded by open3d's and pybullet's wheels
 #   g++ python3-dev python3-venv make  build the C++ extension and the virtual environment
 #   chromium               headless screenshots of report.html (scripts/report_screenshot.py, its test)
 set -euo pipefail
-PACKAGES=(librecast-dev libusb-1.0-0 libudev1 libgl1 libegl1 libx11-6 libgomp1 g++ make python3-dev python3-venv chromium)
+PACKAGES=(librecast-dev libembree-dev libusb-1.0-0 libudev1 libgl1 libegl1 libx11-6 libgomp1 g++ make python3-dev python3-venv chromium)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

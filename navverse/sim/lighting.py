@@ -16,13 +16,13 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-import open3d as o3d
 
 from navverse.look.rooms import RoomLights
 from navverse.look.settings import LookSettings
 from navverse.look.sky import SunSky, sun_sky
 from navverse.scene.colors import linear_to_srgb
 from navverse.sim import shade_kernels as kernels
+from navverse.sim.raycast import TriangleCaster
 
 __all__ = ["MIDDLE_GREY", "ImageHits", "Lighting"]
 
@@ -63,8 +63,8 @@ class Lighting:
         The scene's rooms and their lamps.
     latitude_deg : float or None
         The scene's latitude (its map origin), if known.
-    raycaster : open3d.t.geometry.RaycastingScene
-        The renderer's ray-casting structure (in the local frame), for shadow rays.
+    caster : TriangleCaster
+        The renderer's ray caster (in the local frame), for shadow rays.
     origin : ndarray, shape (3,)
         World point of the local frame's origin.
     sky : bool
@@ -79,7 +79,7 @@ class Lighting:
         *,
         rooms: RoomLights,
         latitude_deg: float | None,
-        raycaster: o3d.t.geometry.RaycastingScene,
+        caster: TriangleCaster,
         origin: np.ndarray,
         sky: bool,
         threads: int = 0,
@@ -87,7 +87,7 @@ class Lighting:
         self.settings = settings
         self.sun_sky: SunSky = sun_sky(settings, latitude_deg=latitude_deg)
         self.rooms = rooms
-        self._raycaster = raycaster
+        self._caster = caster
         self._origin = np.asarray(origin, dtype=np.float64)
         self._sky = bool(sky)
         self._threads = int(threads)
@@ -245,10 +245,7 @@ class Lighting:
             points, normals, depth, which, np.ascontiguousarray(directions, np.float32)
         )
         tfar = np.inf if not np.isfinite(far) else float(far) * (1.0 - 1e-3)
-        hit = self._raycaster.test_occlusions(
-            o3d.core.Tensor(rays), tnear=0.0, tfar=tfar, nthreads=self._threads
-        )
-        return hit.numpy().astype(bool)
+        return self._caster.occluded(rays, tfar=tfar)
 
     def sky(self, radiance: np.ndarray, pixels: np.ndarray, rays: np.ndarray) -> None:
         """Write the sky's radiance into the `pixels` of `radiance` ``(3, P)`` by the directions of their

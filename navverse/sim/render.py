@@ -1,11 +1,12 @@
 """The robot's camera: RGB, depth, instance and terrain images of a scene, ray-cast on the CPU.
 
 :class:`SceneRenderer` puts every terrain surface (ceilings included: a camera inside a building
-sees them) and every object of a :class:`~navverse.scene.geometry.Scene` into one Open3D
-``RaycastingScene`` (Embree) once, then casts one ray per pixel per frame through the pixel centres
-of a pinhole camera (:class:`~navverse.sim.camera.CameraIntrinsics`). The per-pixel directions are
-computed once; a frame only rotates and translates them. Rays are cast in a local frame centred on the
-scene, so float32 keeps sub-millimetre precision far from the world origin.
+sees them) and every object of a :class:`~navverse.scene.geometry.Scene` into one
+:class:`~navverse.sim.raycast.TriangleCaster` (Embree, rays in packets of eight) once, then casts one
+ray per pixel per frame through the pixel centres of a pinhole camera
+(:class:`~navverse.sim.camera.CameraIntrinsics`). The per-pixel directions are computed once; a frame
+only rotates and translates them. Rays are cast in a local frame centred on the scene, so float32
+keeps sub-millimetre precision far from the world origin.
 
 Each hit pixel takes the colour of its face (objects: their per-face colours, or their category colour
 when the mesh has none; terrain: the colour of its class, dark ones lifted a little) or, on a textured
@@ -34,7 +35,6 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-import open3d as o3d
 from numpy.typing import ArrayLike
 
 from navverse.look.materials import MATERIALS, srgb_to_linear
@@ -46,6 +46,7 @@ from navverse.scene_types import scene_profile
 from navverse.sim import shade_kernels as kernels
 from navverse.sim.camera import CameraIntrinsics, check_pose
 from navverse.sim.lighting import ImageHits, Lighting
+from navverse.sim.raycast import TriangleCaster
 from navverse.sim.tile_sampler import TileSampler
 
 __all__ = [
@@ -275,12 +276,9 @@ class SceneRenderer:
         light = np.asarray(shading.light, dtype=np.float64)
         self._n_dot_light = (normals.astype(np.float64) @ (light / np.linalg.norm(light))).astype(np.float32)
 
-        self._raycaster = o3d.t.geometry.RaycastingScene()
-        if num_faces:
-            self._raycaster.add_triangles(
-                o3d.core.Tensor((mesh.vertices - self._origin).astype(np.float32)),
-                o3d.core.Tensor(mesh.faces.astype(np.uint32)),
-            )
+        self._caster = TriangleCaster(
+            (mesh.vertices - self._origin).astype(np.float32), mesh.faces, threads=self._threads
+        )
 
         # Camera-frame ray directions (optical z = 1) and their inverse lengths, once per renderer.
         dirs = intrinsics.ray_directions()
@@ -327,7 +325,7 @@ class SceneRenderer:
             look.settings,
             rooms=look.rooms,
             latitude_deg=self._latitude,
-            raycaster=self._raycaster,
+            caster=self._caster,
             origin=self._origin,
             sky=self._sky_shown,
             threads=self._threads,
@@ -417,8 +415,8 @@ class SceneRenderer:
             self._rays,
             parts=self._threads,
         )
-        result = self._raycaster.cast_rays(o3d.core.Tensor.from_numpy(self._rays), nthreads=self._threads)
-        return result["t_hit"].numpy(), result["primitive_ids"].numpy(), result["primitive_uvs"].numpy()
+        hits = self._caster.cast(self._rays)
+        return hits.t_hit, hits.face, hits.barycentric
 
     def _depth(self, t_hit: np.ndarray, face: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The z-depth image of a cast (0 where nothing was hit within the depth range) and the mask of
