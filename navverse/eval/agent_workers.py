@@ -80,6 +80,8 @@ class RunSettings:
 
     agent: str
     dataset: str
+    """The dataset by name and manifest checksum (not by path: a run resumes wherever the version is read
+    from, and not over a changed version)."""
     dataset_version: str
     split: str
     embodiment: str

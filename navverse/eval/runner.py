@@ -295,7 +295,7 @@ def run_agent(
     tasks = dataset.tasks(split)
     settings = RunSettings(
         agent=agent,
-        dataset=str(Path(dataset.root).resolve()),
+        dataset=f"{dataset.manifest.name} (manifest sha256 {dataset.manifest_sha256})",
         dataset_version=dataset.manifest.version,
         split=split,
         embodiment=embodiment,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import gzip
 import json
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -94,6 +95,10 @@ def test_a_failing_agent_is_reported_and_the_run_resumes_once_it_is_fixed(
     assert sorted(kept_ids) == sorted(set(ids) - after) and ids[0] in kept_ids
     kept = len(kept_ids)
     marker.unlink()
+    # The run resumes from the same version read from elsewhere (a run is of a dataset, not of a path).
+    elsewhere = tmp_path / "copy" / Path(dataset.root).name
+    shutil.copytree(dataset.root, elsewhere)
+    args = tuple(str(elsewhere) if a == str(dataset.root) else a for a in args)
     resumed = navverse_command(root, *args)
     assert resumed.returncode == 0, resumed.stderr
     assert f"({kept} resumed from an interrupted run)" in " ".join(resumed.stdout.split())
