@@ -1,10 +1,10 @@
-"""The feasibility diagnostic (the paper's ``tab:feasibility``): SR of the reference agents by task and
-scene type.
+"""The feasibility diagnostic (the paper's ``tab:feasibility``): SR and SPL of the reference agents by
+task and scene type.
 
 Each agent (``oracle``: the reference path; ``gt_goal``: a navmesh plan to the closest goal;
 ``frontier``: exploration with depth and the semantic sensor; ``random``: random discrete actions) runs
 over a split of a dataset with ``navverse run-agent``'s runner, its submission is scored, and the table
-gives SR (and N) per task × scene type and agent::
+gives SR, SPL (and N) per task × scene type and agent::
 
     python scripts/feasibility.py --dataset episodes/navverse-mini/v2.2 --split eval --out feasibility
     python scripts/feasibility.py --dataset ... --agents oracle random --limit 30   # a quicker look
@@ -52,7 +52,8 @@ def run_and_score(
 
 
 def feasibility_rows(results: dict[str, EvalResult]) -> list[dict]:
-    """One row per task × scene type: per agent its SR and N (None where the agent ran no such episode)."""
+    """One row per task × scene type: per agent its SR, SPL and N (None where the agent ran no such
+    episode)."""
     keys = sorted(
         {k for r in results.values() for k in r.groups.get("task_scene_type", {})},
         key=lambda k: tuple(_ORDER.get(p, 9) for p in k.split("/")),
@@ -65,17 +66,26 @@ def feasibility_rows(results: dict[str, EvalResult]) -> list[dict]:
             group = (
                 result.groups["overall"]["all"] if key == "all" else result.groups["task_scene_type"].get(key)
             )
-            row[agent] = None if group is None else {"sr": group["success"], "n": group["episodes"]}
+            row[agent] = (
+                None
+                if group is None
+                else {"sr": group["success"], "spl": group["spl"], "n": group["episodes"]}
+            )
         rows.append(row)
     return rows
 
 
+def _sr_spl(cell: dict) -> str:
+    """A cell's SR and SPL in percent."""
+    return f"{100 * cell['sr']:.1f} / {100 * cell['spl']:.1f}"
+
+
 def markdown(rows: list[dict], agents: Sequence[str]) -> str:
-    """The table in Markdown: SR (%) with N per agent."""
-    lines = ["| task | scene type | " + " | ".join(f"{a} SR (%)" for a in agents) + " |"]
+    """The table in Markdown: SR / SPL (%) with N per agent."""
+    lines = ["| task | scene type | " + " | ".join(f"{a} SR / SPL (%)" for a in agents) + " |"]
     lines.append("|" + "---|" * (2 + len(agents)))
     for row in rows:
-        cells = ["–" if row[a] is None else f"{100 * row[a]['sr']:.1f} (n={row[a]['n']})" for a in agents]
+        cells = ["–" if row[a] is None else f"{_sr_spl(row[a])} (n={row[a]['n']})" for a in agents]
         lines.append(f"| {row['task']} | {row['scene_type']} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
@@ -122,13 +132,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         Console(stderr=True).print(f"error: {exc}", style="red", markup=False, highlight=False)
         return 1
     rows = feasibility_rows(results)
-    table = Table(
-        title=f"feasibility: SR (%) on {dataset.manifest.name} v{dataset.manifest.version} / {args.split}"
-    )
+    name = f"{dataset.manifest.name} v{dataset.manifest.version}"
+    table = Table(title=f"feasibility: SR / SPL (%) on {name} / {args.split}")
     for column in ("task", "scene type", *args.agents):
         table.add_column(column, justify="left" if column in ("task", "scene type") else "right")
     for row in rows:
-        cells = ("–" if row[a] is None else f"{100 * row[a]['sr']:.1f} ({row[a]['n']})" for a in args.agents)
+        cells = ("–" if row[a] is None else f"{_sr_spl(row[a])} ({row[a]['n']})" for a in args.agents)
         table.add_row(row["task"], row["scene_type"], *cells)
     console.print(table)
     (out / "feasibility.json").write_text(json.dumps(rows, indent=2) + "\n")
