@@ -72,6 +72,26 @@ legs = Pybind11Extension(
     extra_compile_args=["-O2", "-ffp-contract=off"],
 )
 
+# Pedestrians on the navmesh (navverse/dynamics/crowd.py): DetourCrowd over a copy of a navmesh read by
+# the navmesh extension's own code. A module of its own, so that changing it leaves the bytes of
+# navverse.nav._recast, which key every navmesh and episode artifact, as they are.
+DYNAMICS = Path("navverse") / "dynamics"
+crowd = Pybind11Extension(
+    "navverse.dynamics._crowd",
+    sources=[
+        str(DYNAMICS / "_crowd.cpp"),
+        str(DYNAMICS / "csrc" / "crowd.cpp"),
+        str(NAV / "csrc" / "navmesh.cpp"),
+        str(NAV / "csrc" / "polyanya.cpp"),
+    ],
+    depends=[str(DYNAMICS / "csrc" / "crowd.h"), str(NAV / "csrc" / "navmesh.h")],
+    include_dirs=[RECAST_INCLUDE or "/usr/include/recastnavigation"],
+    library_dirs=LIBRARY_DIRS,
+    libraries=["Recast", "Detour", "DetourCrowd"],
+    cxx_std=17,
+    extra_compile_args=["-O2"],
+)
+
 # The camera's ray caster (navverse/sim/raycast.py): Embree picks its SIMD code at run time.
 raycast = Pybind11Extension(
     "navverse.sim._raycast",
@@ -83,4 +103,4 @@ raycast = Pybind11Extension(
     extra_compile_args=["-O2"],
 )
 
-setup(ext_modules=[ext, legs, raycast], cmdclass={"build_ext": build_ext})
+setup(ext_modules=[ext, legs, raycast, crowd], cmdclass={"build_ext": build_ext})

@@ -19,14 +19,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from navverse.extensions import missing_extension
+
 try:
     from navverse.sim import _raycast
 except ImportError as exc:  # pragma: no cover - depends on the installation
-    raise ImportError(
-        "navverse.sim's ray-casting extension (navverse.sim._raycast) is not built or cannot load the "
-        "Embree library: install the system package libembree-dev, then reinstall navverse (`make "
-        "setup` does both)"
-    ) from exc
+    raise missing_extension("navverse.sim._raycast", library="Embree", package="libembree-dev") from exc
 
 __all__ = ["NO_FACE", "RayHits", "TriangleCaster"]
 

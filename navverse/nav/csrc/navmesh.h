@@ -105,6 +105,9 @@ class NavMesh {
   NavMesh(const NavMesh&) = delete;
   NavMesh& operator=(const NavMesh&) = delete;
 
+  // The Detour mesh itself, for a user that keeps its own copy (a Crowd sets its polygon flags).
+  dtNavMesh* detour() { return nav_; }
+
   // --- serialization: Detour tile data plus their references ---
   std::string toBytes() const;
   static NavMesh* fromBytes(const std::string& blob);
