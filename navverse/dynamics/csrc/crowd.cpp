@@ -1,8 +1,13 @@
 #include "crowd.h"
 
+#include <DetourAlloc.h>
 #include <DetourCommon.h>
+#include <dlfcn.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <new>
 
 namespace navverse {
@@ -14,11 +19,42 @@ constexpr double kVerticalReach = 2.0;                // half height of the box 
 
 bool finite(const Vec3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
 
+// RecastNavigation 1.5.1 (the Debian/Ubuntu package) asserts `npath < m_maxPath` when DetourCrowd
+// gives an agent a corridor of exactly the longest length it allows, which the corridor then holds
+// within its buffer (later releases assert `<=`): a long walk across a city aborted the process.
+// Where the library was built with its assertions, this handler lets that one pass and aborts on any
+// other, as assert() does.
+void detourAssertFailed(const char* expression, const char* file, int line) {
+  if (std::strcmp(expression, "npath < m_maxPath") == 0) return;
+  std::fprintf(stderr, "%s:%d: Detour assertion failed: %s\n", file, line, expression);
+  std::abort();
+}
+
+using AssertFailFunc = void(const char*, const char*, int);
+
+// Installs the handler through the library's own hook, found at run time: a library built without
+// assertions (NDEBUG) has no hook and needs none.
+void installAssertHandler() {
+  static const bool installed = [] {
+    Dl_info info;
+    if (dladdr(reinterpret_cast<void*>(&dtAllocNavMesh), &info) == 0 || info.dli_fname == nullptr) return false;
+    void* library = dlopen(info.dli_fname, RTLD_NOW | RTLD_NOLOAD);
+    if (library == nullptr) return false;
+    using Setter = void (*)(AssertFailFunc*);
+    auto set = reinterpret_cast<Setter>(dlsym(library, "_Z21dtAssertFailSetCustomPFvPKcS0_iE"));
+    if (set != nullptr) set(&detourAssertFailed);
+    dlclose(library);
+    return set != nullptr;
+  }();
+  (void)installed;
+}
+
 }  // namespace
 
 Crowd::Crowd(const std::string& navmesh, int maxAgents, double maxAgentRadius,
              const std::vector<std::vector<int>>& excluded, const std::vector<std::vector<double>>& costs)
     : mesh_(NavMesh::fromBytes(navmesh)) {
+  installAssertHandler();
   const int filters = static_cast<int>(excluded.size());
   if (filters < 1 || filters > 15) throw NavError("a crowd needs 1 to 15 filters");
   if (!costs.empty() && static_cast<int>(costs.size()) != filters)

@@ -145,3 +145,40 @@ def test_a_navmesh_without_area_names_cannot_keep_walkers_off_roads(street: nav.
     with pytest.raises(ValueError, match="names no areas"):
         Crowd(unnamed, [PEDESTRIAN], max_agents=2)
     Crowd(unnamed, [WalkerKind(name="anyone")], max_agents=2)
+
+
+LONG_WALK = """
+import numpy as np
+from navverse import nav
+from navverse.dynamics.crowd import Crowd, WalkerKind
+
+# A 1.2 km strip whose area changes every 2 m: a walk along it crosses ~600 polygons, more than the
+# longest corridor DetourCrowd keeps (256).
+vertices, faces, areas = [], [], []
+for i in range(600):
+    x = 2.0 * i
+    start = len(vertices)
+    vertices += [(x, 0.0, 0.0), (x + 2.0, 0.0, 0.0), (x + 2.0, 3.0, 0.0), (x, 3.0, 0.0)]
+    faces += [(start, start + 1, start + 2), (start, start + 2, start + 3)]
+    areas += [1 + i % 2] * 2
+finder = nav.build(np.array(vertices), np.array(faces), nav.OUTDOOR, area_types=np.array(areas))
+crowd = Crowd(finder, [WalkerKind(name="walker", max_speed=3.0)], max_agents=1)
+agent = crowd.add((2.0, 1.5, 0.0), "walker")
+assert crowd.walk_to(agent, (1195.0, 1.5, 0.0))
+for _ in range(200):
+    crowd.step(0.1)
+x = crowd.state().positions[agent][0]
+assert x > 40.0, x
+print("walked", round(x, 1))
+"""
+
+
+def test_a_walk_longer_than_a_corridor_holds_does_not_abort(tmp_path) -> None:
+    import subprocess
+    import sys
+
+    script = tmp_path / "long_walk.py"
+    script.write_text(LONG_WALK)
+    result = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr[-2000:]
+    assert "walked" in result.stdout
