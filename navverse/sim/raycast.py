@@ -10,6 +10,11 @@ fixed by its index, so results do not depend on the thread count.
 
 Rays are ``(..., 6)`` float32 arrays: origin then direction (not necessarily unit length); a ray's hit
 parameter ``t`` is in units of its direction's length, as in Open3D's ``RaycastingScene``.
+
+Besides its static mesh, a caster can show moving bodies (people, cars): shapes added once
+(:meth:`TriangleCaster.add_shape`) and instances of them placed anew each frame
+(:meth:`TriangleCaster.set_instances`). Each shape keeps its own acceleration structure; a frame only
+rebuilds the small one over the instances, never the static mesh's.
 """
 
 from __future__ import annotations
@@ -44,11 +49,15 @@ class RayHits:
         Index of the triangle hit (:data:`NO_FACE`: none).
     barycentric : ndarray of float32, shape (..., 2)
         ``(u, v)`` of the hit in its triangle: hit = ``(1-u-v) p0 + u p1 + v p2`` (0 where none).
+    instance : ndarray of int32
+        The instance hit (:meth:`TriangleCaster.set_instances` order; ``face`` is then a face of its
+        shape), -1 for the static mesh or no hit.
     """
 
     t_hit: np.ndarray
     face: np.ndarray
     barycentric: np.ndarray
+    instance: np.ndarray
 
 
 class TriangleCaster:
@@ -79,8 +88,40 @@ class TriangleCaster:
 
     @property
     def num_faces(self) -> int:
-        """How many triangles the mesh has."""
+        """How many triangles the static mesh has."""
         return int(self._caster.num_faces)
+
+    @property
+    def num_instances(self) -> int:
+        """How many instances the last :meth:`set_instances` placed."""
+        return int(self._caster.num_instances)
+
+    def add_shape(self, vertices: ArrayLike, faces: ArrayLike) -> int:
+        """Add a mesh that instances can show, in its own frame; returns its index.
+
+        Raises
+        ------
+        ValueError
+            If the arrays are not ``(N, 3)`` and ``(M, 3)`` or a face names a vertex that does not exist.
+        """
+        triangles = np.asarray(faces)
+        if triangles.size and triangles.min() < 0:
+            raise ValueError("faces name negative vertex indices")
+        points = np.ascontiguousarray(vertices, dtype=np.float32)
+        return int(self._caster.add_shape(points, np.ascontiguousarray(triangles, dtype=np.uint32)))
+
+    def set_instances(self, shapes: ArrayLike, transforms: ArrayLike) -> None:
+        """Show these instances from now on (replacing the last ones): shape ``shapes[i]`` placed by the
+        rigid transform ``transforms[i]`` (4 x 4, shape frame to the caster's frame).
+
+        Raises
+        ------
+        ValueError
+            If a shape index is unknown or the transforms are not one 4 x 4 per shape.
+        """
+        ids = np.ascontiguousarray(shapes, dtype=np.int32).reshape(-1)
+        matrices = np.ascontiguousarray(transforms, dtype=np.float32).reshape(-1)
+        self._caster.set_instances(ids, matrices)
 
     def cast(self, rays: np.ndarray) -> RayHits:
         """The first hit of every ray.
@@ -100,11 +141,12 @@ class TriangleCaster:
         t_hit = np.empty(shape, dtype=np.float32)
         face = np.empty(shape, dtype=np.uint32)
         barycentric = np.empty((*shape, 2), dtype=np.float32)
-        self._caster.cast(rays, t_hit, face, barycentric, self._threads)
-        return RayHits(t_hit, face, barycentric)
+        instance = np.empty(shape, dtype=np.int32)
+        self._caster.cast(rays, t_hit, face, barycentric, instance, self._threads)
+        return RayHits(t_hit, face, barycentric, instance)
 
     def occluded(self, rays: np.ndarray, *, tfar: float = np.inf) -> np.ndarray:
-        """Whether each ray meets a triangle at a parameter in ``[0, tfar]``.
+        """Whether each ray meets a triangle (of the mesh or an instance) at a parameter in ``[0, tfar]``.
 
         Parameters
         ----------

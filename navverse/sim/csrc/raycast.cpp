@@ -105,88 +105,170 @@ std::string device_error(RTCDevice device) {
   }
 }
 
+// A triangle mesh copied into an Embree scene of its own (vertices padded: Embree may read 16 bytes at
+// the last one).
+struct MeshScene {
+  std::vector<float> vertices;
+  std::vector<uint32_t> faces;
+  RTCScene scene = nullptr;
+};
+
+void build_mesh_scene(RTCDevice device, const FloatArray& vertices, const IndexArray& faces, MeshScene* out) {
+  if (vertices.ndim() != 2 || vertices.shape(1) != 3) throw std::invalid_argument("vertices must be (N, 3)");
+  if (faces.ndim() != 2 || faces.shape(1) != 3) throw std::invalid_argument("faces must be (M, 3)");
+  const int64_t num_vertices = vertices.shape(0);
+  const uint32_t* index = faces.data();
+  for (int64_t i = 0; i < faces.size(); ++i) {
+    if (index[i] >= num_vertices) throw std::invalid_argument("a face names a vertex that does not exist");
+  }
+  out->vertices.assign(vertices.data(), vertices.data() + vertices.size());
+  out->vertices.resize(out->vertices.size() + 4, 0.0f);
+  out->faces.assign(index, index + faces.size());
+  out->scene = rtcNewScene(device);
+  rtcSetSceneBuildQuality(out->scene, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneFlags(out->scene, RTC_SCENE_FLAG_ROBUST);  // no ray slips between two triangles of an edge
+  if (faces.shape(0) > 0) {
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, out->vertices.data(), 0,
+                               3 * sizeof(float), static_cast<size_t>(num_vertices));
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, out->faces.data(), 0,
+                               3 * sizeof(uint32_t), static_cast<size_t>(faces.shape(0)));
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(out->scene, geometry);
+    rtcReleaseGeometry(geometry);
+  }
+  rtcCommitScene(out->scene);
+}
+
 class TriangleCaster {
  public:
-  TriangleCaster(FloatArray vertices, IndexArray faces) : vertices_(vertices), faces_(faces) {
-    if (vertices_.ndim() != 2 || vertices_.shape(1) != 3) throw std::invalid_argument("vertices must be (N, 3)");
-    if (faces_.ndim() != 2 || faces_.shape(1) != 3) throw std::invalid_argument("faces must be (M, 3)");
-    const uint32_t* index = faces_.data();
-    const int64_t num_vertices = vertices_.shape(0);
-    for (int64_t i = 0; i < faces_.size(); ++i) {
-      if (index[i] >= num_vertices) throw std::invalid_argument("a face names a vertex that does not exist");
-    }
+  TriangleCaster(FloatArray vertices, IndexArray faces) {
     device_ = rtcNewDevice(nullptr);
     if (device_ == nullptr) throw std::runtime_error(device_error(nullptr));
-    scene_ = rtcNewScene(device_);
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
-    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);  // no ray slips between two triangles of an edge
-    if (faces_.shape(0) > 0) {
-      RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-      // Embree may read 16 bytes at the last vertex: the shared buffer is padded by one vertex.
-      padded_.assign(vertices_.data(), vertices_.data() + vertices_.size());
-      padded_.resize(padded_.size() + 4, 0.0f);
-      rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, padded_.data(), 0,
-                                 3 * sizeof(float), static_cast<size_t>(num_vertices));
-      rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, faces_.data(), 0,
-                                 3 * sizeof(uint32_t), static_cast<size_t>(faces_.shape(0)));
-      rtcCommitGeometry(geometry);
-      rtcAttachGeometry(scene_, geometry);
-      rtcReleaseGeometry(geometry);
-    }
-    rtcCommitScene(scene_);
-    if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) {
-      const std::string message = device_error(device_);
+    try {
+      build_mesh_scene(device_, vertices, faces, &static_);
+    } catch (...) {
       release();
-      throw std::runtime_error(message);
+      throw;
     }
+    check_device();
   }
 
   ~TriangleCaster() { release(); }
   TriangleCaster(const TriangleCaster&) = delete;
   TriangleCaster& operator=(const TriangleCaster&) = delete;
 
-  int64_t num_faces() const { return faces_.shape(0); }
+  int64_t num_faces() const { return static_cast<int64_t>(static_.faces.size() / 3); }
 
-  // The first hit of each ray (K, 6) = origin, direction: t_hit (inf: none), face (0xFFFFFFFF: none),
-  // barycentric (u, v), written into the given arrays.
+  // A mesh that instances can show (a person, a car), in its own frame; returns its index.
+  int add_shape(FloatArray vertices, IndexArray faces) {
+    shapes_.emplace_back();
+    try {
+      build_mesh_scene(device_, vertices, faces, &shapes_.back());
+    } catch (...) {
+      if (shapes_.back().scene != nullptr) rtcReleaseScene(shapes_.back().scene);
+      shapes_.pop_back();
+      throw;
+    }
+    check_device();
+    return static_cast<int>(shapes_.size()) - 1;
+  }
+
+  int num_shapes() const { return static_cast<int>(shapes_.size()); }
+  int num_instances() const { return active_; }
+
+  // The instances shown from now on: instance i is shape shapes[i] under the rigid transform
+  // transforms[i] (4 x 4, row-major, shape frame to world). Replaces the previous ones.
+  void set_instances(py::array_t<int32_t, py::array::c_style | py::array::forcecast> shapes,
+                     FloatArray transforms) {
+    const int64_t count = shapes.size();
+    if (transforms.size() != 16 * count) throw std::invalid_argument("give one 4 x 4 transform per instance");
+    const int32_t* shape = shapes.data();
+    for (int64_t i = 0; i < count; ++i) {
+      if (shape[i] < 0 || shape[i] >= num_shapes()) throw std::invalid_argument("an instance names no shape");
+    }
+    if (top_ == nullptr) {
+      top_ = rtcNewScene(device_);
+      rtcSetSceneFlags(top_, static_cast<RTCSceneFlags>(RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_ROBUST));
+      RTCGeometry world = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);  // geometry 0: the static mesh
+      rtcSetGeometryInstancedScene(world, static_.scene);
+      const float identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+      rtcSetGeometryTransform(world, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, identity);
+      rtcCommitGeometry(world);
+      rtcAttachGeometryByID(top_, world, 0);
+      rtcReleaseGeometry(world);
+    }
+    const float* m = transforms.data();
+    for (int64_t i = 0; i < count; ++i) {
+      if (static_cast<size_t>(i) == instances_.size()) {
+        RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcAttachGeometryByID(top_, geometry, static_cast<unsigned>(i + 1));
+        instances_.push_back(geometry);
+      }
+      RTCGeometry geometry = instances_[static_cast<size_t>(i)];
+      const float* r = m + 16 * i;  // row-major 4 x 4 -> column-major 3 x 4
+      const float columns[12] = {r[0], r[4], r[8], r[1], r[5], r[9], r[2], r[6], r[10], r[3], r[7], r[11]};
+      rtcSetGeometryInstancedScene(geometry, shapes_[static_cast<size_t>(shape[i])].scene);
+      rtcSetGeometryTransform(geometry, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, columns);
+      rtcEnableGeometry(geometry);
+      rtcCommitGeometry(geometry);
+    }
+    for (size_t i = static_cast<size_t>(count); i < instances_.size(); ++i) rtcDisableGeometry(instances_[i]);
+    active_ = static_cast<int>(count);
+    rtcCommitScene(top_);
+    check_device();
+  }
+
+  // The first hit of each ray (K, 6) = origin, direction: t_hit (inf: none), face (0xFFFFFFFF: none; a
+  // face of the shape for an instance hit), barycentric (u, v), instance (-1: the static mesh or
+  // none), written into the given arrays.
   void cast(FloatArray rays, py::array_t<float, py::array::c_style> t_hit,
             py::array_t<uint32_t, py::array::c_style> face, py::array_t<float, py::array::c_style> uv,
-            int threads) const {
+            py::array_t<int32_t, py::array::c_style> instance, int threads) const {
     const int64_t count = ray_count(rays);
-    if (t_hit.size() != count || face.size() != count || uv.size() != 2 * count)
+    if (t_hit.size() != count || face.size() != count || uv.size() != 2 * count || instance.size() != count)
       throw std::invalid_argument("the outputs must have one entry (two for uv) per ray");
     float* t_out = t_hit.mutable_data();
     uint32_t* face_out = face.mutable_data();
     float* uv_out = uv.mutable_data();
+    int32_t* instance_out = instance.mutable_data();
+    const bool layered = active_ > 0;
+    RTCScene scene = layered ? top_ : static_.scene;
     for_each_packet<RTCRayHit8>(rays.data(), count, kInfinity, threads,
                                 [&](int* valid, RTCIntersectContext* context, RTCRayHit8& packet,
                                     int64_t start, int size) {
       for (int k = 0; k < kPacket; ++k) {
         packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         packet.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
+        packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
       }
-      rtcIntersect8(valid, scene_, context, &packet);
+      rtcIntersect8(valid, scene, context, &packet);
       for (int k = 0; k < size; ++k) {
         const int64_t i = start + k;
         const bool hit = packet.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+        const unsigned which = packet.hit.instID[0][k];
         t_out[i] = hit ? packet.ray.tfar[k] : kInfinity;
         face_out[i] = hit ? packet.hit.primID[k] : RTC_INVALID_GEOMETRY_ID;
         uv_out[2 * i] = hit ? packet.hit.u[k] : 0.0f;
         uv_out[2 * i + 1] = hit ? packet.hit.v[k] : 0.0f;
+        instance_out[i] = (hit && layered && which != RTC_INVALID_GEOMETRY_ID && which > 0)
+                              ? static_cast<int32_t>(which) - 1
+                              : -1;
       }
     });
   }
 
-  // Whether each ray (K, 6) meets a triangle with parameter in [0, tfar], into `blocked` (0 or 1).
+  // Whether each ray (K, 6) meets a triangle (of the mesh or an instance) with parameter in [0, tfar].
   void occluded(FloatArray rays, float tfar, py::array_t<uint8_t, py::array::c_style> blocked,
                 int threads) const {
     const int64_t count = ray_count(rays);
     if (blocked.size() != count) throw std::invalid_argument("the output must have one entry per ray");
     uint8_t* out = blocked.mutable_data();
+    RTCScene scene = active_ > 0 ? top_ : static_.scene;
     for_each_packet<RTCRay8>(rays.data(), count, tfar, threads,
                              [&](int* valid, RTCIntersectContext* context, RTCRay8& packet, int64_t start,
                                  int size) {
-      rtcOccluded8(valid, scene_, context, &packet);
+      rtcOccluded8(valid, scene, context, &packet);
       for (int k = 0; k < size; ++k) {
         out[start + k] = packet.tfar[k] < 0.0f ? 1 : 0;  // Embree marks an occluded ray with tfar = -inf
       }
@@ -199,18 +281,33 @@ class TriangleCaster {
     return rays.size() / 6;
   }
 
+  void check_device() {
+    if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) {
+      const std::string message = device_error(device_);
+      throw std::runtime_error(message);
+    }
+  }
+
   void release() {
-    if (scene_ != nullptr) rtcReleaseScene(scene_);
+    for (RTCGeometry geometry : instances_) rtcReleaseGeometry(geometry);
+    instances_.clear();
+    if (top_ != nullptr) rtcReleaseScene(top_);
+    for (MeshScene& shape : shapes_)
+      if (shape.scene != nullptr) rtcReleaseScene(shape.scene);
+    shapes_.clear();
+    if (static_.scene != nullptr) rtcReleaseScene(static_.scene);
     if (device_ != nullptr) rtcReleaseDevice(device_);
-    scene_ = nullptr;
+    top_ = nullptr;
+    static_.scene = nullptr;
     device_ = nullptr;
   }
 
-  FloatArray vertices_;
-  IndexArray faces_;
-  std::vector<float> padded_;
   RTCDevice device_ = nullptr;
-  RTCScene scene_ = nullptr;
+  MeshScene static_;
+  std::vector<MeshScene> shapes_;
+  RTCScene top_ = nullptr;  // the static mesh (geometry 0) and the instances (1, 2, ...), once there are any
+  std::vector<RTCGeometry> instances_;
+  int active_ = 0;
 };
 
 }  // namespace
@@ -220,8 +317,12 @@ PYBIND11_MODULE(_raycast, m) {
   py::class_<TriangleCaster>(m, "TriangleCaster")
       .def(py::init<FloatArray, IndexArray>(), py::arg("vertices"), py::arg("faces"))
       .def_property_readonly("num_faces", &TriangleCaster::num_faces)
+      .def_property_readonly("num_shapes", &TriangleCaster::num_shapes)
+      .def_property_readonly("num_instances", &TriangleCaster::num_instances)
+      .def("add_shape", &TriangleCaster::add_shape, py::arg("vertices"), py::arg("faces"))
+      .def("set_instances", &TriangleCaster::set_instances, py::arg("shapes"), py::arg("transforms"))
       .def("cast", &TriangleCaster::cast, py::arg("rays"), py::arg("t_hit"), py::arg("face"), py::arg("uv"),
-           py::arg("threads"))
+           py::arg("instance"), py::arg("threads"))
       .def("occluded", &TriangleCaster::occluded, py::arg("rays"), py::arg("tfar"), py::arg("blocked"),
            py::arg("threads"));
 }

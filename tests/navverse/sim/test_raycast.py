@@ -115,3 +115,51 @@ def test_rays_of_another_shape_are_refused() -> None:
     vertices, faces = _mesh()
     with pytest.raises(ValueError, match=r"\(\.\.\., 6\)"):
         TriangleCaster(vertices, faces).cast(np.zeros((4, 3), np.float32))
+
+
+def _pose(x: float, y: float, yaw: float = 0.0) -> np.ndarray:
+    c, s = np.cos(yaw), np.sin(yaw)
+    return np.array([[c, -s, 0, x], [s, c, 0, y], [0, 0, 1, 0], [0, 0, 0, 1]], dtype=float)
+
+
+def test_instances_of_a_shape_are_hit_where_they_are_placed() -> None:
+    vertices, faces = _mesh()
+    caster = TriangleCaster(vertices, faces)
+    pillar = trimesh.creation.box(extents=(0.5, 0.5, 1.8))
+    pillar.apply_translation((0.0, 0.0, 1.0))  # standing on the floor at its origin
+    shape = caster.add_shape(pillar.vertices, pillar.faces)
+    rays = _camera_rays((-9.0, 0.3, 1.2))
+    before = caster.cast(rays)
+    assert (before.instance == -1).all()
+
+    caster.set_instances([shape, shape], [_pose(-6.0, 0.3), _pose(-6.0, -1.5, 0.7)])
+    assert caster.num_instances == 2
+    hits = caster.cast(rays)
+    first = hits.instance == 0
+    assert first.any() and (hits.instance == 1).any()
+    # The first pillar's near face is 6 - 0.25 m ahead along x: t times the ray's x extent.
+    np.testing.assert_allclose(hits.t_hit[first] * rays[first][:, 3], 3.0 - 0.25, atol=1e-3)
+    assert (hits.face[first] < len(pillar.faces)).all()
+    # Where no pillar stands, the static hits are the same as without instances.
+    static = hits.instance == -1
+    assert (hits.face[static] == before.face[static]).all()
+
+    # A new frame moves them: the old place is free, the new one is hit; shadow rays see them too.
+    caster.set_instances([shape], [_pose(-4.0, 3.0)])
+    moved = caster.cast(rays)
+    assert (moved.instance <= 0).all() and not (moved.instance[first] == 0).all()
+    up = np.array([[-6.0, 0.3, 0.5, 0.0, 0.0, 1.0], [-4.0, 3.0, 0.5, 0.0, 0.0, 1.0]], np.float32)
+    assert caster.occluded(up).tolist() == [False, True]
+
+    caster.set_instances(np.zeros(0, int), np.zeros((0, 4, 4)))
+    assert caster.cast(rays).face.tobytes() == before.face.tobytes()
+
+
+def test_bad_instances_are_refused() -> None:
+    vertices, faces = _mesh()
+    caster = TriangleCaster(vertices, faces)
+    shape = caster.add_shape(*_mesh())
+    with pytest.raises(ValueError, match="names no shape"):
+        caster.set_instances([shape + 1], [_pose(0, 0)])
+    with pytest.raises(ValueError, match="one 4 x 4 transform"):
+        caster.set_instances([shape, shape], [_pose(0, 0)])
