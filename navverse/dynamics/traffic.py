@@ -1,0 +1,389 @@
+"""Cars driving the lanes of a street plan, keeping their distance and stopping for people on crossings.
+
+The lanes come from the roads of a city map (centerline, width, ``lanes``, ``oneway``, ``highway``):
+a two-way road gets half its lanes each way (at least one), a one-way road all of them along its
+centerline, each lane offset to the right of its direction of travel (``driving_side="left"`` mirrors
+it) by whole lane widths. A lane ends where its road does; the lanes starting within
+:data:`JUNCTION_REACH` of that end are where a car may go next (a U-turn only at a dead end).
+
+Each car follows its lane by arc length with the Intelligent Driver Model (Treiber, Hennecke and
+Helbing 2000), the usual car-following law of microscopic traffic simulators: it accelerates towards
+its road's speed, keeps a time gap to the car ahead (on its lane or the next it takes) and brakes
+comfortably for a stop. A crossing on its lane with a person on it is a stop: the car halts
+:data:`STOP_BEFORE` ahead of the crossing and goes on once the crossing is clear. Speeds are by road
+class (:data:`SPEED_BY_HIGHWAY`, urban limits).
+
+Every draw (where cars start, which lane they take at a junction) comes from one generator seeded by
+the caller, in a fixed order: the same plan, people and seed give the same traffic.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = [
+    "JUNCTION_REACH",
+    "SPEED_BY_HIGHWAY",
+    "STOP_BEFORE",
+    "CarState",
+    "Lane",
+    "RoadSpec",
+    "Traffic",
+    "lanes_of",
+]
+
+LANE_WIDTH = 3.25
+"""Width (m) of one lane when a road's ``lanes`` is not given (its width divided by this)."""
+JUNCTION_REACH = 4.0
+"""Distance (m) between a lane's end and another's start within which a car can go on."""
+STOP_BEFORE = 3.0
+"""Where (m before a crossing's centre) a car halts for a person on it."""
+CROSSING_HALF_WIDTH = 2.5
+"""Half width (m) of a crosswalk along the road: a person within it, on the road, is on the crossing."""
+CAR_LENGTH = 4.5
+SPEED_BY_HIGHWAY: Mapping[str, float] = {
+    "motorway": 22.0,
+    "trunk": 16.7,
+    "primary": 13.9,
+    "secondary": 13.9,
+    "tertiary": 11.1,
+    "unclassified": 8.3,
+    "residential": 8.3,
+    "living_street": 2.8,
+    "service": 4.2,
+}
+"""Speed (m/s) by OSM ``highway`` class: urban limits (50 km/h on main roads, 30 in residential
+streets, walking pace in living streets); other classes drive at the residential speed."""
+_DEFAULT_SPEED = SPEED_BY_HIGHWAY["residential"]
+
+# Intelligent Driver Model parameters (urban driving).
+_MAX_ACCELERATION = 1.5  # m/s²
+_COMFORT_BRAKING = 2.0  # m/s²
+_MIN_GAP = 2.0  # m, standstill distance to the car (or stop line) ahead
+_TIME_GAP = 1.2  # s
+_LOOKAHEAD = 60.0  # m, how far ahead leaders and crossings are looked for
+
+
+@dataclass(frozen=True)
+class RoadSpec:
+    """A road of the street plan, as a city map gives it.
+
+    Attributes
+    ----------
+    centerline : ndarray, shape (N, 2)
+        Its centerline (m), in the direction of a one-way road's traffic.
+    width : float
+        Carriageway width (m).
+    highway : str
+        OSM ``highway`` class (sets the speed).
+    lanes : int or None
+        Lanes in both directions together, if mapped.
+    oneway : bool
+        Whether all lanes go along the centerline.
+    """
+
+    centerline: np.ndarray
+    width: float
+    highway: str = "residential"
+    lanes: int | None = None
+    oneway: bool = False
+
+
+@dataclass(frozen=True)
+class Lane:
+    """One lane: the polyline a car's centre follows, its cumulative lengths and its speed.
+
+    Attributes
+    ----------
+    points : ndarray, shape (N, 2)
+    lengths : ndarray, shape (N,)
+        Arc length at each point (0 at the start).
+    speed : float
+        Desired speed (m/s).
+    road : int
+        Index of its road.
+    forward : bool
+        Whether it runs along its road's centerline.
+    road_width : float
+        Width (m) of its road's carriageway.
+    """
+
+    points: np.ndarray
+    lengths: np.ndarray
+    speed: float
+    road: int
+    forward: bool
+    road_width: float
+
+    @property
+    def length(self) -> float:
+        """Arc length (m)."""
+        return float(self.lengths[-1])
+
+    def at(self, s: np.ndarray | float) -> tuple[np.ndarray, np.ndarray]:
+        """Positions ``(K, 2)`` and headings ``(K,)`` (radians) at arc lengths `s` (clamped to the lane)."""
+        s = np.clip(np.atleast_1d(np.asarray(s, dtype=float)), 0.0, self.length)
+        segment = np.clip(np.searchsorted(self.lengths, s, side="right") - 1, 0, len(self.points) - 2)
+        start, end = self.points[segment], self.points[segment + 1]
+        span = np.maximum(self.lengths[segment + 1] - self.lengths[segment], 1e-9)
+        t = ((s - self.lengths[segment]) / span)[:, None]
+        direction = end - start
+        return start + t * direction, np.arctan2(direction[:, 1], direction[:, 0])
+
+    def project(self, point: np.ndarray) -> tuple[float, float]:
+        """Arc length of the point of the lane nearest `point` ``(2,)`` and the distance to it."""
+        start, end = self.points[:-1], self.points[1:]
+        direction = end - start
+        span2 = np.maximum((direction**2).sum(axis=1), 1e-12)
+        t = np.clip(((point - start) * direction).sum(axis=1) / span2, 0.0, 1.0)
+        nearest = start + t[:, None] * direction
+        distance = np.linalg.norm(nearest - point, axis=1)
+        best = int(np.argmin(distance))
+        return float(self.lengths[best] + t[best] * np.sqrt(span2[best])), float(distance[best])
+
+
+def _offset_polyline(points: np.ndarray, offset: float) -> np.ndarray:
+    """`points` moved `offset` to the right of their direction (mitred at the joints)."""
+    direction = np.diff(points, axis=0)
+    direction /= np.maximum(np.linalg.norm(direction, axis=1, keepdims=True), 1e-9)
+    right = np.stack([direction[:, 1], -direction[:, 0]], axis=1)
+    normals = np.vstack([right[:1], right[:-1] + right[1:], right[-1:]])
+    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-9)
+    cosine = np.ones(len(points))
+    cosine[1:-1] = np.maximum((normals[1:-1] * right[:-1]).sum(axis=1), 0.5)
+    return points + normals * (offset / cosine)[:, None]
+
+
+def lanes_of(roads: Sequence[RoadSpec], *, driving_side: str = "right") -> list[Lane]:
+    """The lanes of a street plan (see the module docstring).
+
+    Raises
+    ------
+    ValueError
+        If `driving_side` is neither ``"right"`` nor ``"left"``.
+    """
+    if driving_side not in ("right", "left"):
+        raise ValueError(f"driving_side must be 'right' or 'left', got {driving_side!r}")
+    side = 1.0 if driving_side == "right" else -1.0
+    lanes: list[Lane] = []
+    for index, road in enumerate(roads):
+        centre = np.asarray(road.centerline, dtype=float)[:, :2]
+        keep = np.concatenate([[True], np.linalg.norm(np.diff(centre, axis=0), axis=1) > 1e-6])
+        centre = centre[keep]
+        if len(centre) < 2:
+            continue
+        count = max(1, road.lanes if road.lanes else round(road.width / LANE_WIDTH))
+        lane_width = road.width / count
+        speed = SPEED_BY_HIGHWAY.get(road.highway, _DEFAULT_SPEED)
+        if road.oneway:  # all lanes along the centerline, spread over the whole width
+            ways = [(True, [(k + 0.5) * lane_width - road.width / 2.0 for k in range(count)])]
+        else:  # half each way, each on the right of its own direction
+            forward = max(1, count // 2)
+            backward = max(1, count - count // 2)
+            ways = [
+                (True, [(k + 0.5) * lane_width for k in range(forward)]),
+                (False, [(k + 0.5) * lane_width for k in range(backward)]),
+            ]
+        for forward_way, offsets in ways:
+            path = centre if forward_way else centre[::-1]
+            for offset in offsets:
+                points = _offset_polyline(path, side * offset)
+                lengths = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+                lanes.append(Lane(points, lengths, speed, index, forward_way, float(road.width)))
+    return lanes
+
+
+@dataclass(frozen=True)
+class CarState:
+    """Every car after a step.
+
+    Attributes
+    ----------
+    positions : ndarray, shape (C, 2)
+        Centre of each car (m).
+    headings : ndarray, shape (C,)
+        Direction of travel (radians from +x).
+    speeds : ndarray, shape (C,)
+        Speed (m/s).
+    lanes : ndarray of int, shape (C,)
+        The lane each is on.
+    stopped_for_people : ndarray of bool, shape (C,)
+        Cars held by a person on a crossing ahead.
+    """
+
+    positions: np.ndarray
+    headings: np.ndarray
+    speeds: np.ndarray
+    lanes: np.ndarray
+    stopped_for_people: np.ndarray
+
+
+class Traffic:
+    """Cars on the lanes of a street plan.
+
+    Parameters
+    ----------
+    lanes : sequence of Lane
+        From :func:`lanes_of`.
+    crossings : array_like, shape (K, 2)
+        Crossing positions (m) on the roads.
+    cars : int, keyword-only
+        How many cars drive (fewer if the lanes are too short to hold them apart).
+    seed : int, keyword-only
+        Seed of where they start and the turns they take.
+    """
+
+    def __init__(self, lanes: Sequence[Lane], crossings: np.ndarray, *, cars: int, seed: int) -> None:
+        self.lanes = list(lanes)
+        self._rng = np.random.default_rng(seed)
+        self._next = self._successors()
+        self._stops = self._crossings_on_lanes(np.asarray(crossings, dtype=float).reshape(-1, 2))
+        self._lane = np.zeros(0, dtype=int)
+        self._s = np.zeros(0)
+        self._v = np.zeros(0)
+        self._route: list[int] = []  # the lane each car takes after its own
+        self._held = np.zeros(0, dtype=bool)
+        self._place(cars)
+
+    def _successors(self) -> list[list[int]]:
+        """For each lane, the lanes a car may take at its end (its own road's reverse only at a dead end)."""
+        starts = np.array([lane.points[0] for lane in self.lanes]).reshape(-1, 2)
+        result = []
+        for lane in self.lanes:
+            near = np.flatnonzero(np.linalg.norm(starts - lane.points[-1], axis=1) <= JUNCTION_REACH)
+            onward = [int(j) for j in near if self.lanes[j].road != lane.road]
+            result.append(onward or [int(j) for j in near])
+        return result
+
+    def _crossings_on_lanes(self, crossings: np.ndarray) -> list[list[tuple[float, np.ndarray, np.ndarray]]]:
+        """For each lane, the crossings on its road: (arc length, position, the lane's direction there),
+        by arc length."""
+        stops: list[list[tuple[float, np.ndarray, np.ndarray]]] = []
+        for lane in self.lanes:
+            found = []
+            for point in crossings:
+                s, distance = lane.project(point)
+                if distance <= lane.road_width and 0.0 < s < lane.length:
+                    _, heading = lane.at(s)
+                    direction = np.array([np.cos(heading[0]), np.sin(heading[0])])
+                    found.append((s, point, direction))
+            stops.append(sorted(found, key=lambda item: item[0]))
+        return stops
+
+    def _place(self, count: int) -> None:
+        """Start `count` cars on lanes drawn by length, at least two car lengths apart."""
+        lengths = np.array([lane.length for lane in self.lanes])
+        if not len(lengths) or lengths.sum() <= 0 or count <= 0:
+            return
+        lanes, positions = [], []
+        for _ in range(20 * count):
+            if len(lanes) == count:
+                break
+            lane = int(self._rng.choice(len(lengths), p=lengths / lengths.sum()))
+            s = float(self._rng.uniform(0.0, lengths[lane]))
+            if any(
+                l2 == lane and abs(s2 - s) < 2.0 * CAR_LENGTH for l2, s2 in zip(lanes, positions, strict=True)
+            ):
+                continue
+            lanes.append(lane)
+            positions.append(s)
+        order = np.lexsort((positions, lanes))
+        self._lane = np.array(lanes, dtype=int)[order]
+        self._s = np.array(positions)[order]
+        self._v = np.array([self.lanes[i].speed for i in self._lane]) * 0.5
+        self._route = [self._turn(int(i)) for i in self._lane]
+        self._held = np.zeros(len(self._lane), dtype=bool)
+
+    def _turn(self, lane: int) -> int:
+        """The lane a car takes after `lane` (-1: none, it will leave the plan)."""
+        options = self._next[lane]
+        return int(options[self._rng.integers(len(options))]) if options else -1
+
+    def _gap_ahead(self, car: int) -> tuple[float, float]:
+        """Distance to what is ahead of a car within the lookahead (the car ahead on its lane or on the
+        lane it takes next) and that thing's speed; (inf, speed) if nothing."""
+        lane, s = self._lane[car], self._s[car]
+        best, speed = np.inf, float(self._v[car])
+        same = np.flatnonzero((self._lane == lane) & (self._s > s))
+        if len(same):
+            ahead = same[np.argmin(self._s[same])]
+            return float(self._s[ahead] - s - CAR_LENGTH), float(self._v[ahead])
+        following = self._route[car]
+        if following >= 0:
+            there = np.flatnonzero(self._lane == following)
+            if len(there):
+                ahead = there[np.argmin(self._s[there])]
+                distance = self.lanes[lane].length - s + self._s[ahead] - CAR_LENGTH
+                if distance < _LOOKAHEAD:
+                    best, speed = float(distance), float(self._v[ahead])
+        return best, speed
+
+    def _stop_ahead(self, car: int, people: np.ndarray) -> float:
+        """Distance to the stop line of the nearest crossing ahead with a person on it (inf if none)."""
+        lane, s = self._lane[car], self._s[car]
+        if not len(people):
+            return np.inf
+        half_road = 0.5 * self.lanes[lane].road_width
+        for crossing_s, point, direction in self._stops[lane]:
+            ahead = crossing_s - s
+            if ahead < STOP_BEFORE - 0.5 or ahead > _LOOKAHEAD:
+                continue  # behind, or the car is already at it: it goes on
+            offset = people - point
+            along = np.abs(offset @ direction)
+            across = np.abs(offset[:, 0] * direction[1] - offset[:, 1] * direction[0])
+            if ((along <= CROSSING_HALF_WIDTH) & (across <= half_road + 0.5)).any():
+                return ahead - STOP_BEFORE
+        return np.inf
+
+    def step(self, dt: float, *, people: np.ndarray | None = None) -> CarState:
+        """Advance every car by `dt` seconds; `people` ``(P, 2)`` are where people stand (a person on a
+        crossing holds the cars coming to it). Returns the cars' state after the step."""
+        if not dt > 0.0:
+            raise ValueError(f"a traffic step must be a positive time, got {dt}")
+        crowd = np.zeros((0, 2)) if people is None else np.asarray(people, dtype=float).reshape(-1, 2)
+        acceleration = np.empty(len(self._lane))
+        for car in range(len(self._lane)):
+            v0 = self.lanes[self._lane[car]].speed
+            gap, leader = self._gap_ahead(car)
+            stop = self._stop_ahead(car, crowd)
+            self._held[car] = stop < gap
+            if stop < gap:
+                gap, leader = stop, 0.0
+            acceleration[car] = _idm(float(self._v[car]), v0, gap, leader)
+        self._v = np.maximum(self._v + acceleration * dt, 0.0)
+        self._s = self._s + self._v * dt
+        for car in range(len(self._lane)):
+            while self._s[car] > self.lanes[self._lane[car]].length:
+                following = self._route[car]
+                if following < 0:  # a lane to nowhere: the car comes back at a random lane's start
+                    self._s[car] = 0.0
+                    following = int(self._rng.integers(len(self.lanes)))
+                else:
+                    self._s[car] -= self.lanes[self._lane[car]].length
+                self._lane[car] = following
+                self._route[car] = self._turn(following)
+        return self.state()
+
+    def state(self) -> CarState:
+        """Where every car is."""
+        positions = np.zeros((len(self._lane), 2))
+        headings = np.zeros(len(self._lane))
+        for car, lane in enumerate(self._lane):
+            point, heading = self.lanes[lane].at(self._s[car])
+            positions[car], headings[car] = point[0], heading[0]
+        return CarState(positions, headings, self._v.copy(), self._lane.copy(), self._held.copy())
+
+
+def _idm(v: float, v0: float, gap: float, leader: float) -> float:
+    """The Intelligent Driver Model's acceleration of a car at speed `v` wanting `v0`, `gap` meters
+    behind something moving at `leader` (inf: a free road)."""
+    free = 1.0 - (v / max(v0, 1e-6)) ** 4
+    if not np.isfinite(gap):
+        return _MAX_ACCELERATION * free
+    wanted = _MIN_GAP + max(
+        0.0, v * _TIME_GAP + v * (v - leader) / (2.0 * np.sqrt(_MAX_ACCELERATION * _COMFORT_BRAKING))
+    )
+    return _MAX_ACCELERATION * (free - (wanted / max(gap, 0.1)) ** 2)
