@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 
@@ -54,7 +56,7 @@ def test_cars_keep_to_their_lanes_their_speed_and_their_distance() -> None:
         assert (state.speeds <= SPEED_BY_HIGHWAY["residential"] + 1e-6).all()
         for lane in set(state.lanes.tolist()):
             ss = sorted(lanes[lane].project(p)[0] for p in state.positions[state.lanes == lane])
-            assert all(b - a >= CAR_LENGTH + 0.5 for a, b in zip(ss, ss[1:], strict=False))
+            assert all(b - a >= CAR_LENGTH + 0.5 for a, b in itertools.pairwise(ss))
         for car, lane in enumerate(state.lanes):
             assert lanes[lane].project(state.positions[car])[1] < 1e-6
     travelled = np.array([s.speeds for s in states]).sum(axis=0) * 0.1
