@@ -133,16 +133,21 @@ class Lane:
         direction = end - start
         return start + t * direction, np.arctan2(direction[:, 1], direction[:, 0])
 
-    def project(self, point: np.ndarray) -> tuple[float, float]:
-        """Arc length of the point of the lane nearest `point` ``(2,)`` and the distance to it."""
+    def project(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Arc length of the point of the lane nearest each of `points` ``(K, 2)`` and the distance to
+        it, as two ``(K,)`` arrays (a single point ``(2,)`` gives two floats)."""
+        single = np.ndim(points) == 1
+        xy = np.atleast_2d(np.asarray(points, dtype=float))[:, None, :]  # (K, 1, 2)
         start, end = self.points[:-1], self.points[1:]
         direction = end - start
         span2 = np.maximum((direction**2).sum(axis=1), 1e-12)
-        t = np.clip(((point - start) * direction).sum(axis=1) / span2, 0.0, 1.0)
-        nearest = start + t[:, None] * direction
-        distance = np.linalg.norm(nearest - point, axis=1)
-        best = int(np.argmin(distance))
-        return float(self.lengths[best] + t[best] * np.sqrt(span2[best])), float(distance[best])
+        t = np.clip(((xy - start) * direction).sum(axis=2) / span2, 0.0, 1.0)  # (K, S)
+        distance = np.linalg.norm(start + t[..., None] * direction - xy, axis=2)
+        best = np.argmin(distance, axis=1)
+        rows = np.arange(len(best))
+        along = self.lengths[best] + t[rows, best] * np.sqrt(span2[best])
+        nearest = distance[rows, best]
+        return (float(along[0]), float(nearest[0])) if single else (along, nearest)
 
 
 def _offset_polyline(points: np.ndarray, offset: float) -> np.ndarray:
@@ -264,12 +269,19 @@ class Traffic:
         stops: list[list[tuple[float, np.ndarray, np.ndarray]]] = []
         for lane in self.lanes:
             found = []
-            for point in crossings:
-                s, distance = lane.project(point)
-                if distance <= lane.road_width and 0.0 < s < lane.length:
-                    _, heading = lane.at(s)
-                    direction = np.array([np.cos(heading[0]), np.sin(heading[0])])
-                    found.append((s, point, direction))
+            if len(crossings):
+                low, high = (
+                    lane.points.min(axis=0) - lane.road_width,
+                    lane.points.max(axis=0) + lane.road_width,
+                )
+                near = np.flatnonzero(np.all((crossings >= low) & (crossings <= high), axis=1))
+                along, distance = lane.project(crossings[near]) if len(near) else (np.zeros(0), np.zeros(0))
+                for k, s, d in zip(near, along, distance, strict=True):
+                    if d <= lane.road_width and 0.0 < s < lane.length:
+                        _, heading = lane.at(s)
+                        found.append(
+                            (float(s), crossings[k], np.array([np.cos(heading[0]), np.sin(heading[0])]))
+                        )
             stops.append(sorted(found, key=lambda item: item[0]))
         return stops
 
