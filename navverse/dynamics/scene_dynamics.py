@@ -19,7 +19,7 @@ import numpy as np
 
 from navverse.dynamics.crowd import WalkerKind
 from navverse.dynamics.pedestrians import Pedestrians, PedestrianSettings
-from navverse.dynamics.street_plan import street_plan
+from navverse.dynamics.streets import scene_streets
 from navverse.dynamics.traffic import Traffic, lanes_of
 from navverse.nav.pathfinder import PathFinder
 
@@ -132,7 +132,7 @@ class SceneDynamics:
             others=[self._robot_kind],
         )
         if settings.mode == "full":
-            plan = street_plan(scene_dir, finder)
+            plan = scene_streets(scene_dir, finder)
             lanes = lanes_of(plan.roads)
             road_km = (
                 sum(

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from navverse.dynamics.street_plan import crossings_of, street_plan
+from navverse.dynamics.streets import crossings_of, scene_streets
 from navverse.look.files import write_look
 from navverse.look.scene_look import MapDetails, MarkedRoad
 from navverse.look.settings import EVAL_LOOK
@@ -29,11 +29,11 @@ def test_the_roads_are_those_the_look_keeps(tmp_path: Path) -> None:
     scene_dir = tmp_path / "scene"
     scene_dir.mkdir()
     finder = _street()
-    assert street_plan(scene_dir, finder).roads == []  # no look: no roads
+    assert scene_streets(scene_dir, finder).roads == []  # no look: no roads
     road = MarkedRoad(((-20.0, 0.0), (20.0, 0.0)), 12.0, 4, False, "secondary")
     details = MapDetails(buildings={}, roads=[road], crossings=[(0.0, 0.0, "zebra")])
     write_look(scene_dir / "look.json", EVAL_LOOK, details, geometry_sha256="0" * 64)
-    plan = street_plan(scene_dir, finder)
+    plan = scene_streets(scene_dir, finder)
     assert len(plan.roads) == 1 and plan.roads[0].lanes == 4 and plan.roads[0].highway == "secondary"
     np.testing.assert_allclose(plan.roads[0].centerline, [(-20.0, 0.0), (20.0, 0.0)])
     assert plan.crossings.shape == (1, 2)

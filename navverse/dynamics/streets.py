@@ -1,4 +1,4 @@
-"""The street plan of a built scene: the roads cars drive and the crossings where people cross.
+"""The streets of a built scene for traffic: the roads cars drive and the crossings where people cross.
 
 The roads are those of the city map the scene was made from, as its look keeps them (``look.json``
 ``map.roads``: centerline, width, lanes, one-way, highway class; :func:`navverse.look.files.read_look`).
@@ -19,14 +19,14 @@ from navverse.dynamics.traffic import RoadSpec
 from navverse.look.files import find_look, read_look
 from navverse.nav.pathfinder import PathFinder
 
-__all__ = ["StreetPlan", "crossings_of", "street_plan"]
+__all__ = ["Streets", "crossings_of", "scene_streets"]
 
 CROSSWALK = "crosswalk"
 _TOUCH = 0.05  # m: polygons whose vertices come this close belong to one crossing
 
 
 @dataclass(frozen=True)
-class StreetPlan:
+class Streets:
     """Roads and crossings of a scene.
 
     Attributes
@@ -79,7 +79,7 @@ def crossings_of(finder: PathFinder) -> np.ndarray:
     return np.array([[t[0] / t[2], t[1] / t[2]] for _, t in sorted(sums.items())]).reshape(-1, 2)
 
 
-def street_plan(scene_dir: str | Path, finder: PathFinder) -> StreetPlan:
+def scene_streets(scene_dir: str | Path, finder: PathFinder) -> Streets:
     """The street plan of a built scene (its look's roads, its navmesh's crossings).
 
     Raises
@@ -101,4 +101,4 @@ def street_plan(scene_dir: str | Path, finder: PathFinder) -> StreetPlan:
                     oneway=road.oneway,
                 )
             )
-    return StreetPlan(roads=roads, crossings=crossings_of(finder))
+    return Streets(roads=roads, crossings=crossings_of(finder))
