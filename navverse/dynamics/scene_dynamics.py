@@ -158,25 +158,36 @@ class SceneDynamics:
         crowd.move_at(self._robot, velocity)
 
     def step(self, dt: float) -> DynamicState:
-        """Advance everything by `dt` seconds."""
+        """Advance everything by `dt` seconds; returns where everything is then."""
         self.time += dt
-        people = np.zeros((0, 3))
-        headings = np.zeros(0)
-        velocities = np.zeros((0, 3))
-        if self.pedestrians is not None:
-            state = self.pedestrians.step(dt)
-            ids = self.pedestrians.people
-            people, velocities = state.positions[ids], state.velocities[ids]
-            if len(self._headings) != len(ids):
-                self._headings = np.zeros(len(ids))
-            moving = np.hypot(velocities[:, 0], velocities[:, 1]) > 0.05  # a person standing keeps facing
-            self._headings[moving] = np.arctan2(velocities[moving, 1], velocities[moving, 0])
-            headings = self._headings.copy()
-        cars = np.zeros((0, 3))
-        car_headings = np.zeros(0)
-        speeds = np.zeros(0)
-        if self.traffic is not None:
-            traffic = self.traffic.step(dt, people=people[:, :2])
+        crowd = self.pedestrians.step(dt) if self.pedestrians is not None else None
+        people = self._people(crowd)[0]
+        traffic = self.traffic.step(dt, people=people[:, :2]) if self.traffic is not None else None
+        return self._snapshot(crowd, traffic)
+
+    def current(self) -> DynamicState:
+        """Where everything is now, without a step."""
+        crowd = self.pedestrians.crowd.state() if self.pedestrians is not None else None
+        traffic = self.traffic.state() if self.traffic is not None else None
+        return self._snapshot(crowd, traffic)
+
+    def _people(self, crowd) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The people's positions, headings (a person standing keeps facing as it did) and velocities."""
+        if crowd is None or self.pedestrians is None:
+            return np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3))
+        ids = self.pedestrians.people
+        people, velocities = crowd.positions[ids], crowd.velocities[ids]
+        if len(self._headings) != len(ids):
+            self._headings = np.zeros(len(ids))
+        moving = np.hypot(velocities[:, 0], velocities[:, 1]) > 0.05
+        self._headings[moving] = np.arctan2(velocities[moving, 1], velocities[moving, 0])
+        return people, self._headings.copy(), velocities
+
+    def _snapshot(self, crowd, traffic) -> DynamicState:
+        people, headings, velocities = self._people(crowd)
+        if traffic is None:
+            cars, car_headings, speeds = np.zeros((0, 3)), np.zeros(0), np.zeros(0)
+        else:
             flat = np.column_stack([traffic.positions, np.zeros(len(traffic.positions))])
             ground = self._finder.snap_point(flat, max_vertical=5.0) if len(flat) else flat
             z = np.where(np.isfinite(ground[:, 2]), ground[:, 2], 0.0)
