@@ -279,6 +279,9 @@ class SceneRenderer:
         self._caster = TriangleCaster(
             (mesh.vertices - self._origin).astype(np.float32), mesh.faces, threads=self._threads
         )
+        # Moving bodies (add_body_shape / place_bodies): per shape its normals, first table row and slots.
+        self._body_shapes: list[_BodyShape] = []
+        self._body_rows = np.zeros(0, dtype=np.int64)  # per placed body: the table row of its face 0
 
         # Camera-frame ray directions (optical z = 1) and their inverse lengths, once per renderer.
         dirs = intrinsics.ray_directions()
@@ -397,6 +400,73 @@ class SceneRenderer:
         poses = [check_pose(p) for p in camera_to_world]
         return [self._shade(self._cast(pose)) for pose in poses]
 
+    def add_body_shape(self, mesh: MeshData, *, max_bodies: int) -> int:
+        """Add a shape moving bodies can take (people, cars): a mesh in its own frame, its faces in their
+        colours, with room for `max_bodies` of it in a frame. Returns its index for :meth:`place_bodies`.
+
+        Raises
+        ------
+        ValueError
+            If the mesh has no face or `max_bodies` is not positive.
+        """
+        if mesh.num_faces == 0 or max_bodies < 1:
+            raise ValueError("a body shape needs faces and room for at least one body")
+        first = len(self._instance)
+        rows = mesh.num_faces * int(max_bodies)
+        colors = np.tile(_mesh_face_colors(mesh), (max_bodies, 1)).astype(np.float32)
+        for c in range(3):
+            self._channels[c] = np.concatenate([self._channels[c], colors[:, c]])
+        if self._lighting is not None:
+            linear = np.ascontiguousarray(srgb_to_linear(colors).T, dtype=np.float32)
+            self._linear = np.ascontiguousarray(np.concatenate([self._linear, linear], axis=1))
+        self._instance = np.concatenate([self._instance, np.full(rows, BACKGROUND_ID, np.int32)])
+        self._terrain = np.concatenate([self._terrain, np.full(rows, BACKGROUND_CLASS, np.int16)])
+        self._normals = np.concatenate([self._normals, np.zeros((rows, 3), np.float32)])
+        self._n_dot_light = np.concatenate([self._n_dot_light, np.zeros(rows, np.float32)])
+        normals = unit_face_normals(mesh.vertices, mesh.faces).astype(np.float64)
+        caster_shape = self._caster.add_shape(np.asarray(mesh.vertices, np.float32), mesh.faces)
+        self._body_shapes.append(_BodyShape(caster_shape, normals, first, int(max_bodies)))
+        return len(self._body_shapes) - 1
+
+    def place_bodies(self, shapes: ArrayLike, transforms: ArrayLike, semantic_ids: ArrayLike) -> None:
+        """Show these moving bodies in the frames rendered from now on (replacing the last ones): body
+        ``i`` is shape ``shapes[i]`` (:meth:`add_body_shape`) placed by the rigid world transform
+        ``transforms[i]`` (4 x 4, shape frame to world), with semantic id ``semantic_ids[i]``.
+
+        Raises
+        ------
+        ValueError
+            If a shape is unknown, more bodies of a shape are given than it has room for, or the arrays
+            do not match.
+        """
+        kinds = np.asarray(shapes, dtype=np.int64).reshape(-1)
+        matrices = np.asarray(transforms, dtype=np.float64).reshape(-1, 4, 4)
+        ids = np.asarray(semantic_ids, dtype=np.int32).reshape(-1)
+        if not len(kinds) == len(matrices) == len(ids):
+            raise ValueError("give one shape, one transform and one semantic id per body")
+        if len(kinds) and (kinds.min() < 0 or kinds.max() >= len(self._body_shapes)):
+            raise ValueError(f"unknown body shape; {len(self._body_shapes)} were added")
+        local = matrices.copy()
+        local[:, :3, 3] -= self._origin
+        rows = np.zeros(len(kinds), dtype=np.int64)
+        light = np.asarray(self._shading.light, dtype=np.float64)
+        light /= np.linalg.norm(light)
+        for index, shape in enumerate(self._body_shapes):
+            mine = np.flatnonzero(kinds == index)
+            if len(mine) > shape.slots:
+                raise ValueError(f"{len(mine)} bodies of shape {index}, which has room for {shape.slots}")
+            faces = len(shape.normals)
+            rows[mine] = shape.first + faces * np.arange(len(mine))
+            if not len(mine):
+                continue
+            turned = np.einsum("bij,fj->bfi", matrices[mine, :3, :3], shape.normals).reshape(-1, 3)
+            span = slice(shape.first, shape.first + faces * len(mine))
+            self._normals[span] = turned
+            self._n_dot_light[span] = turned @ light
+            self._instance[span] = np.repeat(ids[mine], faces)
+        self._caster.set_instances([self._body_shapes[k].caster_shape for k in kinds], local)
+        self._body_rows = rows
+
     def _cast(self, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Cast the pixel rays of `pose`; return the ray parameter (z-depth past the near plane), the face
         and the barycentric ``(u, v)`` of the hit in it (hit = ``(1-u-v) p0 + u p1 + v p2``)."""
@@ -416,7 +486,11 @@ class SceneRenderer:
             parts=self._threads,
         )
         hits = self._caster.cast(self._rays)
-        return hits.t_hit, hits.face, hits.barycentric
+        face = hits.face
+        if len(self._body_rows):
+            on_body = hits.instance >= 0
+            face[on_body] = (self._body_rows[hits.instance[on_body]] + face[on_body]).astype(face.dtype)
+        return hits.t_hit, face, hits.barycentric
 
     def _depth(self, t_hit: np.ndarray, face: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The z-depth image of a cast (0 where nothing was hit within the depth range) and the mask of
@@ -616,7 +690,8 @@ class SceneRenderer:
             hit_face, albedo, parts=self._threads,
         )  # fmt: skip
         room = self._look.room_of(world, normals)
-        surface = self._look.surface(hit_face, world, normals, room)
+        # A moving body's face shows as an object's does (the look's miss row is an object).
+        surface = self._look.surface(np.minimum(hit_face, self._miss), world, normals, room)
         return _Hits(hits, points, normals, depth, footprint, hit_face, albedo, room, surface)
 
     def materials(self, camera_to_world: ArrayLike) -> np.ndarray:
@@ -952,3 +1027,21 @@ def _face_colors(scene: Scene, hidden_classes: Sequence[str], *, lighten: float)
             color = np.asarray(default_color(obj.annotation.category), dtype=np.float32)
             parts.append(np.broadcast_to(color, (obj.mesh.num_faces, 3)))
     return np.concatenate(parts) if parts else np.zeros((0, 3), dtype=np.float32)
+
+
+@dataclass(frozen=True)
+class _BodyShape:
+    """A shape of moving bodies: its shape in the caster, its faces' unit normals (in its own frame), its
+    first row in the renderer's per-face tables and how many bodies of it those rows hold."""
+
+    caster_shape: int
+    normals: np.ndarray
+    first: int
+    slots: int
+
+
+def _mesh_face_colors(mesh: MeshData) -> np.ndarray:
+    """A mesh's per-face sRGB colours ``(F, 3)`` (its own, else a neutral grey)."""
+    if mesh.face_colors is not None:
+        return np.asarray(mesh.face_colors, dtype=np.float32)[:, :3]
+    return np.full((mesh.num_faces, 3), 150.0, dtype=np.float32)
