@@ -31,7 +31,8 @@ Vec3 vec3(const Points& a) {
 
 PYBIND11_MODULE(_crowd, m) {
   m.doc() = "Agents walking a navmesh (DetourCrowd); see navverse.dynamics.crowd.";
-  py::register_exception_translator([](std::exception_ptr p) {
+  // Local: only errors thrown by this module's functions (navverse.nav._recast maps its own to NavMeshError).
+  py::register_local_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const navverse::NavError& e) {
