@@ -189,12 +189,16 @@ class Pedestrians:
         on the next one. Returns the crowd's state after the step."""
         self.crowd.step(dt)
         state = self.crowd.state()
-        for agent in self.people:
-            target = self._targets.get(agent)
-            here = state.positions[agent]
-            failed = self.crowd.target_state(agent) == TargetState.FAILED
-            if target is None or failed or np.linalg.norm(here[:2] - target[:2]) < ARRIVED:
-                self._next_trip(agent, here)
+        if not self.people:
+            return state
+        ids = np.asarray(self.people)
+        targets = np.array([self._targets.get(a, (np.nan, np.nan, np.nan)) for a in self.people])
+        distance = np.hypot(*(state.positions[ids, :2] - targets[:, :2]).T)
+        due = ~(distance >= ARRIVED)  # arrived, or no destination (NaN)
+        for k in np.flatnonzero(~due):
+            due[k] = self.crowd.target_state(self.people[k]) == TargetState.FAILED
+        for k in np.flatnonzero(due):
+            self._next_trip(self.people[k], state.positions[ids[k]])
         return state
 
     @property

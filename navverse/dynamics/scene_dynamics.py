@@ -142,7 +142,15 @@ class SceneDynamics:
                 / 1000.0
             )
             cars = min(settings.max_cars, round(settings.cars_per_km * road_km))
-            self.traffic = Traffic(lanes, plan.crossings, cars=cars, seed=int(seeds[1].generate_state(1)[0]))
+            self.traffic = Traffic(
+                lanes, plan.crossings, cars=cars, seed=int(seeds[1].generate_state(1)[0]), height=self._ground
+            )
+
+    def _ground(self, points: np.ndarray) -> np.ndarray:
+        """The navmesh's height under 2-D points (0 where there is none within reach)."""
+        flat = np.column_stack([points, np.zeros(len(points))])
+        ground = self._finder.snap_point(flat, max_vertical=5.0)
+        return np.where(np.isfinite(ground[:, 2]), ground[:, 2], 0.0)
 
     def place_robot(self, position: np.ndarray, velocity: np.ndarray) -> None:
         """Tell the people where the robot is and how it moves (it joins the crowd the first time)."""
@@ -188,9 +196,6 @@ class SceneDynamics:
         if traffic is None:
             cars, car_headings, speeds = np.zeros((0, 3)), np.zeros(0), np.zeros(0)
         else:
-            flat = np.column_stack([traffic.positions, np.zeros(len(traffic.positions))])
-            ground = self._finder.snap_point(flat, max_vertical=5.0) if len(flat) else flat
-            z = np.where(np.isfinite(ground[:, 2]), ground[:, 2], 0.0)
-            cars = np.column_stack([traffic.positions, z])
+            cars = np.column_stack([traffic.positions, traffic.heights])
             car_headings, speeds = traffic.headings, traffic.speeds
         return DynamicState(self.time, people, headings, velocities, cars, car_headings, speeds)

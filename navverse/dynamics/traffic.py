@@ -19,10 +19,11 @@ the caller, in a fixed order: the same plan, people and seed give the same traff
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 __all__ = [
     "JUNCTION_REACH",
@@ -217,6 +218,8 @@ class CarState:
         The lane each is on.
     stopped_for_people : ndarray of bool, shape (C,)
         Cars held by a person on a crossing ahead.
+    heights : ndarray, shape (C,)
+        The road surface under each car (m).
     """
 
     positions: np.ndarray
@@ -224,6 +227,7 @@ class CarState:
     speeds: np.ndarray
     lanes: np.ndarray
     stopped_for_people: np.ndarray
+    heights: np.ndarray
 
 
 class Traffic:
@@ -239,17 +243,34 @@ class Traffic:
         How many cars drive (fewer if the lanes are too short to hold them apart).
     seed : int, keyword-only
         Seed of where they start and the turns they take.
+    height : callable, optional, keyword-only
+        ``height(points (N, 2)) -> z (N,)``: the road surface under points, asked once for every lane
+        point (cars' heights are interpolated along their lanes); None: 0.
     """
 
-    def __init__(self, lanes: Sequence[Lane], crossings: np.ndarray, *, cars: int, seed: int) -> None:
+    def __init__(
+        self,
+        lanes: Sequence[Lane],
+        crossings: np.ndarray,
+        *,
+        cars: int,
+        seed: int,
+        height: Callable[[np.ndarray], np.ndarray] | None = None,
+    ) -> None:
         self.lanes = list(lanes)
         self._rng = np.random.default_rng(seed)
         self._next = self._successors()
-        self._stops = self._crossings_on_lanes(np.asarray(crossings, dtype=float).reshape(-1, 2))
-        self._lane = np.zeros(0, dtype=int)
+        self._pack_lanes()
+        self._heights = (
+            np.asarray(height(self._points), dtype=float).reshape(-1)
+            if height is not None and len(self._points)
+            else np.zeros(len(self._points))
+        )
+        self._pack_stops(np.asarray(crossings, dtype=float).reshape(-1, 2))
+        self._lane = np.zeros(0, dtype=np.int64)
         self._s = np.zeros(0)
         self._v = np.zeros(0)
-        self._route: list[int] = []  # the lane each car takes after its own
+        self._route = np.zeros(0, dtype=np.int64)  # the lane each car takes after its own (-1: none)
         self._held = np.zeros(0, dtype=bool)
         self._place(cars)
 
@@ -263,34 +284,54 @@ class Traffic:
             result.append(onward or [int(j) for j in near])
         return result
 
-    def _crossings_on_lanes(self, crossings: np.ndarray) -> list[list[tuple[float, np.ndarray, np.ndarray]]]:
-        """For each lane, the crossings on its road: (arc length, position, the lane's direction there),
-        by arc length."""
-        stops: list[list[tuple[float, np.ndarray, np.ndarray]]] = []
-        for lane in self.lanes:
-            found = []
-            if len(crossings):
-                low, high = (
-                    lane.points.min(axis=0) - lane.road_width,
-                    lane.points.max(axis=0) + lane.road_width,
-                )
-                near = np.flatnonzero(np.all((crossings >= low) & (crossings <= high), axis=1))
-                along, distance = lane.project(crossings[near]) if len(near) else (np.zeros(0), np.zeros(0))
-                for k, s, d in zip(near, along, distance, strict=True):
-                    if d <= lane.road_width and 0.0 < s < lane.length:
-                        _, heading = lane.at(s)
-                        found.append(
-                            (float(s), crossings[k], np.array([np.cos(heading[0]), np.sin(heading[0])]))
-                        )
-            stops.append(sorted(found, key=lambda item: item[0]))
-        return stops
+    def _pack_lanes(self) -> None:
+        """Every lane's points in one array, with a global arc length (lanes 1 m apart on it)."""
+        lengths = np.array([lane.length for lane in self.lanes], dtype=float)
+        self._length = lengths
+        self._speed = np.array([lane.speed for lane in self.lanes], dtype=float)
+        self._base = np.concatenate([[0.0], np.cumsum(lengths + 1.0)])[:-1]  # where each lane starts
+        counts = np.array([len(lane.points) for lane in self.lanes], dtype=np.int64)
+        self._first = np.concatenate([[0], np.cumsum(counts)])[:-1]  # its first point
+        self._last_segment = self._first + counts - 2
+        if self.lanes:
+            self._points = np.concatenate([lane.points for lane in self.lanes])
+            self._arc = np.concatenate(
+                [lane.lengths + base for lane, base in zip(self.lanes, self._base, strict=True)]
+            )
+        else:
+            self._points, self._arc = np.zeros((0, 2)), np.zeros(0)
+
+    def _pack_stops(self, crossings: np.ndarray) -> None:
+        """The crossings on each lane as flat arrays: lane, arc length, centre, the lane's direction there,
+        sorted by lane and arc length; per lane its first row."""
+        rows = []
+        for index, lane in enumerate(self.lanes):
+            if not len(crossings):
+                break
+            low, high = lane.points.min(axis=0) - lane.road_width, lane.points.max(axis=0) + lane.road_width
+            near = np.flatnonzero(np.all((crossings >= low) & (crossings <= high), axis=1))
+            if not len(near):
+                continue
+            along, distance = lane.project(crossings[near])
+            keep = (distance <= lane.road_width) & (along > 0.0) & (along < lane.length)
+            if keep.any():
+                _, heading = lane.at(along[keep])
+                for k, s, h in zip(near[keep], along[keep], heading, strict=True):
+                    rows.append((index, float(s), *crossings[k], np.cos(h), np.sin(h), 0.5 * lane.road_width))
+        table = np.array(sorted(rows), dtype=float).reshape(-1, 7)
+        self._stop_lane = table[:, 0].astype(np.int64)
+        self._stop_s = table[:, 1]
+        self._stop_point = table[:, 2:4]
+        self._stop_direction = table[:, 4:6]
+        self._stop_half_road = table[:, 6]
 
     def _place(self, count: int) -> None:
         """Start `count` cars on lanes drawn by length, at least two car lengths apart."""
-        lengths = np.array([lane.length for lane in self.lanes])
+        lengths = self._length
         if not len(lengths) or lengths.sum() <= 0 or count <= 0:
             return
-        lanes, positions = [], []
+        lanes: list[int] = []
+        positions: list[float] = []
         for _ in range(20 * count):
             if len(lanes) == count:
                 break
@@ -303,10 +344,10 @@ class Traffic:
             lanes.append(lane)
             positions.append(s)
         order = np.lexsort((positions, lanes))
-        self._lane = np.array(lanes, dtype=int)[order]
+        self._lane = np.array(lanes, dtype=np.int64)[order]
         self._s = np.array(positions)[order]
-        self._v = np.array([self.lanes[i].speed for i in self._lane]) * 0.5
-        self._route = [self._turn(int(i)) for i in self._lane]
+        self._v = self._speed[self._lane] * 0.5
+        self._route = np.array([self._turn(int(i)) for i in self._lane], dtype=np.int64)
         self._held = np.zeros(len(self._lane), dtype=bool)
 
     def _turn(self, lane: int) -> int:
@@ -314,41 +355,68 @@ class Traffic:
         options = self._next[lane]
         return int(options[self._rng.integers(len(options))]) if options else -1
 
-    def _gap_ahead(self, car: int) -> tuple[float, float]:
-        """Distance to what is ahead of a car within the lookahead (the car ahead on its lane or on the
-        lane it takes next) and that thing's speed; (inf, speed) if nothing."""
-        lane, s = self._lane[car], self._s[car]
-        best, speed = np.inf, float(self._v[car])
-        same = np.flatnonzero((self._lane == lane) & (self._s > s))
-        if len(same):
-            ahead = same[np.argmin(self._s[same])]
-            return float(self._s[ahead] - s - CAR_LENGTH), float(self._v[ahead])
-        following = self._route[car]
-        if following >= 0:
-            there = np.flatnonzero(self._lane == following)
-            if len(there):
-                ahead = there[np.argmin(self._s[there])]
-                distance = self.lanes[lane].length - s + self._s[ahead] - CAR_LENGTH
-                if distance < _LOOKAHEAD:
-                    best, speed = float(distance), float(self._v[ahead])
-        return best, speed
+    def _gaps_ahead(self) -> tuple[np.ndarray, np.ndarray]:
+        """Per car, the distance to the car ahead within the lookahead (on its lane, or first on the lane
+        it takes next) and that car's speed; inf where none."""
+        count = len(self._lane)
+        gap, leader = np.full(count, np.inf), self._v.copy()
+        if not count:
+            return gap, leader
+        order = np.lexsort((self._s, self._lane))
+        lane, s = self._lane[order], self._s[order]
+        same = lane[1:] == lane[:-1]
+        behind = order[:-1][same]
+        gap[behind] = s[1:][same] - s[:-1][same] - CAR_LENGTH
+        leader[behind] = self._v[order[1:][same]]
+        # The last car of each lane looks at the first car of the lane it takes next.
+        last = np.ones(count, dtype=bool)
+        last[:-1] = ~same
+        first_of_lane = np.full(len(self.lanes), -1, dtype=np.int64)
+        starts = np.ones(count, dtype=bool)
+        starts[1:] = ~same
+        first_of_lane[lane[starts]] = order[starts]
+        tails = order[last]
+        onward = self._route[tails]
+        ahead = np.where(onward >= 0, first_of_lane[np.maximum(onward, 0)], -1)
+        has = ahead >= 0
+        distance = (
+            self._length[self._lane[tails[has]]] - self._s[tails[has]] + self._s[ahead[has]] - CAR_LENGTH
+        )
+        close = distance < _LOOKAHEAD
+        gap[tails[has][close]] = distance[close]
+        leader[tails[has][close]] = self._v[ahead[has][close]]
+        return gap, leader
 
-    def _stop_ahead(self, car: int, people: np.ndarray) -> float:
-        """Distance to the stop line of the nearest crossing ahead with a person on it (inf if none)."""
-        lane, s = self._lane[car], self._s[car]
-        if not len(people):
-            return np.inf
-        half_road = 0.5 * self.lanes[lane].road_width
-        for crossing_s, point, direction in self._stops[lane]:
-            ahead = crossing_s - s
-            if ahead < STOP_BEFORE - 0.5 or ahead > _LOOKAHEAD:
-                continue  # behind, or the car is already at it: it goes on
-            offset = people - point
-            along = np.abs(offset @ direction)
-            across = np.abs(offset[:, 0] * direction[1] - offset[:, 1] * direction[0])
-            if ((along <= CROSSING_HALF_WIDTH) & (across <= half_road + 0.5)).any():
-                return ahead - STOP_BEFORE
-        return np.inf
+    def _stops_ahead(self, people: np.ndarray) -> np.ndarray:
+        """Per car, the distance to the stop line of the nearest crossing ahead (within the lookahead) with a
+        person on it; inf where none."""
+        stop = np.full(len(self._lane), np.inf)
+        if not len(people) or not len(self._stop_s) or not len(self._lane):
+            return stop
+        # Only the people near a stop can be on it: pairs from a k-d tree of the people.
+        reach = CROSSING_HALF_WIDTH + float(self._stop_half_road.max()) + 0.5
+        near = cKDTree(people).query_ball_point(self._stop_point, r=reach)
+        counts = np.fromiter((len(n) for n in near), dtype=np.int64, count=len(near))
+        if not counts.any():
+            return stop
+        rows = np.repeat(np.arange(len(near)), counts)
+        who = np.fromiter((i for n in near for i in n), dtype=np.int64, count=int(counts.sum()))
+        offset = people[who] - self._stop_point[rows]
+        direction = self._stop_direction[rows]
+        along = np.abs((offset * direction).sum(axis=1))
+        across = np.abs(offset[:, 0] * direction[:, 1] - offset[:, 1] * direction[:, 0])
+        on_it = (along <= CROSSING_HALF_WIDTH) & (across <= self._stop_half_road[rows] + 0.5)
+        occupied = np.zeros(len(self._stop_s), dtype=bool)
+        occupied[rows[on_it]] = True
+        busy = np.flatnonzero(occupied)
+        if not len(busy):
+            return stop
+        # Pair every car with the busy stops of its lane.
+        car_of, stop_of = np.nonzero(self._lane[:, None] == self._stop_lane[busy][None, :])
+        ahead = self._stop_s[busy[stop_of]] - self._s[car_of]
+        valid = (ahead >= STOP_BEFORE - 0.5) & (ahead <= _LOOKAHEAD)  # behind, or at it: the car goes on
+        np.minimum.at(stop, car_of[valid], ahead[valid] - STOP_BEFORE)
+        return stop
 
     def step(self, dt: float, *, people: np.ndarray | None = None) -> CarState:
         """Advance every car by `dt` seconds; `people` ``(P, 2)`` are where people stand (a person on a
@@ -356,46 +424,48 @@ class Traffic:
         if not dt > 0.0:
             raise ValueError(f"a traffic step must be a positive time, got {dt}")
         crowd = np.zeros((0, 2)) if people is None else np.asarray(people, dtype=float).reshape(-1, 2)
-        acceleration = np.empty(len(self._lane))
-        for car in range(len(self._lane)):
-            v0 = self.lanes[self._lane[car]].speed
-            gap, leader = self._gap_ahead(car)
-            stop = self._stop_ahead(car, crowd)
-            self._held[car] = stop < gap
-            if stop < gap:
-                gap, leader = stop, 0.0
-            acceleration[car] = _idm(float(self._v[car]), v0, gap, leader)
+        gap, leader = self._gaps_ahead()
+        stop = self._stops_ahead(crowd)
+        self._held = stop < gap
+        gap = np.where(self._held, stop, gap)
+        leader = np.where(self._held, 0.0, leader)
+        acceleration = _idm(self._v, self._speed[self._lane], gap, leader)
         self._v = np.maximum(self._v + acceleration * dt, 0.0)
         self._s = self._s + self._v * dt
-        for car in range(len(self._lane)):
-            while self._s[car] > self.lanes[self._lane[car]].length:
-                following = self._route[car]
+        for car in np.flatnonzero(self._s > self._length[self._lane]):
+            while self._s[car] > self._length[self._lane[car]]:
+                following = int(self._route[car])
                 if following < 0:  # a lane to nowhere: the car comes back at a random lane's start
                     self._s[car] = 0.0
                     following = int(self._rng.integers(len(self.lanes)))
                 else:
-                    self._s[car] -= self.lanes[self._lane[car]].length
+                    self._s[car] -= self._length[self._lane[car]]
                 self._lane[car] = following
                 self._route[car] = self._turn(following)
         return self.state()
 
     def state(self) -> CarState:
         """Where every car is."""
-        positions = np.zeros((len(self._lane), 2))
-        headings = np.zeros(len(self._lane))
-        for car, lane in enumerate(self._lane):
-            point, heading = self.lanes[lane].at(self._s[car])
-            positions[car], headings[car] = point[0], heading[0]
-        return CarState(positions, headings, self._v.copy(), self._lane.copy(), self._held.copy())
+        lane = self._lane
+        s = np.clip(self._s, 0.0, self._length[lane]) + self._base[lane]
+        segment = np.searchsorted(self._arc, s, side="right") - 1
+        segment = np.clip(segment, self._first[lane], self._last_segment[lane])
+        start, end = self._points[segment], self._points[segment + 1]
+        span = np.maximum(self._arc[segment + 1] - self._arc[segment], 1e-9)
+        t = ((s - self._arc[segment]) / span)[:, None]
+        direction = end - start
+        positions = start + t * direction
+        heights = self._heights[segment] + t[:, 0] * (self._heights[segment + 1] - self._heights[segment])
+        headings = np.arctan2(direction[:, 1], direction[:, 0])
+        return CarState(positions, headings, self._v.copy(), lane.copy(), self._held.copy(), heights)
 
 
-def _idm(v: float, v0: float, gap: float, leader: float) -> float:
-    """The Intelligent Driver Model's acceleration of a car at speed `v` wanting `v0`, `gap` meters
+def _idm(v: np.ndarray, v0: np.ndarray, gap: np.ndarray, leader: np.ndarray) -> np.ndarray:
+    """The Intelligent Driver Model's acceleration of cars at speeds `v` wanting `v0`, `gap` meters
     behind something moving at `leader` (inf: a free road)."""
-    free = 1.0 - (v / max(v0, 1e-6)) ** 4
-    if not np.isfinite(gap):
-        return _MAX_ACCELERATION * free
-    wanted = _MIN_GAP + max(
+    free = 1.0 - (v / np.maximum(v0, 1e-6)) ** 4
+    wanted = _MIN_GAP + np.maximum(
         0.0, v * _TIME_GAP + v * (v - leader) / (2.0 * np.sqrt(_MAX_ACCELERATION * _COMFORT_BRAKING))
     )
-    return _MAX_ACCELERATION * (free - (wanted / max(gap, 0.1)) ** 2)
+    interaction = np.where(np.isfinite(gap), (wanted / np.maximum(gap, 0.1)) ** 2, 0.0)
+    return _MAX_ACCELERATION * (free - interaction)
