@@ -75,6 +75,8 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
+from navverse.dynamics.runtime import EpisodeDynamics, episode_seed
+from navverse.dynamics.scene_dynamics import DYNAMICS_MODES, DynamicsSettings
 from navverse.env_spec import ACTION_MODES, SENSORS, EnvError, check_instruction_type, episode_goal
 from navverse.look.files import load_scene_look
 from navverse.look.settings import look_option
@@ -230,6 +232,11 @@ class NavVerseEnv(gymnasium.Env):
     category_ids : mapping of str to int, optional
         The dataset's ``category_to_task_category_id``, for the ``goal_id`` observation; None: the
         library's categories (module docstring).
+    dynamics : {"off", "pedestrians", "full"} or DynamicsSettings
+        What moves besides the robot (:mod:`navverse.dynamics`): nothing (the scene as published),
+        people on foot, or people and traffic; every episode's people and cars come from a seed made of
+        its id (``reset(options={"dynamics_seed": ...})`` changes it), so two runs of an episode see the
+        same crowd while the robot moves alike.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
@@ -252,7 +259,12 @@ class NavVerseEnv(gymnasium.Env):
         reward_slack: float = REWARD_SLACK,
         reward_success: float = REWARD_SUCCESS,
         category_ids: Mapping[str, int] | None = None,
+        dynamics: str | DynamicsSettings = "off",
     ) -> None:
+        if isinstance(dynamics, str):
+            if dynamics not in DYNAMICS_MODES:
+                raise EnvError(f"unknown dynamics {dynamics!r}; choose from: {', '.join(DYNAMICS_MODES)}")
+            dynamics = DynamicsSettings(mode=dynamics)
         if action_mode not in ACTION_MODES:
             raise EnvError(f"unknown action mode {action_mode!r}; choose from: {', '.join(ACTION_MODES)}")
         unknown = sorted(set(sensors) - set(SENSORS))
@@ -282,6 +294,8 @@ class NavVerseEnv(gymnasium.Env):
         self.intrinsics = CameraIntrinsics.from_hfov()
         look = load_scene_look(self.scene, self.scene_dir)  # the scene's look directory, if built
         self.renderer = SceneRenderer(self.scene, intrinsics=self.intrinsics, look=look)
+        self.dynamics_settings = dynamics
+        self._dynamics: EpisodeDynamics | None = None
         self.monitor = TerminationMonitor(timeout=max_time)
         self.max_steps = max_steps
         self.sensors = tuple(s for s in SENSORS if s in sensors)
@@ -430,7 +444,23 @@ class NavVerseEnv(gymnasium.Env):
             raise EnvError(
                 f"episode needs start_position [x, y, z] and start_rotation [x, y, z, w] ({exc})"
             ) from None
+        if self._dynamics is not None:
+            self._dynamics.stop(self.sim)
         self.sim.spawn(start, yaw)
+        if self.dynamics_settings.mode != "off":
+            if self._dynamics is None:
+                finder = self.navmesh
+                if not finder.area_names:  # a navmesh saved without its navmesh.json: the scene's classes
+                    from navverse.nav.scene_navmesh import scene_area_types
+
+                    finder.name_areas(scene_area_types(self.scene.annotations))
+                self._dynamics = EpisodeDynamics(
+                    self.scene_dir, finder, self.dynamics_settings, self.renderer
+                )
+            episode_id = str(self._episode.get("episode_id", "episode"))
+            self._dynamics.start(
+                self.sim, seed=episode_seed(int(options.get("dynamics_seed", 0)), episode_id)
+            )
         self.runner.follower.clear()
         self.monitor.start(self.sim)
         self._recorder = RolloutRecorder(
@@ -519,6 +549,8 @@ class NavVerseEnv(gymnasium.Env):
         pose = self.sim.pose()
         observation: dict[str, Any] = {}
         if self.sensors or self.render_mode is not None:
+            if self._dynamics is not None:
+                self._dynamics.show()
             frame = self.renderer.render(self.sim.camera_to_world())
             self._last_rgb = frame.rgb
             images = {
@@ -546,6 +578,7 @@ class NavVerseEnv(gymnasium.Env):
             "robot_size": np.array(self.sim.robot.size, dtype=float),
             "robot_radius": self.sim.robot.radius,
             "steps": self._steps,
+            "dynamics": self.dynamics_settings.mode,
         }
         if self._goal[1] is not None:
             info["instruction_type"] = self._goal[1]

@@ -467,6 +467,22 @@ class SceneRenderer:
         self._caster.set_instances([self._body_shapes[k].caster_shape for k in kinds], local)
         self._body_rows = rows
 
+    def sees(self, eye: ArrayLike, points: ArrayLike, *, max_distance: float = math.inf) -> np.ndarray:
+        """Whether each world point ``(K, 3)`` is in plain sight of the world point `eye`: within
+        `max_distance` and with nothing of the scene (static or placed bodies) between them, in any
+        direction (not only a camera's field of view).
+
+        Returns
+        -------
+        ndarray of bool, shape (K,)
+        """
+        targets = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        start = np.asarray(eye, dtype=np.float64).reshape(3)
+        offsets = targets - start
+        rays = np.concatenate([np.broadcast_to(start - self._origin, offsets.shape), offsets], axis=1)
+        blocked = self._caster.occluded(rays.astype(np.float32), tfar=1.0 - 1e-4)
+        return ~blocked & (np.linalg.norm(offsets, axis=1) <= max_distance)
+
     def _cast(self, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Cast the pixel rays of `pose`; return the ray parameter (z-depth past the near plane), the face
         and the barycentric ``(u, v)`` of the hit in it (hit = ``(1-u-v) p0 + u p1 + v p2``)."""
