@@ -6,9 +6,13 @@ Usage::
 
 For a built city scene (``navverse build <scene>``: navmesh and look) it runs the scene's dynamics
 (``navverse.dynamics.scene_dynamics``, mode ``full``, seed ``--seed``) for ``--seconds`` at 10 Hz and
-draws, over a ``--size`` meter window round the busiest crossing, the navmesh by terrain class, each
-person's track (ending in a dot) and each car's (ending in its outline), and writes
-``dynamics_<scene>_bev.png``.
+writes
+
+- ``dynamics_<scene>_bev.png``: over a ``--size`` meter window round the busiest crossing, the navmesh
+  by terrain class, each person's track (ending in a dot) and each car's (ending in its outline);
+- ``dynamics_<scene>_camera.png``: the robot's camera (640 x 480, 0.6 m up, the scene's look) at the
+  end, from the navigable point 8-20 m from that crossing whose view towards it holds the most people
+  and cars (none within 3 m of it): RGB beside the semantic image.
 """
 
 from __future__ import annotations
@@ -24,12 +28,19 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.patches import Patch
 from matplotlib.patches import Polygon as PolygonPatch
+from render_frames import panel, rgb_image, semantic_image
 
+from navverse.dynamics.runtime import CAR_ID_BASE, PERSON_ID_BASE, yaw_transforms
 from navverse.dynamics.scene_dynamics import DynamicsSettings, SceneDynamics
+from navverse.dynamics.shapes import PERSON_OUTFITS, car_mesh, person_mesh
 from navverse.dynamics.streets import crossings_of
 from navverse.dynamics.traffic import CAR_LENGTH
 from navverse.errors import NavverseError
+from navverse.look.files import load_scene_look
 from navverse.nav.scene_navmesh import load_scene_navmesh
+from navverse.scene.directory import read_scene
+from navverse.sim.camera import look_at
+from navverse.sim.render import SceneRenderer
 from pipeline.workspace import Workspace
 
 AREA_COLORS = {
@@ -54,8 +65,55 @@ def car_outline(xy: np.ndarray, heading: float) -> np.ndarray:
     )
 
 
+def camera_view(scene_dir: Path, finder, state, centre: np.ndarray, out: Path, scene_id: str) -> Path:
+    """The robot's camera looking at `centre` from where it sees the most people and cars."""
+    scene = read_scene(scene_dir)
+    renderer = SceneRenderer(scene, look=load_scene_look(scene, scene_dir))
+    people = len(state.people)
+    outfits = [renderer.add_body_shape(person_mesh(k), max_bodies=people // len(PERSON_OUTFITS) + 1)
+               for k in range(len(PERSON_OUTFITS))]  # fmt: skip
+    car = renderer.add_body_shape(car_mesh(), max_bodies=max(1, len(state.cars)))
+    shapes = [outfits[i % len(outfits)] for i in range(people)] + [car] * len(state.cars)
+    transforms = np.concatenate(
+        [
+            yaw_transforms(state.people, state.people_headings),
+            yaw_transforms(state.cars, state.car_headings),
+        ]
+    )
+    ids = [PERSON_ID_BASE + i for i in range(people)] + [CAR_ID_BASE + i for i in range(len(state.cars))]
+    renderer.place_bodies(shapes, transforms, ids)
+    best, best_count = None, -1
+    for distance in (8.0, 12.0, 16.0, 20.0):
+        for angle in np.linspace(0.0, 2.0 * np.pi, 16, endpoint=False):
+            spot = centre + distance * np.array([np.cos(angle), np.sin(angle)])
+            snapped = finder.snap_point((spot[0], spot[1], 0.0), max_vertical=3.0, max_horizontal=1.0)
+            if not np.isfinite(snapped).all():
+                continue
+            bodies = np.concatenate([state.people[:, :2], state.cars[:, :2]])
+            if len(bodies) and np.linalg.norm(bodies - snapped[:2], axis=1).min() < 3.0:
+                continue  # not in (or against) a person or a car
+            eye = snapped + np.array([0.0, 0.0, 0.6])
+            pose = look_at(eye, np.array([centre[0], centre[1], eye[2]]))
+            seen, pixels = np.unique(renderer.render(pose).semantic, return_counts=True)
+            count = int(((seen >= PERSON_ID_BASE) & (pixels >= 40)).sum())  # bodies seen, not pixels
+            if count > best_count:
+                best, best_count = pose, count
+    frame = renderer.render(best)
+    categories = {i: ("person" if i < CAR_ID_BASE else "car") for i in ids}
+    picture = panel(
+        [
+            rgb_image(frame, f"{scene_id}, robot camera"),
+            semantic_image(frame, renderer.class_names, categories),
+        ],
+        ["RGB", "semantic"],
+    )
+    target = out / f"dynamics_{scene_id}_camera.png"
+    picture.save(target)
+    return target
+
+
 def draw(scene_id: str, *, seconds: float, size: float, seed: int, out: Path) -> Path:
-    """Run the dynamics and write the picture; returns its path."""
+    """Run the dynamics and write the pictures; returns the bird's-eye one's path."""
     scene_dir = Workspace.find().built_dir / "targets" / scene_id / "scene"
     finder = load_scene_navmesh(scene_dir)
     dynamics = SceneDynamics(scene_dir, finder, DynamicsSettings(mode="full"), seed=seed)
@@ -104,6 +162,7 @@ def draw(scene_id: str, *, seconds: float, size: float, seed: int, out: Path) ->
     target = out / f"dynamics_{scene_id}_bev.png"
     fig.savefig(target, bbox_inches="tight")
     plt.close(fig)
+    camera_view(scene_dir, finder, states[-1], centre, out, scene_id)
     return target
 
 

@@ -26,7 +26,7 @@ from navverse.nav.pathfinder import PathFinder
 from navverse.sim.render import SceneRenderer
 from navverse.sim.simulator import Simulator
 
-__all__ = ["CAR_ID_BASE", "PERSON_ID_BASE", "EpisodeDynamics", "episode_seed"]
+__all__ = ["CAR_ID_BASE", "PERSON_ID_BASE", "EpisodeDynamics", "episode_seed", "yaw_transforms"]
 
 PERSON_ID_BASE = 1 << 24
 """Semantic id of person ``i``: ``PERSON_ID_BASE + i`` (above every object and storefront id)."""
@@ -42,7 +42,7 @@ def episode_seed(seed: int, episode_id: str) -> int:
     return int.from_bytes(digest[:8], "little")
 
 
-def _yaw_transforms(positions: np.ndarray, yaws: np.ndarray) -> np.ndarray:
+def yaw_transforms(positions: np.ndarray, yaws: np.ndarray) -> np.ndarray:
     """Rigid transforms ``(K, 4, 4)``: rotation by each yaw about +z, then translation to its position."""
     c, s = np.cos(yaws), np.sin(yaws)
     out = np.zeros((len(positions), 4, 4))
@@ -147,11 +147,11 @@ class EpisodeDynamics:
         state = self.bodies.state
         people = len(state.people)
         shapes = [self._person_shapes[i % len(self._person_shapes)] for i in range(people)]
-        transforms = [_yaw_transforms(state.people, state.people_headings)]
+        transforms = [yaw_transforms(state.people, state.people_headings)]
         ids = list(PERSON_ID_BASE + np.arange(people))
         if self._car_shape is not None and len(state.cars):
             shapes += [self._car_shape] * len(state.cars)
-            transforms.append(_yaw_transforms(state.cars, state.car_headings))
+            transforms.append(yaw_transforms(state.cars, state.car_headings))
             ids += list(CAR_ID_BASE + np.arange(len(state.cars)))
         self.renderer.place_bodies(shapes, np.concatenate(transforms), ids)
 
