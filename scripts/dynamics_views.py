@@ -30,9 +30,8 @@ from matplotlib.patches import Patch
 from matplotlib.patches import Polygon as PolygonPatch
 from render_frames import panel, rgb_image, semantic_image
 
-from navverse.dynamics.runtime import CAR_ID_BASE, PERSON_ID_BASE, yaw_transforms
+from navverse.dynamics.runtime import PERSON_ID_BASE, BodyPainter
 from navverse.dynamics.scene_dynamics import DynamicsSettings, SceneDynamics
-from navverse.dynamics.shapes import PERSON_OUTFITS, car_mesh, person_mesh
 from navverse.dynamics.streets import crossings_of
 from navverse.dynamics.traffic import CAR_LENGTH
 from navverse.errors import NavverseError
@@ -69,19 +68,8 @@ def camera_view(scene_dir: Path, finder, state, centre: np.ndarray, out: Path, s
     """The robot's camera looking at `centre` from where it sees the most people and cars."""
     scene = read_scene(scene_dir)
     renderer = SceneRenderer(scene, look=load_scene_look(scene, scene_dir))
-    people = len(state.people)
-    outfits = [renderer.add_body_shape(person_mesh(k), max_bodies=people // len(PERSON_OUTFITS) + 1)
-               for k in range(len(PERSON_OUTFITS))]  # fmt: skip
-    car = renderer.add_body_shape(car_mesh(), max_bodies=max(1, len(state.cars)))
-    shapes = [outfits[i % len(outfits)] for i in range(people)] + [car] * len(state.cars)
-    transforms = np.concatenate(
-        [
-            yaw_transforms(state.people, state.people_headings),
-            yaw_transforms(state.cars, state.car_headings),
-        ]
-    )
-    ids = [PERSON_ID_BASE + i for i in range(people)] + [CAR_ID_BASE + i for i in range(len(state.cars))]
-    renderer.place_bodies(shapes, transforms, ids)
+    painter = BodyPainter(renderer, max_people=len(state.people), max_cars=len(state.cars))
+    painter.show(state)
     best, best_count = None, -1
     for distance in (8.0, 12.0, 16.0, 20.0):
         for angle in np.linspace(0.0, 2.0 * np.pi, 16, endpoint=False):
@@ -99,7 +87,7 @@ def camera_view(scene_dir: Path, finder, state, centre: np.ndarray, out: Path, s
             if count > best_count:
                 best, best_count = pose, count
     frame = renderer.render(best)
-    categories = {i: ("person" if i < CAR_ID_BASE else "car") for i in ids}
+    categories = BodyPainter.categories(state)
     picture = panel(
         [
             rgb_image(frame, f"{scene_id}, robot camera"),

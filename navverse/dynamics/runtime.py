@@ -20,13 +20,20 @@ from pathlib import Path
 import numpy as np
 
 from navverse.dynamics.bodies import MovingBodies
-from navverse.dynamics.scene_dynamics import DynamicsSettings, SceneDynamics
+from navverse.dynamics.scene_dynamics import DynamicsSettings, DynamicState, SceneDynamics
 from navverse.dynamics.shapes import PERSON_OUTFITS, car_mesh, person_mesh
 from navverse.nav.pathfinder import PathFinder
 from navverse.sim.render import SceneRenderer
 from navverse.sim.simulator import Simulator
 
-__all__ = ["CAR_ID_BASE", "PERSON_ID_BASE", "EpisodeDynamics", "episode_seed", "yaw_transforms"]
+__all__ = [
+    "CAR_ID_BASE",
+    "PERSON_ID_BASE",
+    "BodyPainter",
+    "EpisodeDynamics",
+    "episode_seed",
+    "yaw_transforms",
+]
 
 PERSON_ID_BASE = 1 << 24
 """Semantic id of person ``i``: ``PERSON_ID_BASE + i`` (above every object and storefront id)."""
@@ -50,6 +57,51 @@ def yaw_transforms(positions: np.ndarray, yaws: np.ndarray) -> np.ndarray:
     out[:, 2, 2] = out[:, 3, 3] = 1.0
     out[:, :3, 3] = positions
     return out
+
+
+class BodyPainter:
+    """Draws a :class:`~navverse.dynamics.scene_dynamics.DynamicState` in a renderer: people in one of
+    :data:`PERSON_OUTFITS` each (by index), cars as sedans, with their semantic ids.
+
+    Parameters
+    ----------
+    renderer : SceneRenderer
+        The camera; the shapes are added to it once, here.
+    max_people, max_cars : int, keyword-only
+        The most people and cars a state will hold.
+    """
+
+    def __init__(self, renderer: SceneRenderer, *, max_people: int, max_cars: int) -> None:
+        self.renderer = renderer
+        per_outfit = math.ceil(max(1, max_people) / len(PERSON_OUTFITS))
+        self._people = [
+            renderer.add_body_shape(person_mesh(k), max_bodies=per_outfit) for k in range(len(PERSON_OUTFITS))
+        ]
+        self._car = renderer.add_body_shape(car_mesh(), max_bodies=max_cars) if max_cars > 0 else None
+
+    def show(self, state: DynamicState | None) -> None:
+        """Place everything of `state` in the renderer (nothing for None)."""
+        if state is None:
+            self.renderer.place_bodies([], np.zeros((0, 4, 4)), [])
+            return
+        people = len(state.people)
+        shapes = [self._people[i % len(self._people)] for i in range(people)]
+        transforms = [yaw_transforms(state.people, state.people_headings)]
+        ids = list(PERSON_ID_BASE + np.arange(people))
+        if self._car is not None and len(state.cars):
+            shapes += [self._car] * len(state.cars)
+            transforms.append(yaw_transforms(state.cars, state.car_headings))
+            ids += list(CAR_ID_BASE + np.arange(len(state.cars)))
+        self.renderer.place_bodies(shapes, np.concatenate(transforms), ids)
+
+    @staticmethod
+    def categories(state: DynamicState | None) -> dict[int, str]:
+        """Semantic id -> category (``person``, ``car``) of everything in `state`."""
+        if state is None:
+            return {}
+        found = {PERSON_ID_BASE + i: "person" for i in range(len(state.people))}
+        found.update({CAR_ID_BASE + i: "car" for i in range(len(state.cars))})
+        return found
 
 
 class EpisodeDynamics:
@@ -76,36 +128,23 @@ class EpisodeDynamics:
         self.renderer = renderer
         self.dynamics: SceneDynamics | None = None
         self.bodies: MovingBodies | None = None
-        self._person_shapes: list[int] = []
-        self._car_shape: int | None = None
+        self._painter: BodyPainter | None = None
 
     @property
     def active(self) -> bool:
         """Whether anything moves."""
         return self.settings.mode != "off"
 
-    def _shapes(self) -> None:
-        """Add the person and car shapes to the renderer, once."""
-        if self._person_shapes:
-            return
-        room = max(1, self.settings.people.max_people)
-        for outfit in range(len(PERSON_OUTFITS)):
-            self._person_shapes.append(
-                self.renderer.add_body_shape(
-                    person_mesh(outfit), max_bodies=math.ceil(room / len(PERSON_OUTFITS))
-                )
-            )
-        if self.settings.mode == "full":
-            self._car_shape = self.renderer.add_body_shape(
-                car_mesh(), max_bodies=max(1, self.settings.max_cars)
-            )
-
     def start(self, sim: Simulator, *, seed: int) -> None:
         """Begin an episode whose robot has just been spawned: new people and cars from `seed`."""
         self.stop(sim)
         if not self.active:
             return
-        self._shapes()
+        if self._painter is None:
+            cars = self.settings.max_cars if self.settings.mode == "full" else 0
+            self._painter = BodyPainter(
+                self.renderer, max_people=self.settings.people.max_people, max_cars=cars
+            )
         eye = np.asarray(sim.pose().position, dtype=float) + np.array([0.0, 0.0, _EYE_HEIGHT])
 
         def visible(points: np.ndarray) -> np.ndarray:
@@ -137,29 +176,14 @@ class EpisodeDynamics:
                 sim.world.bodies.pop(body, None)
         self.bodies = None
         self.dynamics = None
-        if self._person_shapes:
-            self.renderer.place_bodies([], np.zeros((0, 4, 4)), [])
+        if self._painter is not None:
+            self._painter.show(None)
 
     def show(self) -> None:
         """Place the people and cars where they are now in the renderer."""
-        if self.bodies is None or self.bodies.state is None:
-            return
-        state = self.bodies.state
-        people = len(state.people)
-        shapes = [self._person_shapes[i % len(self._person_shapes)] for i in range(people)]
-        transforms = [yaw_transforms(state.people, state.people_headings)]
-        ids = list(PERSON_ID_BASE + np.arange(people))
-        if self._car_shape is not None and len(state.cars):
-            shapes += [self._car_shape] * len(state.cars)
-            transforms.append(yaw_transforms(state.cars, state.car_headings))
-            ids += list(CAR_ID_BASE + np.arange(len(state.cars)))
-        self.renderer.place_bodies(shapes, np.concatenate(transforms), ids)
+        if self._painter is not None and self.bodies is not None:
+            self._painter.show(self.bodies.state)
 
     def semantic_categories(self) -> dict[int, str]:
         """Semantic id -> category of the people and cars of the current episode."""
-        if self.bodies is None or self.bodies.state is None:
-            return {}
-        state = self.bodies.state
-        found = {PERSON_ID_BASE + i: "person" for i in range(len(state.people))}
-        found.update({CAR_ID_BASE + i: "car" for i in range(len(state.cars))})
-        return found
+        return BodyPainter.categories(None if self.bodies is None else self.bodies.state)

@@ -169,15 +169,15 @@ class SceneDynamics:
         """Advance everything by `dt` seconds; returns where everything is then."""
         self.time += dt
         crowd = self.pedestrians.step(dt) if self.pedestrians is not None else None
-        people = self._people(crowd)[0]
-        traffic = self.traffic.step(dt, people=people[:, :2]) if self.traffic is not None else None
-        return self._snapshot(crowd, traffic)
+        people = self._people(crowd)
+        traffic = self.traffic.step(dt, people=people[0][:, :2]) if self.traffic is not None else None
+        return self._snapshot(people, traffic)
 
     def current(self) -> DynamicState:
         """Where everything is now, without a step."""
         crowd = self.pedestrians.crowd.state() if self.pedestrians is not None else None
         traffic = self.traffic.state() if self.traffic is not None else None
-        return self._snapshot(crowd, traffic)
+        return self._snapshot(self._people(crowd), traffic)
 
     def _people(self, crowd) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The people's positions, headings (a person standing keeps facing as it did) and velocities."""
@@ -191,8 +191,9 @@ class SceneDynamics:
         self._headings[moving] = np.arctan2(velocities[moving, 1], velocities[moving, 0])
         return people, self._headings.copy(), velocities
 
-    def _snapshot(self, crowd, traffic) -> DynamicState:
-        people, headings, velocities = self._people(crowd)
+    def _snapshot(self, people, traffic) -> DynamicState:
+        """The state of the people (as :meth:`_people` gives them) and of the traffic."""
+        people, headings, velocities = people
         if traffic is None:
             cars, car_headings, speeds = np.zeros((0, 3)), np.zeros(0), np.zeros(0)
         else:
