@@ -150,7 +150,7 @@ class Pedestrians:
         self.crowd = Crowd(finder, [PEDESTRIAN, *others], max_agents=max(1, wanted + extra_slots))
         self.people: list[int] = []
         """Crowd slots of the people, in the order they were placed."""
-        self._targets: dict[int, np.ndarray] = {}
+        self._targets = np.full((self.crowd.max_agents, 3), np.nan)  # per crowd slot; NaN: no trip
         self._islands: dict[int, int] = {}
         for point in self._spawn_points(wanted, visible):
             agent = self.crowd.add(point, PEDESTRIAN.name)
@@ -192,7 +192,7 @@ class Pedestrians:
         if not self.people:
             return state
         ids = np.asarray(self.people)
-        targets = np.array([self._targets.get(a, (np.nan, np.nan, np.nan)) for a in self.people])
+        targets = self._targets[ids]
         distance = np.hypot(*(state.positions[ids, :2] - targets[:, :2]).T)
         due = ~(distance >= ARRIVED)  # arrived, or no destination (NaN)
         for k in np.flatnonzero(~due):
